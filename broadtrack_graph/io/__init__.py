@@ -1,0 +1,1 @@
+"""Reading and writing files. Math modules never import from here."""

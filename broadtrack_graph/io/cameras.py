@@ -1,0 +1,54 @@
+"""SoccerNet camera files: camera_NNNNN.json, one per frame."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from broadtrack_graph.camera import Camera
+from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
+
+CAMERA_FILE_PATTERN = re.compile(r"^camera_(\d+)\.json$")
+
+
+def camera_file_name(frame_id: str | int) -> str:
+    """``camera_00042.json`` for frame 42 (ids given as strings are kept as they are)."""
+    return f"camera_{frame_id:05d}.json" if isinstance(frame_id, int) else f"camera_{frame_id}.json"
+
+
+def read_camera_file(path: str | Path, width_px: int | None = None, height_px: int | None = None) -> Camera:
+    """Read one SoccerNet camera file, rescaled to (width_px, height_px) when given.
+
+    Raises:
+        InputError: missing, empty, malformed, or a field missing / not finite.
+    """
+    data = read_json(path)
+    if not isinstance(data, dict):
+        raise InputError(path, f"expected a JSON object, got {type(data).__name__}")
+    try:
+        return Camera.from_soccernet_dict(data, width_px, height_px)
+    except ValueError as exc:
+        raise InputError(path, str(exc)) from None
+
+
+def write_camera_file(path: str | Path, camera: Camera, width_px: int | None = None, height_px: int | None = None) -> None:
+    """Write a SoccerNet camera file (atomically) with intrinsics at (width_px, height_px)."""
+    write_json_atomic(path, camera.to_soccernet_dict(width_px, height_px), indent=None)
+
+
+def list_camera_files(folder: str | Path) -> dict[str, Path]:
+    """Frame id (the digits of camera_<id>.json) -> path, for a folder of camera files.
+
+    Raises:
+        InputError: the folder does not exist.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise InputError(folder, "camera folder not found")
+    files = {}
+    for path in sorted(folder.iterdir()):
+        match = CAMERA_FILE_PATTERN.match(path.name)
+        if match:
+            files[match.group(1)] = path
+    return files

@@ -1,0 +1,60 @@
+"""The tripod model of BroadTrack (DESIGN.md).
+
+The pan and tilt axes of the head meet at a fixed point T_w. A point O on the
+optical axis stays at distance delta from T (O = T - delta * r2, with -r2 the
+camera's up vector), and the focal point slides along the optical axis with zoom:
+
+    C = T - delta * r2 + lambda * r3
+
+where r_i are the columns of R_cw^T (r3 the optical axis). The cost used by the
+tracker is ``L_T = delta - |O* - T|`` with O* the point of the optical axis closest
+to T. No I/O here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Tripod:
+    """T_w: (3,) pan/tilt axes meeting point, metres, pitch frame (z down); delta_m: offset of the optical axis."""
+
+    T_w: tuple[float, float, float]
+    delta_m: float
+
+    def as_vector(self) -> np.ndarray:
+        """[Tx, Ty, Tz, delta] (metres)."""
+        return np.array([*self.T_w, self.delta_m], dtype=float)
+
+    @classmethod
+    def from_vector(cls, vector) -> "Tripod":
+        v = np.asarray(vector, dtype=float).reshape(4)
+        return cls((float(v[0]), float(v[1]), float(v[2])), float(v[3]))
+
+
+def focal_point(R_cw: np.ndarray, tripod: Tripod, lambda_m: float) -> np.ndarray:
+    """C_w = T - delta * r2 + lambda * r3 for a world-to-camera rotation R_cw (3, 3)."""
+    r2 = R_cw[1]  # second column of R^T
+    r3 = R_cw[2]  # third column of R^T: the optical axis
+    return np.asarray(tripod.T_w, dtype=float) - tripod.delta_m * r2 + lambda_m * r3
+
+
+def closest_axis_point(C_w: np.ndarray, R_cw: np.ndarray, T_w: np.ndarray) -> np.ndarray:
+    """O*: the point of the optical axis (through C_w along r3) closest to T_w."""
+    axis = R_cw[2]
+    return C_w + np.dot(np.asarray(T_w) - C_w, axis) * axis
+
+
+def tripod_residual(C_w: np.ndarray, R_cw: np.ndarray, tripod: Tripod) -> float:
+    """L_T = delta - |O* - T| (metres); zero for a camera on the tripod."""
+    T = np.asarray(tripod.T_w, dtype=float)
+    return float(tripod.delta_m - np.linalg.norm(closest_axis_point(np.asarray(C_w, float), R_cw, T) - T))
+
+
+def zoom_lambda(C_w: np.ndarray, R_cw: np.ndarray, tripod: Tripod) -> float:
+    """lambda: position of C along the optical axis relative to O (metres)."""
+    O = np.asarray(tripod.T_w, dtype=float) - tripod.delta_m * R_cw[1]
+    return float(np.dot(np.asarray(C_w, float) - O, R_cw[2]))
