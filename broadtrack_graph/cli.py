@@ -17,6 +17,7 @@ from broadtrack_graph.errors import InputError
 COMMANDS = (
     # one line per subcommand module in broadtrack_graph/commands/
     "evaluate",
+    "demo",
 )
 
 
