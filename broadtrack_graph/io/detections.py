@@ -1,0 +1,308 @@
+"""The detections file: per-frame field detections as JSON lines, so any detector can drive the tracker.
+
+One JSON object per line, one line per frame (frames without a line have no
+detections). Every field but ``frame`` is optional::
+
+    {"frame": 0, "frame_id": "000001", "image_size": [1920, 1080], "units": "px",
+     "lines": {"Side line top": [[102.5, 311.0], [388.0, 290.5]], "Middle line": [[960.2, 300.1]]},
+     "keypoints": [
+        {"name": "Centre spot", "xy": [955.0, 610.0], "confidence": 0.92},
+        {"world": [11.0, -20.16, 0.0], "xy": [1210.0, 402.0], "confidence": 0.71}],
+     "mask": "masks/000001.png",
+     "players": [[812, 500, 840, 580]]}
+
+* ``frame``: 0-based frame index in the clip (required).
+* ``image_size``: [W, H] in pixels that the coordinates refer to (else the file's
+  first stated size, else the size passed to the reader).
+* ``units``: ``"px"`` (default) or ``"normalized"`` (0..1 of the image, SoccerNet's
+  ``x * (W - 1)`` rule).
+* ``lines``: SoccerNet class name -> points ``[x, y]`` (or ``{"x":..,"y":..}``) on that marking.
+* ``keypoints``: each with ``xy``, a ``confidence`` in [0, 1] (default 1), and either
+  ``name`` (a keypoint of the project's template, see ``PitchTemplate.keypoints``)
+  or ``world`` [x, y, z] in metres (SoccerNet frame, z down), so detectors with their
+  own keypoint sets need no code change.
+* ``mask``: path (relative to the file) of a binary marking mask image; ``players``:
+  boxes [x0, y0, x1, y1] in the same units as the points.
+
+Reading is forgiving where it can be: a keypoint with low confidence, a duplicate,
+NaN coordinates, a point outside the image or an unknown name is skipped and
+reported; a malformed or truncated line skips that frame and is reported; only a
+missing or empty file is an error.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from broadtrack_graph.errors import InputError
+from broadtrack_graph.observations import FrameObservations, KeypointObservations
+from broadtrack_graph.pitch import LINE_CLASSES, PitchTemplate
+
+log = logging.getLogger(__name__)
+
+DEFAULT_MIN_CONFIDENCE = 0.3
+
+
+@dataclass
+class DetectionsFile:
+    """What a detections file holds.
+
+    frames: frame index -> observations (pixels at image_size).
+    frame_ids: frame index -> frame id string (file stem), when given.
+    mask_paths: frame index -> resolved mask path, when given.
+    image_size: (W, H) of the coordinates.
+    issues: one line per skipped item or frame, naming the file and line.
+    """
+
+    frames: dict[int, FrameObservations] = field(default_factory=dict)
+    frame_ids: dict[int, str] = field(default_factory=dict)
+    mask_paths: dict[int, Path] = field(default_factory=dict)
+    image_size: tuple[int, int] | None = None
+    issues: list[str] = field(default_factory=list)
+
+    @property
+    def last_frame(self) -> int:
+        return max(self.frames, default=-1)
+
+
+def _xy(value) -> tuple[float, float]:
+    if isinstance(value, dict):
+        return float(value["x"]), float(value["y"])
+    if isinstance(value, (list, tuple)) and len(value) == 2:
+        return float(value[0]), float(value[1])
+    raise ValueError(f"expected [x, y] or {{'x', 'y'}}, got {value!r}")
+
+
+def _inside(xy: np.ndarray, width: int, height: int) -> np.ndarray:
+    return (xy[:, 0] >= -0.5) & (xy[:, 0] <= width - 0.5) & (xy[:, 1] >= -0.5) & (xy[:, 1] <= height - 0.5)
+
+
+def parse_detection_record(
+    record: dict,
+    where: str,
+    pitch: PitchTemplate,
+    default_size: tuple[int, int] | None,
+    min_confidence: float = DEFAULT_MIN_CONFIDENCE,
+) -> tuple[FrameObservations, list[str]]:
+    """Turn one JSON object into FrameObservations; returns it with the issues met.
+
+    Raises:
+        ValueError: the record has no usable frame index or image size.
+    """
+    issues: list[str] = []
+    frame = record.get("frame")
+    if not isinstance(frame, int) or isinstance(frame, bool) or frame < 0:
+        raise ValueError(f"'frame' must be a non-negative integer, got {frame!r}")
+    size = record.get("image_size", default_size)
+    if size is None:
+        raise ValueError("no 'image_size' (and none given to the reader)")
+    width, height = int(size[0]), int(size[1])
+    if width < 2 or height < 2:
+        raise ValueError(f"bad image_size {size!r}")
+    units = record.get("units", "px")
+    if units not in ("px", "normalized"):
+        raise ValueError(f"'units' must be 'px' or 'normalized', got {units!r}")
+    scale = np.array([width - 1.0, height - 1.0]) if units == "normalized" else np.ones(2)
+
+    lines_px: dict[str, np.ndarray] = {}
+    for raw_name, points in (record.get("lines") or {}).items():
+        name = str(raw_name).strip()
+        if name not in LINE_CLASSES:
+            issues.append(f"{where}: unknown line class '{raw_name}' skipped")
+            continue
+        try:
+            xy = np.array([_xy(p) for p in points], dtype=float).reshape(-1, 2) * scale
+        except (ValueError, KeyError, TypeError) as exc:
+            issues.append(f"{where}: class '{name}': {exc}; class skipped")
+            continue
+        finite = np.isfinite(xy).all(axis=1)
+        inside = finite & _inside(np.where(finite[:, None], xy, 0.0), width, height)
+        if (~finite).any():
+            issues.append(f"{where}: class '{name}': {int((~finite).sum())} non-finite point(s) skipped")
+        if (finite & ~inside).any():
+            issues.append(f"{where}: class '{name}': {int((finite & ~inside).sum())} point(s) outside the image skipped")
+        xy = np.unique(xy[inside], axis=0) if inside.any() else np.zeros((0, 2))
+        if len(xy):
+            lines_px[name] = xy
+
+    uv_list, world_list, confidence_list, names = [], [], [], []
+    seen: set[tuple] = set()
+    for index, keypoint in enumerate(record.get("keypoints") or []):
+        label = f"{where}: keypoint {index}"
+        try:
+            uv = np.array(_xy(keypoint["xy"])) * scale
+            confidence = float(keypoint.get("confidence", 1.0))
+        except (ValueError, KeyError, TypeError) as exc:
+            issues.append(f"{label}: {exc}; skipped")
+            continue
+        if not (np.isfinite(uv).all() and math.isfinite(confidence)):
+            issues.append(f"{label}: non-finite value; skipped")
+            continue
+        if confidence < min_confidence:
+            issues.append(f"{label}: confidence {confidence:.2f} below {min_confidence:.2f}; skipped")
+            continue
+        if not _inside(uv[None], width, height)[0]:
+            issues.append(f"{label}: outside the {width}x{height} image; skipped")
+            continue
+        name = str(keypoint.get("name", "")).strip()
+        if "world" in keypoint:
+            try:
+                world = np.array([float(v) for v in keypoint["world"]], dtype=float)
+            except (TypeError, ValueError):
+                world = np.full(3, np.nan)
+            if world.shape != (3,) or not np.isfinite(world).all():
+                issues.append(f"{label}: 'world' must be 3 finite numbers; skipped")
+                continue
+        elif name in pitch.keypoints:
+            world = pitch.keypoints[name]
+        else:
+            issues.append(f"{label}: unknown keypoint name '{name}' and no 'world'; skipped")
+            continue
+        key = tuple(np.round(world, 3))
+        if key in seen:
+            issues.append(f"{label}: duplicate of an earlier keypoint at {[float(v) for v in key]}; skipped")
+            continue
+        seen.add(key)
+        uv_list.append(uv)
+        world_list.append(world)
+        confidence_list.append(confidence)
+        names.append(name)
+    keypoints = None
+    if uv_list:
+        keypoints = KeypointObservations(np.array(uv_list), np.array(world_list), np.array(confidence_list), names)
+
+    players = None
+    if record.get("players"):
+        try:
+            boxes = np.array(record["players"], dtype=float).reshape(-1, 4) * np.tile(scale, 2)
+            players = boxes[np.isfinite(boxes).all(axis=1)]
+        except (ValueError, TypeError):
+            issues.append(f"{where}: 'players' must be a list of [x0, y0, x1, y1]; ignored")
+    observations = FrameObservations(frame, width, height, lines_px=lines_px, keypoints=keypoints, player_boxes_px=players)
+    return observations, issues
+
+
+def read_detections(
+    path: str | Path,
+    pitch: PitchTemplate | None = None,
+    image_size: tuple[int, int] | None = None,
+    min_confidence: float = DEFAULT_MIN_CONFIDENCE,
+) -> DetectionsFile:
+    """Read a detections file (JSON lines), skipping and reporting what cannot be used.
+
+    Args:
+        path: the .jsonl file.
+        pitch: template for keypoint names (default 105 x 68).
+        image_size: (W, H) for records that do not state it.
+        min_confidence: keypoints below this confidence are skipped.
+
+    Raises:
+        InputError: the file is missing or holds no usable record.
+    """
+    path = Path(path)
+    pitch = pitch or PitchTemplate()
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(path, "detections file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, f"cannot read: {exc}") from None
+    result = DetectionsFile(image_size=image_size)
+    lines = text.splitlines()
+    for number, line in enumerate(lines, start=1):
+        if not line.strip():
+            continue
+        where = f"{path}:{number}"
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError as exc:
+            last = number == len(lines) and not text.endswith("\n")
+            reason = "truncated last line" if last else f"malformed JSON ({exc.msg})"
+            result.issues.append(f"{where}: {reason}; frame skipped")
+            continue
+        if not isinstance(record, dict):
+            result.issues.append(f"{where}: expected a JSON object; skipped")
+            continue
+        try:
+            observations, issues = parse_detection_record(record, where, pitch, result.image_size, min_confidence)
+        except (ValueError, TypeError) as exc:
+            result.issues.append(f"{where}: {exc}; frame skipped")
+            continue
+        if result.image_size is None:
+            result.image_size = (observations.width_px, observations.height_px)
+        result.issues.extend(issues)
+        if observations.frame_index in result.frames:
+            result.issues.append(f"{where}: frame {observations.frame_index} repeated; the later record is used")
+        result.frames[observations.frame_index] = observations
+        if "frame_id" in record:
+            result.frame_ids[observations.frame_index] = str(record["frame_id"])
+        if record.get("mask"):
+            result.mask_paths[observations.frame_index] = (path.parent / str(record["mask"])).resolve()
+    if not result.frames:
+        raise InputError(path, "no usable detection record" if text.strip() else "empty file")
+    for issue in result.issues:
+        log.warning(issue)
+    return result
+
+
+def observations_to_record(observations: FrameObservations, frame_id: str | None = None,
+                           mask_path: str | None = None) -> dict:
+    """FrameObservations -> one JSON object of the detections format (pixels)."""
+    record: dict = {"frame": int(observations.frame_index),
+                    "image_size": [int(observations.width_px), int(observations.height_px)], "units": "px"}
+    if frame_id is not None:
+        record["frame_id"] = frame_id
+    if observations.lines_px:
+        record["lines"] = {name: np.round(points, 2).tolist() for name, points in observations.lines_px.items()}
+    if observations.keypoints is not None and len(observations.keypoints):
+        kp = observations.keypoints
+        record["keypoints"] = []
+        for index in range(len(kp)):
+            entry = {"xy": np.round(kp.uv_px[index], 2).tolist(), "confidence": round(float(kp.confidence[index]), 4)}
+            name = kp.names[index] if index < len(kp.names) else ""
+            if name:
+                entry["name"] = name
+            else:
+                entry["world"] = [float(v) for v in kp.points_w[index]]
+            record["keypoints"].append(entry)
+    if mask_path is not None:
+        record["mask"] = mask_path
+    if observations.player_boxes_px is not None and len(observations.player_boxes_px):
+        record["players"] = np.round(observations.player_boxes_px, 1).tolist()
+    return record
+
+
+class DetectionsWriter:
+    """Append records to a detections file, one flushed line per frame (an interrupted run keeps them)."""
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._handle = self.path.open("w", encoding="utf-8")
+
+    def write(self, observations: FrameObservations, frame_id: str | None = None, mask_path: str | None = None) -> None:
+        self._handle.write(json.dumps(observations_to_record(observations, frame_id, mask_path)) + "\n")
+        self._handle.flush()
+
+    def close(self) -> None:
+        self._handle.close()
+
+    def __enter__(self) -> "DetectionsWriter":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def annotations_to_observations(lines_norm: dict[str, np.ndarray], frame_index: int, width_px: int,
+                                height_px: int) -> FrameObservations:
+    """SoccerNet line annotation (normalised) -> line observations in pixels ("Line/Goal unknown" dropped)."""
+    scale = np.array([width_px - 1.0, height_px - 1.0])
+    lines = {name: np.asarray(points, float) * scale for name, points in lines_norm.items() if name in LINE_CLASSES}
+    return FrameObservations(frame_index, width_px, height_px, lines_px=lines)
