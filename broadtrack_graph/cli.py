@@ -18,6 +18,8 @@ COMMANDS = (
     # one line per subcommand module in broadtrack_graph/commands/
     "evaluate",
     "demo",
+    "overlay",
+    "compare",
 )
 
 
