@@ -20,6 +20,8 @@ COMMANDS = (
     "demo",
     "overlay",
     "compare",
+    "bench",
+    "synth",
 )
 
 

@@ -163,7 +163,7 @@ def write_annotation_file(path: str | Path, lines: LineAnnotation) -> None:
 
 def write_gamestate_labels(
     path: str | Path,
-    frames: dict[str, LineAnnotation],
+    frames: dict[str, LineAnnotation | None],
     width_px: int,
     height_px: int,
     image_extension: str = ".jpg",
@@ -173,7 +173,8 @@ def write_gamestate_labels(
     """Write a Labels-GameState.json holding the pitch line annotations of a clip.
 
     Args:
-        frames: frame id (image file stem, e.g. ``"000001"``) -> annotation, in clip order.
+        frames: frame id (image file stem, e.g. ``"000001"``) -> annotation, in clip order; None for
+            an image without a pitch annotation (listed with ``has_labeled_pitch: false``).
         extra_annotations: further annotation objects (e.g. player boxes) appended as they are.
     """
     images, annotations = [], []
@@ -181,8 +182,11 @@ def write_gamestate_labels(
         image_id = str(index)
         images.append({
             "file_name": f"{frame_id}{image_extension}", "image_id": image_id, "width": int(width_px),
-            "height": int(height_px), "is_labeled": True, "has_labeled_pitch": True, "has_labeled_camera": True,
+            "height": int(height_px), "is_labeled": True, "has_labeled_pitch": lines is not None,
+            "has_labeled_camera": True,
         })
+        if lines is None:
+            continue
         annotations.append({
             "id": f"pitch-{image_id}", "image_id": image_id, "category_id": 5, "supercategory": "pitch",
             "lines": annotation_to_json(lines),

@@ -36,6 +36,7 @@ def write_json_atomic(path: str | Path, data, indent: int | None = None) -> None
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             json.dump(data, handle, indent=indent, allow_nan=False, default=_json_default)
+        os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are for everyone to read
         os.replace(tmp, path)
     except BaseException:
         try:
