@@ -21,6 +21,7 @@ COMMANDS = (
     "overlay",
     "compare",
     "bench",
+    "calibrate",
     "synth",
 )
 
