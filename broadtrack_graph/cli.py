@@ -20,6 +20,7 @@ COMMANDS = (
     "demo",
     "overlay",
     "compare",
+    "track",
     "bench",
     "calibrate",
     "synth",

@@ -15,6 +15,7 @@ HELP = "run a benchmark suite and print / write its JSON report"
 
 SUITES = (
     # one line per suite module in broadtrack_graph/benchmarks/
+    "graph",
     "render",
     "frontend",
 )

@@ -1,38 +1,35 @@
-"""``broadtrack-graph demo``: the README's main command.
-
-Until the tracker lands, the demo scores the published NBJW cameras against the real
-SoccerNet annotations that sit beside the repository (../shared/data), with the
-project's evaluator, and says so.
-"""
+"""``broadtrack-graph demo``: the README's main command (see broadtrack_graph.demo)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from broadtrack_graph.commands.evaluate import evaluate_folders
-from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.jsonfile import write_json_atomic
+from broadtrack_graph.demo import DemoSettings, run_demo
 
-HELP = "run the main job on the embedded default and print where the results are"
-
-REPO_ROOT = Path(__file__).resolve().parents[2]
-REAL_DATA = REPO_ROOT.parent / "shared" / "data" / "sn-calibration-2022-test-main"
+HELP = "render the embedded synthetic clip, track it online and smoothed, evaluate, draw and compare"
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
+    parser.add_argument("--frames", type=int, default=DemoSettings.frames, help="clip length (default 250)")
+    parser.add_argument("--width", type=int, default=DemoSettings.width_px, help="frame width (default 1920)")
+    parser.add_argument("--height", type=int, default=DemoSettings.height_px, help="frame height (default 1080)")
+    parser.add_argument("--seed", type=int, default=0, help="clip seed (default 0)")
+    parser.add_argument("--no-overlay", action="store_true", help="skip the overlay video")
+    parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
 
 
 def run(args) -> int:
-    if not (REAL_DATA / "annotations").is_dir():
-        raise InputError(REAL_DATA, "the interim demo needs the SoccerNet data beside the repository (not found)")
-    print("demo (interim, until the tracker lands): scoring the published NBJW cameras against the real "
-          "SoccerNet calibration test annotations with the project's evaluator")
-    report = evaluate_folders(REAL_DATA / "annotations", REAL_DATA / "nbjw-cameras", 960, 540, (5, 10, 20))
-    for key, row in report["taus"].items():
-        print(f"  tau {key:>2} px: final score {row['final_score']:.4f}  completeness {row['completeness']:.4f}  "
-              f"accuracy {row['accuracy']:.4f}  MRE {row['mre_px']:.2f} px")
-    path = args.out / "evaluation.json"
-    write_json_atomic(path, report, indent=1)
-    print(f"report: {path}")
+    settings = DemoSettings(frames=args.frames, width_px=args.width, height_px=args.height, seed=args.seed,
+                            overlay=not args.no_overlay)
+    result = run_demo(args.out, settings, progress=not args.no_progress)
+    print()
+    print(result["table"])
+    print()
+    print(f"synthetic clip (frames, ground truth): {result['clip']}")
+    for name, path in result["runs"].items():
+        print(f"{name} run (cameras/, track.jsonl, summary.json): {path}")
+    print(f"comparison (compare.md, compare.json, series.png, focal_points.png): {result['compare']}")
+    if result["overlay"]:
+        print(f"overlay video: {result['overlay']}")
     return 0

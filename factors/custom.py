@@ -1,0 +1,51 @@
+"""The one place that turns a numpy residual function into a ``gtsam.CustomFactor``.
+
+Every factor here whitens its own residuals (and applies its per-point Cauchy loss,
+see :mod:`factors.robust`), so the GTSAM noise model is always ``Unit(dim)``.
+Jacobian shapes are checked before they are handed to GTSAM: a wrong shape
+segfaults the process (DESIGN.md).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import gtsam
+import numpy as np
+
+ResidualFunction = Callable[[list[np.ndarray], bool], tuple[np.ndarray, list[np.ndarray] | None]]
+"""``fn(variable_vectors, want_jacobians) -> (residual (dim,), [J_i (dim, size_i)] or None)``."""
+
+
+class FactorShapeError(RuntimeError):
+    """A factor produced a residual or Jacobian of the wrong shape (caught before GTSAM sees it)."""
+
+
+def custom_factor(keys: Sequence[int], sizes: Sequence[int], dim: int, fn: ResidualFunction) -> gtsam.CustomFactor:
+    """Wrap a whitened numpy residual function as a CustomFactor with a unit noise model.
+
+    Args:
+        keys: GTSAM keys of the vector variables, in the order ``fn`` expects them.
+        sizes: dimension of each variable (8 for a camera state, 4 for the tripod).
+        dim: residual length (fixed for the factor's life).
+        fn: see :data:`ResidualFunction`.
+    """
+    keys = [int(k) for k in keys]
+    sizes = [int(n) for n in sizes]
+    if dim <= 0:
+        raise ValueError(f"a factor needs at least one residual, got dim={dim}")
+
+    def error_function(this: gtsam.CustomFactor, values: gtsam.Values, H) -> np.ndarray:
+        vectors = [values.atVector(k) for k in keys]
+        residual, jacobians = fn(vectors, H is not None)
+        residual = np.ascontiguousarray(residual, dtype=float)
+        if residual.shape != (dim,):
+            raise FactorShapeError(f"residual shape {residual.shape}, expected ({dim},)")
+        if H is not None:
+            for i, J in enumerate(jacobians):
+                if J.shape != (dim, sizes[i]):
+                    raise FactorShapeError(f"Jacobian {i} shape {J.shape}, expected ({dim}, {sizes[i]})")
+                H[i] = np.ascontiguousarray(J, dtype=float)
+        return residual
+
+    return gtsam.CustomFactor(gtsam.noiseModel.Unit.Create(dim), keys, error_function)

@@ -1,0 +1,179 @@
+"""Line and circle factor: image points on a marking class pulled to its projected 3D element.
+
+For each observed point k of class j the residual is the signed distance (pixels,
+distortion included) to the nearest point of the projected polyline of class j:
+the 3D element is sampled densely (``MarkingPolylines``), every vertex projected
+with the full camera, and the distance taken to the nearest projected segment
+(perpendicular distance inside a segment, distance to the end vertex beyond it).
+Residuals are divided by sigma_px and go through the per-point Cauchy loss.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from broadtrack_graph.pitch import LINE_CLASSES, Arc, PitchTemplate
+from factors.custom import custom_factor
+from factors.projection import STATE_SIZE, project_state, rotation_and_derivatives
+from factors.robust import cauchy_rows
+
+INVALID_RESIDUAL_SIGMAS = 10.0
+"""Whitened residual given to a point with no projected element (constant: no gradient)."""
+
+
+@dataclass(frozen=True)
+class MarkingPolylines:
+    """Dense 3D polylines of the pitch classes.
+
+    vertices_w: class index -> (M_j, 3) metres; class index is the position in ``class_names``.
+    class_names: the class names, index -> name.
+    """
+
+    vertices_w: tuple[np.ndarray, ...]
+    class_names: tuple[str, ...]
+
+    @classmethod
+    def from_pitch(cls, pitch: PitchTemplate, step_line_m: float = 1.0, step_arc_m: float = 0.25) -> "MarkingPolylines":
+        names = tuple(name for name in LINE_CLASSES if name in pitch.elements)
+        vertices = []
+        for name in names:
+            element = pitch.elements[name]
+            step = step_arc_m if isinstance(element, Arc) else step_line_m
+            vertices.append(pitch.sample_uniform(step, classes=[name])[name])
+        return cls(tuple(vertices), names)
+
+    def class_index(self, name: str) -> int:
+        return self.class_names.index(name)
+
+
+CULL_MARGIN_FRACTION = 0.5
+"""Segments with both ends further than this fraction of the image size outside it are
+skipped (unless a class has no segment left, then all its segments are used)."""
+
+
+def line_residuals(
+    state: np.ndarray,
+    uv_px: np.ndarray,
+    class_index: np.ndarray,
+    polylines: MarkingPolylines,
+    width_px: int,
+    height_px: int,
+    want_jacobian: bool = True,
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    """Signed pixel distance of each observed point to its class's projected polyline.
+
+    Args:
+        state: (8,) camera state ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]``.
+        uv_px: (N, 2) observed pixels.
+        class_index: (N,) int, index into ``polylines.class_names``.
+        polylines: the sampled 3D elements.
+        width_px, height_px: image size.
+        want_jacobian: False skips the Jacobian.
+
+    Returns:
+        residual_px: (N,) signed distance in pixels (0 for invalid points).
+        J: (N, 8) d residual / d state (zero rows for invalid points), or None.
+        valid: (N,) bool, False where the class has no projected segment in front of the camera.
+
+    Note:
+        Vertices beyond the radius where a negative k1 stops being monotonic
+        (``1 + 3 k1 r^2 <= 0.05``) are not used: the projection folds back there.
+    """
+    count = len(uv_px)
+    residual = np.zeros(count)
+    J = np.zeros((count, STATE_SIZE)) if want_jacobian else None
+    valid = np.zeros(count, dtype=bool)
+    if count == 0:
+        return residual, J, valid
+    present = np.unique(class_index)
+    blocks = [polylines.vertices_w[j] for j in present]
+    vertices_w = np.concatenate(blocks)
+    proj_uv, _, in_front = project_state(state, vertices_w, width_px, height_px, want_jacobian=False)
+    R, _ = rotation_and_derivatives(state[2], state[3], state[4])
+    points_c = (vertices_w - state[5:8]) @ R.T
+    depth = np.where(in_front, points_c[:, 2], 1.0)
+    r2 = (points_c[:, 0] ** 2 + points_c[:, 1] ** 2) / depth**2
+    vertex_ok = in_front & (1.0 + 3.0 * state[1] * r2 > 0.05)
+    # Segments: consecutive vertices of the same class.
+    sizes = np.array([len(b) for b in blocks])
+    vertex_class = np.repeat(present, sizes)
+    seg_start = np.flatnonzero(vertex_class[:-1] == vertex_class[1:])
+    seg_class = vertex_class[seg_start]
+    seg_ok = vertex_ok[seg_start] & vertex_ok[seg_start + 1]
+    mx, my = CULL_MARGIN_FRACTION * width_px, CULL_MARGIN_FRACTION * height_px
+    u, v = proj_uv[:, 0], proj_uv[:, 1]
+    near = (u > -mx) & (u < width_px + mx) & (v > -my) & (v < height_px + my)
+    seg_near = seg_ok & (near[seg_start] | near[seg_start + 1])
+    # Classes with no segment near the image keep all their valid segments (far-off starts).
+    classes_near = np.unique(seg_class[seg_near])
+    keep = seg_near | (seg_ok & ~np.isin(seg_class, classes_near))
+    seg_start, seg_class = seg_start[keep], seg_class[keep]
+    if len(seg_start) == 0:
+        return residual, J, valid
+    ax, ay = u[seg_start], v[seg_start]
+    ex, ey = u[seg_start + 1] - ax, v[seg_start + 1] - ay
+    inv_e2 = 1.0 / np.maximum(ex * ex + ey * ey, 1e-12)
+    best = np.zeros(count, dtype=int)
+    t_best = np.zeros(count)
+    order = np.argsort(seg_class, kind="stable")
+    seg_bounds = np.searchsorted(seg_class[order], present, side="left"), np.searchsorted(seg_class[order], present, side="right")
+    for j, lo, hi in zip(present, *seg_bounds):
+        if hi == lo:
+            continue
+        rows = np.flatnonzero(class_index == j)
+        segs = order[lo:hi]
+        dx = uv_px[rows, 0][:, None] - ax[segs]
+        dy = uv_px[rows, 1][:, None] - ay[segs]
+        t = np.clip((dx * ex[segs] + dy * ey[segs]) * inv_e2[segs], 0.0, 1.0)
+        dx -= t * ex[segs]
+        dy -= t * ey[segs]
+        pick = np.argmin(dx * dx + dy * dy, axis=1)
+        best[rows] = segs[pick]
+        t_best[rows] = t[np.arange(len(rows)), pick]
+        valid[rows] = True
+    ox = uv_px[:, 0] - ax[best] - t_best * ex[best]
+    oy = uv_px[:, 1] - ay[best] - t_best * ey[best]
+    e_b = np.stack([ex[best], ey[best]], axis=1)
+    to_q = np.stack([ox, oy], axis=1)  # u - q
+    length = np.sqrt(np.einsum("nk,nk->n", e_b, e_b))
+    normal = np.stack([-e_b[:, 1], e_b[:, 0]], axis=1) / np.maximum(length, 1e-12)[:, None]
+    signed = np.einsum("nk,nk->n", normal, to_q)
+    interior = (t_best > 0.0) & (t_best < 1.0)
+    end_dist = np.sqrt(np.einsum("nk,nk->n", to_q, to_q))
+    sign = np.where(signed >= 0.0, 1.0, -1.0)
+    residual = np.where(valid, np.where(interior, signed, sign * end_dist), 0.0)
+    if want_jacobian:
+        ia = seg_start[best]
+        _, Jab, _ = project_state(state, np.concatenate([vertices_w[ia], vertices_w[ia + 1]]), width_px, height_px)
+        Ja, Jb = Jab[:count], Jab[count:]
+        dq = (1.0 - t_best)[:, None, None] * Ja + t_best[:, None, None] * Jb  # (N, 2, 8)
+        direction = np.where(interior[:, None], normal, sign[:, None] * to_q / np.maximum(end_dist, 1e-12)[:, None])
+        J = -np.einsum("nk,nks->ns", direction, dq)
+        J[~valid] = 0.0
+    return residual, J, valid
+
+
+def make_line_factor(
+    key: int,
+    uv_px: np.ndarray,
+    class_index: np.ndarray,
+    polylines: MarkingPolylines,
+    width_px: int,
+    height_px: int,
+    sigma_px: float,
+    cauchy_scale: float | None,
+):
+    """CustomFactor on one camera state: all line points of a frame (residual length N)."""
+    uv_px = np.ascontiguousarray(uv_px, dtype=float)
+    class_index = np.asarray(class_index, dtype=int)
+
+    def fn(vectors, want_jacobian):
+        r, J, valid = line_residuals(vectors[0], uv_px, class_index, polylines, width_px, height_px, want_jacobian)
+        r = np.where(valid, r / sigma_px, INVALID_RESIDUAL_SIGMAS)[:, None]
+        Js = None if J is None else [(J / sigma_px)[:, None, :]]
+        r, Js = cauchy_rows(r, Js, cauchy_scale)
+        return r[:, 0], None if Js is None else [Js[0][:, 0, :]]
+
+    return custom_factor([key], [STATE_SIZE], len(uv_px), fn)

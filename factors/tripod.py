@@ -1,0 +1,118 @@
+"""Tripod factor: the camera's optical axis stays at distance delta from the tripod point T.
+
+``O* = C + ((T - C) . a) a`` is the point of the optical axis (through C along
+``a = r3``, the third row of R_cw) closest to T, and ``L_T = delta - |O* - T|``
+(metres, paper's cost), divided by sigma_m. The tripod ``[Tx, Ty, Tz, delta]`` is a
+4-vector variable (batch) or a constant (online, once estimated).
+
+:func:`tripod_axis_point_residuals` is the full model (the axis passes through
+``T - delta r2``), offered as an option: it separates T from delta better.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from factors.custom import custom_factor
+from factors.projection import STATE_SIZE, rotation_and_derivatives
+
+TRIPOD_SIZE = 4
+MIN_AXIS_DISTANCE_M = 1e-6
+
+
+def tripod_residual(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool = True):
+    """L_T of one camera state.
+
+    Args:
+        state: (8,) camera state; tripod: (4,) ``[Tx, Ty, Tz, delta]`` metres.
+
+    Returns:
+        residual_m: float; J_state: (8,) or None; J_tripod: (4,) or None.
+    """
+    s = np.asarray(state, dtype=float)
+    T, delta = np.asarray(tripod[:3], dtype=float), float(tripod[3])
+    R, dR = rotation_and_derivatives(s[2], s[3], s[4])
+    axis = R[2]
+    d = s[5:8] - T
+    along = float(d @ axis)
+    w = d - along * axis  # O* - T
+    dist = max(float(np.linalg.norm(w)), MIN_AXIS_DISTANCE_M)
+    residual = delta - dist
+    if not want_jacobian:
+        return residual, None, None
+    unit = w / dist
+    J_state = np.zeros(STATE_SIZE)
+    d_axis = dR[:, 2, :]  # (3 angles, 3): d axis / d angle
+    J_state[2:5] = along * (d_axis @ w) / dist
+    J_state[5:8] = -unit
+    J_tripod = np.array([*unit, 1.0])
+    return residual, J_state, J_tripod
+
+
+def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool = True):
+    """Full tripod model: the optical axis passes through ``O = T - delta r2``.
+
+    ``C - T = -delta r2 + lambda r3`` with lambda free, so the components of
+    ``C - T + delta r2`` along r1 and r2 must vanish: residual
+    ``[r1 . (C - T), r2 . (C - T) + delta]`` (metres, 2 values). Stronger than L_T (it uses
+    the direction of the offset, not only its length).
+
+    Returns:
+        residual_m (2,); J_state (2, 8) or None; J_tripod (2, 4) or None.
+    """
+    s = np.asarray(state, dtype=float)
+    T, delta = np.asarray(tripod[:3], dtype=float), float(tripod[3])
+    R, dR = rotation_and_derivatives(s[2], s[3], s[4])
+    d = s[5:8] - T
+    residual = np.array([R[0] @ d, R[1] @ d + delta])
+    if not want_jacobian:
+        return residual, None, None
+    J_state = np.zeros((2, STATE_SIZE))
+    J_state[:, 2:5] = (dR[:, :2, :] @ d).T  # (2 rows, 3 angles)
+    J_state[:, 5:8] = R[:2]
+    J_tripod = np.zeros((2, TRIPOD_SIZE))
+    J_tripod[:, :3] = -R[:2]
+    J_tripod[1, 3] = 1.0
+    return residual, J_state, J_tripod
+
+
+TRIPOD_MODELS = ("distance", "axis_point")
+"""``distance``: the paper's L_T (1 residual); ``axis_point``: the full model (2 residuals)."""
+
+
+def _model_function(model: str):
+    if model == "distance":
+        def fn(state, tripod, want):
+            r, Js, Jt = tripod_residual(state, tripod, want)
+            return np.array([r]), None if Js is None else Js[None, :], None if Jt is None else Jt[None, :]
+        return fn, 1
+    if model == "axis_point":
+        return tripod_axis_point_residuals, 2
+    raise ValueError(f"unknown tripod model '{model}'; choose one of {TRIPOD_MODELS}")
+
+
+def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: str = "distance"):
+    """CustomFactor between a camera state and the tripod variable (residual length 1 or 2)."""
+    residual_fn, dim = _model_function(model)
+
+    def fn(vectors, want_jacobian):
+        r, Js, Jt = residual_fn(vectors[0], vectors[1], want_jacobian)
+        if Js is None:
+            return r / sigma_m, None
+        return r / sigma_m, [Js / sigma_m, Jt / sigma_m]
+
+    return custom_factor([state_key, tripod_key], [STATE_SIZE, TRIPOD_SIZE], dim, fn)
+
+
+def make_fixed_tripod_factor(state_key: int, tripod_vector: np.ndarray, sigma_m: float, model: str = "distance"):
+    """CustomFactor on one camera state with the tripod held fixed (online use)."""
+    tripod_vector = np.asarray(tripod_vector, dtype=float).reshape(TRIPOD_SIZE).copy()
+    residual_fn, dim = _model_function(model)
+
+    def fn(vectors, want_jacobian):
+        r, Js, _ = residual_fn(vectors[0], tripod_vector, want_jacobian)
+        if Js is None:
+            return r / sigma_m, None
+        return r / sigma_m, [Js / sigma_m]
+
+    return custom_factor([state_key], [STATE_SIZE], dim, fn)
