@@ -24,6 +24,7 @@ COMMANDS = (
     "bench",
     "calibrate",
     "synth",
+    "detect",
 )
 
 

@@ -140,6 +140,7 @@ class _Pending:
     record: TrackRecord | None = None
     override_camera: Camera | None = None
     confidence: float | None = None  # of confidence_camera, computed when the frame was added
+    suppress_camera: bool = False  # the frame's estimate is not trusted: write no camera
     confidence_camera: Camera | None = None
 
 
@@ -168,11 +169,18 @@ def reinitialise(
     if detections is not None and detections.marking_mask is not None and not observations.lines_px:
         results.append(reinit_from_mask(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
                                         positions_w=positions_w, curves=curves, field_mask=detections.field_mask))
-    good = [r for r in results if r.camera is not None]
+    good = [replace(r, camera=_wrapped(r.camera)) for r in results if r.camera is not None]
     if not good:
         reasons = "; ".join(r.reason for r in results if r.reason) or "nothing to re-initialise from"
         return ReinitResult(None, None, "", reasons)
     return max(good, key=lambda r: (r.score.jaccard if r.score else 0.0, r.score.inlier_share if r.score else 0.0))
+
+
+def _wrapped(camera: Camera) -> Camera:
+    """The same camera with pan and roll in (-pi, pi]."""
+    pan = math.remainder(camera.pan_rad, 2 * math.pi)
+    roll = math.remainder(camera.roll_rad, 2 * math.pi)
+    return camera if (pan, roll) == (camera.pan_rad, camera.roll_rad) else camera.replace(pan_rad=pan, roll_rad=roll)
 
 
 def frame_confidence(
@@ -184,7 +192,8 @@ def frame_confidence(
 ) -> float | None:
     """Confidence in [0, 1] of a camera for a frame (module docstring, step 4)."""
     if detections is not None and detections.marking_mask is not None and detections.marking_mask.any():
-        return camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask)
+        return camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
+                                 player_mask=detections.player_mask)
     if observations.lines_px:
         score = score_labelled(camera, observations.lines_px, 5.0, sampling)
         return 0.5 * (score.jaccard + score.inlier_share)
@@ -225,6 +234,10 @@ def _predicted(history: deque, std: np.ndarray | None, width_px: int) -> Predict
     except ValueError:
         camera = last
     return PredictedCamera(camera, float(min(uncertainty, 60.0)))
+
+
+SOLVER_ERRORS = (RuntimeError, IndexError, ValueError)
+"""What GTSAM raises on an ill-posed update or a key already marginalised (the solver is then rebuilt)."""
 
 
 class _Solver:
@@ -268,7 +281,7 @@ class _Solver:
         """
         try:
             return self._push(observations, guess, trust_previous)
-        except RuntimeError as exc:
+        except SOLVER_ERRORS as exc:
             start = guess or fallback
             log.warning("frame %d: solver update failed (%s); restarting the solver",
                         observations.frame_index, str(exc).strip().splitlines()[0] if str(exc).strip() else "error")
@@ -276,7 +289,7 @@ class _Solver:
             if self.lagged:
                 try:
                     released = self.smoother.finish()
-                except RuntimeError:
+                except SOLVER_ERRORS:
                     released = []
             self._build(self.tripod)
             self.rebuilds += 1
@@ -285,7 +298,7 @@ class _Solver:
                 return failed, released + [failed]
             try:
                 current, more = self._push(replace(observations, flow=None), start, False)
-            except RuntimeError:
+            except SOLVER_ERRORS:
                 self._build(self.tripod)
                 failed = FrameEstimate(observations.frame_index, None, reason="solver failed twice on this frame")
                 return failed, released + [failed]
@@ -442,14 +455,15 @@ class TrackingRun:
         """A marking mask named by a detections file, as detections (for confidence and re-initialisation)."""
         from broadtrack_graph.io.inputs import read_mask
 
-        mask = read_mask(self.mask_paths[frame_index], self.W, self.H)
-        if mask is None:
+        masks = read_mask(self.mask_paths[frame_index], self.W, self.H)
+        if masks is None:
             return None
+        mask, field = masks
         ys, xs = np.nonzero(mask)
         keep = slice(None, None, max(1, len(xs) // 2000))
         return Detections(self.W, self.H, lines_px=dict(observations.lines_px),
                           marking_points_px=np.column_stack([xs[keep], ys[keep]]).astype(float),
-                          keypoints=observations.keypoints, marking_mask=mask)
+                          keypoints=observations.keypoints, marking_mask=mask, field_mask=field)
 
     def _no_pitch(self, observations: FrameObservations, detections: Detections | None) -> bool:
         if detections is not None:
@@ -472,17 +486,18 @@ class TrackingRun:
                                f"re-initialisation failed: {result.reason}")
                 self._break_chain()
                 return
-            guess = result.camera
+            guess = result.camera if self.config.estimate_k1 else result.camera.replace(k1=0.0)
             reinitialised = True
             observations = replace(observations, flow=None)
             if (self.detector is not None and frame.image is not None and detections is not None
                     and detections.marking_mask is not None and not observations.lines_px):
                 # Name the markings with the re-initialised camera so the first frame has line factors.
-                redetected = self.detector.detect(frame.image, PredictedCamera(guess, 8.0))
+                redetected = self.detector.detect(frame.image, PredictedCamera(guess, 3.0))
                 observations = redetected.to_observations(frame.frame_index, None)
                 detections = redetected
         started = time.perf_counter()
         fallback = self._history[-1] if self._history else None
+        self.on_solver_input(frame, observations, detections)
         current, released = self.solver.push(observations, guess, trust_previous, fallback)
         self.timings["solve_s"] += time.perf_counter() - started
 
@@ -499,7 +514,7 @@ class TrackingRun:
             confidence = frame_confidence(camera, observations, detections, self.curves, self.sampling)
             self.timings["confidence_s"] += time.perf_counter() - started
         low = confidence is not None and confidence < self.config.confidence_threshold
-        lost_now = False
+        lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
         if camera is None or (low and not reinitialised):
             # Re-initialise this frame; the next frame does not trust flow from the previous camera.
             started = time.perf_counter()
@@ -508,6 +523,8 @@ class TrackingRun:
             new_confidence = None
             if result.camera is not None:
                 new_confidence = frame_confidence(result.camera, observations, detections, self.curves, self.sampling)
+            if result.camera is not None and not self.config.estimate_k1:
+                result = replace(result, camera=result.camera.replace(k1=0.0))
             if result.camera is not None and (confidence is None or (new_confidence or 0.0) > confidence):
                 self.solver.reset(result.camera)
                 entry.reinitialised = True
@@ -517,6 +534,11 @@ class TrackingRun:
             elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
                 lost_now = True
         entry.confidence, entry.confidence_camera = confidence, camera
+        if lost_now and camera is not None and confidence is not None:
+            entry.status = STATUS_FAILED
+            entry.reason = f"confidence {confidence:.2f} below {self.config.lost_confidence:.2f} and re-initialisation failed"
+            entry.override_camera = None
+            entry.suppress_camera = True
         if lost_now or camera is None:
             self._break_chain()
         else:
@@ -527,6 +549,9 @@ class TrackingRun:
         for estimate in released:
             self._resolve(estimate)
         self._flush()
+
+    def on_solver_input(self, frame: FrameInput, observations: FrameObservations, detections: Detections | None) -> None:
+        """Hook: called with what a frame hands the solver (subclasses record it, e.g. to write detections)."""
 
     def _maybe_fit_tripod(self, camera: Camera | None) -> None:
         """Online without a tripod: fit it once the opening frames are tracked, then hold it fixed."""
@@ -550,9 +575,9 @@ class TrackingRun:
     def _resolve(self, estimate: FrameEstimate) -> None:
         for entry in self._pending:
             if entry.frame.frame_index == estimate.frame_index and entry.record is None:
-                camera = entry.override_camera or estimate.camera
+                camera = None if entry.suppress_camera else (entry.override_camera or estimate.camera)
                 status = entry.status if camera is not None else STATUS_FAILED
-                reason = entry.reason if camera is not None else (estimate.reason or "solver failed")
+                reason = entry.reason if (camera is not None or entry.suppress_camera) else (estimate.reason or "solver failed")
                 confidence = None
                 if camera is not None and entry.confidence_camera is not None and \
                         np.allclose(camera.to_vector(), entry.confidence_camera.to_vector(), rtol=0, atol=1e-9):
@@ -672,13 +697,13 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     if config.mode != "batch":
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
                           progress=progress, total=total, reinit_positions=reinit_positions, mask_paths=mask_paths)
-        _loop(run, frames, progress, total, config.mode)
+        run_loop(run, frames, progress, total, config.mode)
         return run.finish()
     first = replace(config, mode="online", use_tripod=False)
     run = TrackingRun(width_px, height_px, out_dir / "pass1", first, detector, None, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True, progress=progress,
                       total=total, reinit_positions=reinit_positions, mask_paths=mask_paths)
-    _loop(run, frames, progress, total, "pass 1 (no tripod)")
+    run_loop(run, frames, progress, total, "pass 1 (no tripod)")
     pass1 = run.finish()
     return refine_run(pass1, run.kept, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
                       graph_config)
@@ -724,7 +749,9 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
                               confidence, record.reinitialised, record.status, record.reason, active)
         writer.write(new)
         records.append(new)
-    extra = {"batch_refine_s": round(elapsed, 3), "pass1": str(Path(pass1.out_dir))}
+    pass1_s = float(pass1.summary.get("elapsed_s") or 0.0)
+    extra = {"batch_refine_s": round(elapsed, 3), "pass1": str(Path(pass1.out_dir)), "pass1_s": round(pass1_s, 3),
+             "fps_two_passes": round(len(pass1.records) / max(pass1_s + elapsed, 1e-9), 3)}
     if fitted is not None:
         extra["tripod"] = {"T_w": list(map(float, fitted.T_w)), "delta_m": float(fitted.delta_m)}
         write_tripod(Path(out_dir) / TRIPOD_FILE, fitted, refiner.last_info.get("tripod_fit"))
@@ -775,7 +802,8 @@ def prefetch(iterable, transform=None, depth: int = 4):
                 thread.join(timeout=0.05)
 
 
-def _loop(run: TrackingRun, frames, progress: bool, total: int | None, label: str) -> None:
+def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:
+    """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
     flow_config = run.config.flow
 
     def prepare_ahead(frame: FrameInput) -> FrameInput:

@@ -9,7 +9,7 @@ import pytest
 
 from broadtrack_graph.camera import Camera
 from broadtrack_graph.evaluate import TemplateSampling
-from broadtrack_graph.frontend.linefit import LineFitConfig, TemplateCurves, fit_camera_to_lines, project_state
+from broadtrack_graph.frontend.linefit import LineFitConfig, TemplateCurves, fit_camera_to_lines
 from broadtrack_graph.frontend.reinit import (
     camera_from_homography, camera_from_two_points, focal_from_ray_angle, homography_from_lines,
     reinit_from_keypoints, reinit_from_lines, score_labelled,
@@ -84,14 +84,6 @@ def test_fit_camera_to_lines_converges_from_a_perturbed_start():
     assert 0.0 < result.max_distance_px < 1.5
     assert result.camera.focal_px == pytest.approx(truth.focal_px, rel=0.03)
     assert result.camera.pan_deg == pytest.approx(truth.pan_deg, abs=0.2)
-
-
-def test_project_state_matches_camera_project():
-    camera = _camera(k1=-0.05)
-    pts = np.array([[0.0, 0.0, 0.0], [30.0, -20.0, 0.0], [-52.5, 3.66, -2.44]])
-    uv_a, _ = camera.project(pts)
-    uv_b, _ = project_state(camera.to_vector(), pts, W, H)
-    np.testing.assert_allclose(uv_a, uv_b, atol=1e-9)
 
 
 @pytest.mark.parametrize("case", [

@@ -151,7 +151,11 @@ def run(args) -> dict:
         real["reinit_ms"] = round(1000 * (time.perf_counter() - t0), 1)
         real["reinit_confidence"] = round(float(result.score.jaccard), 3) if result.score else None
         real["reinit_hypothesis"] = result.hypothesis
+        if result.camera is not None:
+            real["reinit_camera"] = {"focal_px": round(result.camera.focal_px, 1), "pan_deg": round(result.camera.pan_deg, 2),
+                                     "tilt_deg": round(result.camera.tilt_deg, 2),
+                                     "position_m": [round(float(v), 2) for v in result.camera.position_m]}
         report["real_frame"] = real
         if args.images is not None:
-            cv2.imwrite(str(args.images / "frontend_real_frame.jpg"), draw_detections(image, det))
+            cv2.imwrite(str(args.images / "frontend_real_frame.jpg"), draw_detections(image, det, result.camera, curves))
     return report

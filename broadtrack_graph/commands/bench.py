@@ -18,6 +18,9 @@ SUITES = (
     "graph",
     "render",
     "frontend",
+    "accuracy",
+    "speed",
+    "detections",
 )
 
 

@@ -150,7 +150,7 @@ def draw_calibration(lines_norm: dict[str, np.ndarray], camera: Camera | None, w
     import cv2
 
     from broadtrack_graph.evaluate import evaluate_frame
-    from broadtrack_graph.frontend.weightfree import template_mask
+    from broadtrack_graph.frontend.template_image import template_mask
 
     canvas = np.full((height_px, width_px, 3), 35, np.uint8)
     text = title

@@ -118,7 +118,7 @@ def draw_detections(image_bgr: np.ndarray, detections: Detections, camera: Camer
         field = detections.full_size(detections.field_mask)
         out[~field] = (out[~field] * 0.45).astype(np.uint8)
     if camera is not None:
-        from broadtrack_graph.frontend.weightfree import template_mask
+        from broadtrack_graph.frontend.template_image import template_mask
 
         if curves is None:
             from broadtrack_graph.frontend.linefit import TemplateCurves

@@ -45,11 +45,11 @@ class FlowFrame:
 
 
 def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig()) -> FlowFrame:
-    """Grey working image and pyramid for :func:`grid_flow` (compute once per frame and reuse)."""
+    """Grey working image for :func:`grid_flow` (compute once per frame and reuse)."""
     h, w = image_bgr.shape[:2]
     ww = min(config.work_width_px, w)
-    small = image_bgr if ww == w else cv2.resize(image_bgr, (ww, int(round(h * ww / w))), interpolation=cv2.INTER_AREA)
-    return FlowFrame(cv2.cvtColor(small, cv2.COLOR_BGR2GRAY))
+    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)  # grey first: the reduction then moves one channel, not three
+    return FlowFrame(grey if ww == w else cv2.resize(grey, (ww, int(round(h * ww / w))), interpolation=cv2.INTER_AREA))
 
 
 def ground_points(camera: Camera, uv_px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

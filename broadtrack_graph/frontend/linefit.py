@@ -24,10 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.camera import Camera, rotation_from_angles
+from broadtrack_graph.camera import Camera
 from broadtrack_graph.pitch import Arc, PitchTemplate
+from factors.projection import STATE_SIZE, project_state
 
-STATE_SIZE = 8
 
 
 @dataclass(frozen=True)
@@ -61,26 +61,6 @@ class TemplateCurves:
         for name, element in self.pitch.elements.items():
             step = circle_step_m if isinstance(element, Arc) else line_step_m
             self.samples_w[name] = self.pitch.sample_uniform(step, classes=[name])[name]
-
-
-def project_state(state: np.ndarray, points_w: np.ndarray, width_px: int, height_px: int):
-    """Project world points with a tracker state (k1-only distortion, centred principal point).
-
-    Args:
-        state: (8,) ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]`` (pixels, -, radians, metres).
-        points_w: (N, 3) metres.
-
-    Returns:
-        uv_px: (N, 2) pixels (NaN behind the camera); in_front: (N,) bool.
-    """
-    R_cw = rotation_from_angles(state[2], state[3], state[4])
-    points_c = (points_w - state[5:8]) @ R_cw.T
-    depth = points_c[:, 2]
-    in_front = depth > 1e-3
-    xy = points_c[:, :2] / np.where(in_front, depth, np.nan)[:, None]
-    r2 = np.einsum("ij,ij->i", xy, xy)
-    uv = state[0] * xy * (1.0 + state[1] * r2)[:, None] + np.array([width_px / 2.0, height_px / 2.0])
-    return uv, in_front
 
 
 def closest_on_polyline(points_px: np.ndarray, poly_px: np.ndarray, valid_seg: np.ndarray):
@@ -142,7 +122,7 @@ class _Problem:
 
     def associate(self, state):
         """Distances and, per point, the 3D point of its class's curve closest in the image and the curve normal."""
-        uv, front = project_state(state, self.all_samples, self.width_px, self.height_px)
+        uv, _, front = project_state(state, self.all_samples, self.width_px, self.height_px, want_jacobian=False)
         anchors, normals, targets, dists, missing = [], [], [], {}, []
         for j, name in enumerate(self.names):
             s0, s1 = self.offsets[j], self.offsets[j + 1]
@@ -187,23 +167,11 @@ class _Problem:
         return np.asarray(rows)
 
 
-_FD_STEPS = np.array([1e-4, 1e-4, 1e-6, 1e-6, 1e-6, 1e-4, 1e-4, 1e-4])  # f is relative (scaled by f)
-
-
 def _residuals_and_jacobian(problem: _Problem, state, anchors, normals, targets):
-    W, H = problem.width_px, problem.height_px
-    uv, _ = project_state(state, anchors, W, H)
+    """Point-to-tangent residuals (M,) and their analytic Jacobian (M, 8) (factors.projection)."""
+    uv, J_uv, _ = project_state(state, anchors, problem.width_px, problem.height_px)
     r = np.einsum("ij,ij->i", normals, uv - targets)
-    J = np.empty((len(r), STATE_SIZE))
-    for i in range(STATE_SIZE):
-        step = _FD_STEPS[i] * (state[0] if i == 0 else 1.0)
-        sp, sm = state.copy(), state.copy()
-        sp[i] += step
-        sm[i] -= step
-        up, _ = project_state(sp, anchors, W, H)
-        um, _ = project_state(sm, anchors, W, H)
-        J[:, i] = np.einsum("ij,ij->i", normals, up - um) / (2 * step)
-    return r, J
+    return r, np.einsum("ij,ijk->ik", normals, J_uv)
 
 
 def fit_camera_to_lines(
@@ -238,6 +206,11 @@ def fit_camera_to_lines(
     lam = 1e-3
     f_lo, f_hi = config.min_focal_px_per_width * W, config.max_focal_px_per_width * W
     iteration = 0
+
+    def evaluate(candidate):
+        associated = problem.associate(candidate)
+        return problem.robust_cost(associated[3], associated[4], candidate), associated
+
     for iteration in range(1, config.iterations + 1):
         if len(anchors) == 0:
             break
@@ -248,32 +221,46 @@ def fit_camera_to_lines(
         A = (J * w[:, None]).T @ J + Jp.T @ Jp
         g = (J * w[:, None]).T @ r + Jp.T @ rp
         A, g = A[np.ix_(free, free)], g[free]
-        improved = False
-        for _ in range(8):
-            try:
-                delta = np.linalg.solve(A + lam * np.diag(np.diag(A) + 1e-9), -g)
-            except np.linalg.LinAlgError:
-                lam *= 10
-                continue
-            candidate = state.copy()
-            candidate[free] += delta
-            candidate[0] = min(max(candidate[0], f_lo), f_hi)
-            c_anchors, c_normals, c_targets, c_dists, c_missing = problem.associate(candidate)
-            c_cost = problem.robust_cost(c_dists, c_missing, candidate)
-            if c_cost < cost:
-                relative = (cost - c_cost) / max(cost, 1e-12)
-                state, cost = candidate, c_cost
-                anchors, normals, targets, dists, missing = c_anchors, c_normals, c_targets, c_dists, c_missing
-                lam = max(lam / 10, 1e-7)
-                improved = True
-                break
-            lam *= 10
+
+        improved, candidate, c_cost, associated, lam = _damped_step(state, free, A, g, lam, 8, (f_lo, f_hi), evaluate,
+                                                                    cost, 1e-7)
+        if improved:
+            relative = (cost - c_cost) / max(cost, 1e-12)
+            state, cost = candidate, c_cost
+            anchors, normals, targets, dists, missing = associated
         if not improved or relative < config.min_relative_decrease:
             break
     if config.polish_power > 2 and len(anchors):
         state, dists = _polish(problem, state, free, config, (f_lo, f_hi))
     camera = Camera.from_vector(state, W, H)
     return LineFitResult(camera, cost, dists, iteration)
+
+
+def _damped_step(state, free, A, g, lam: float, tries: int, focal_bounds, evaluate, current: float,
+                 lam_min: float):
+    """One Levenberg-Marquardt step on the free parameters: raise the damping until the objective decreases.
+
+    Args:
+        A, g: normal matrix and gradient restricted to the free parameters.
+        evaluate: candidate state -> (objective, payload); current: the objective at ``state``.
+
+    Returns:
+        (accepted, candidate state, its objective, its payload, new damping).
+    """
+    for _ in range(tries):
+        try:
+            delta = np.linalg.solve(A + lam * np.diag(np.diag(A) + 1e-9), -g)
+        except np.linalg.LinAlgError:
+            lam *= 10
+            continue
+        candidate = state.copy()
+        candidate[free] += delta
+        candidate[0] = min(max(candidate[0], focal_bounds[0]), focal_bounds[1])
+        value, payload = evaluate(candidate)
+        if value < current:
+            return True, candidate, value, payload, max(lam / 10, lam_min)
+        lam *= 10
+    return False, state, current, None, lam
 
 
 def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds, iterations: int = 12, cap_px: float = 12.0):
@@ -284,6 +271,10 @@ def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds,
         values = np.concatenate([d for d in dists.values()]) if dists else np.zeros(0)
         values = np.where(np.isnan(values), cap_px, np.minimum(values, cap_px))
         return float(np.sum(values**p))
+
+    def evaluate(candidate):
+        associated = problem.associate(candidate)
+        return objective(associated[3]), associated
 
     anchors, normals, targets, dists, _ = problem.associate(state)
     best = objective(dists)
@@ -300,25 +291,12 @@ def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds,
         A = (J * w[:, None]).T @ J + scale * Jp.T @ Jp
         g = (J * w[:, None]).T @ r + scale * Jp.T @ rp
         A, g = A[np.ix_(free, free)], g[free]
-        accepted = False
-        for _ in range(5):
-            try:
-                delta = np.linalg.solve(A + lam * np.diag(np.diag(A) + 1e-9), -g)
-            except np.linalg.LinAlgError:
-                lam *= 10
-                continue
-            candidate = state.copy()
-            candidate[free] += delta
-            candidate[0] = min(max(candidate[0], focal_bounds[0]), focal_bounds[1])
-            c = problem.associate(candidate)
-            value = objective(c[3])
-            if value < best:
-                best, state = value, candidate
-                anchors, normals, targets, dists = c[0], c[1], c[2], c[3]
-                lam = max(lam / 10, 1e-6)
-                accepted = True
-                break
-            lam *= 10
+
+        accepted, candidate, value, associated, lam = _damped_step(state, free, A, g, lam, 5, focal_bounds, evaluate,
+                                                                   best, 1e-6)
+        if accepted:
+            best, state = value, candidate
+            anchors, normals, targets, dists = associated[:4]
         if not accepted:
             break
     return state, dists

@@ -31,8 +31,9 @@ import numpy as np
 from broadtrack_graph.camera import Camera, angles_from_rotation
 from broadtrack_graph.evaluate import distances_to_polyline, project_template_polylines, TemplateSampling
 from broadtrack_graph.frontend.linefit import (
-    LineFitConfig, TemplateCurves, closest_on_polyline, fit_camera_to_lines, project_state,
+    LineFitConfig, TemplateCurves, closest_on_polyline, fit_camera_to_lines,
 )
+from factors.projection import project_state
 from broadtrack_graph.pitch import Arc, PitchTemplate, Segment
 
 log = logging.getLogger(__name__)
@@ -597,16 +598,11 @@ def _refine_on_keypoints(camera: Camera, uv_px, points_w, position_w, iterations
     free = np.array([0, 2, 3, 4, 5, 6, 7])
     prior_sig = np.array([np.inf, np.inf, np.inf, np.inf, math.radians(1.0), sigma_position_m, sigma_position_m, sigma_position_m])
     for _ in range(iterations):
-        uv, front = project_state(state, points_w, W, H)
-        r = (uv - uv_px).ravel()
-        if not np.all(np.isfinite(r)):
+        uv, J_uv, front = project_state(state, points_w, W, H)
+        if not front.all():
             break
-        J = np.empty((len(r), 8))
-        for k in range(8):
-            step = 1e-4 * state[0] if k == 0 else 1e-6
-            sp = state.copy()
-            sp[k] += step
-            J[:, k] = ((project_state(sp, points_w, W, H)[0] - uv_px).ravel() - r) / step
+        r = (uv - uv_px).ravel()
+        J = J_uv.reshape(-1, 8)
         w = 1.0 / (1.0 + (r / cauchy_px) ** 2)
         prior_r = np.zeros(8)
         prior_r[4] = state[4]
@@ -650,8 +646,12 @@ class MaskSearchConfig:
     focal_max_per_width: float = 6.0
     focal_count: int = 14
     refine_top_k: int = 3  # best grid cells refined on a fine grid, then by labelling the map and fitting
-    label_gates_per_width: tuple[float, ...] = (0.012, 0.005)  # labelling gates (share of the width) per round
+    label_gates_per_width: tuple[float, ...] = (0.02, 0.008, 0.004)  # labelling gates (share of the width) per round
     position_sigma_m: float = 3.0  # prior on the focal point around the candidate tripod
+    sigma_k1: float = 0.05  # prior on k1 around 0 (few far markings leave k1 and f entangled)
+    fit_iterations: int = 20  # LM iterations per labelling round
+    max_fit_points: int = 400  # marking points used by the label-and-fit rounds (evenly subsampled)
+    cauchy_per_width: float = 1.0 / 960  # robust scale of the fit (share of the width: 1 px at 960, 2 px at 1920)
 
 
 def _distance_map(marking_mask: np.ndarray, work_width_px: int, cap_px: float, frame_width_px: int):
@@ -768,9 +768,10 @@ def reinit_from_mask(
     For each candidate focal point (default: the default tripods, not mirrored: the map has no
     labels and the pitch is symmetric), :func:`mask_search` proposes cameras; each is
     refined by naming the unlabelled marking points by their nearest projected class
-    (twice, with a shrinking gate) and fitting :func:`fit_camera_to_lines`; the camera with
-    the best marking/template Jaccard index (confidence.camera_confidence) is returned
-    with that index as its score (``score.jaccard``).
+    (``label_gates_per_width``: a few rounds with a shrinking gate, k1 held at 0 until the
+    last) and fitting :func:`fit_camera_to_lines` with a robust scale proportional to the
+    width; the camera with the best confidence (confidence.camera_confidence) is returned
+    with it as its score (``score.jaccard``).
 
     Args:
         marking_mask: bool marking map (frame size or a reduced size of the same aspect ratio).
@@ -793,16 +794,21 @@ def reinit_from_mask(
             hypotheses.append((cost, camera, position))
     hypotheses.sort(key=lambda item: item[0])
     points = np.asarray(marking_points_px, float)
-    if len(points) > 400:
-        points = points[np.linspace(0, len(points) - 1, 400).astype(int)]
-    fit_config = LineFitConfig(polish_power=0.0, iterations=12, sigma_position_m=config.position_sigma_m)
+    if len(points) > config.max_fit_points:
+        points = points[np.linspace(0, len(points) - 1, config.max_fit_points).astype(int)]
+    fit_config = LineFitConfig(polish_power=0.0, iterations=config.fit_iterations, sigma_position_m=config.position_sigma_m,
+                               sigma_k1=config.sigma_k1, cauchy_scale_px=config.cauchy_per_width * W)
     best = None
     for cost, camera, position in hypotheses[: config.refine_top_k]:
-        for gate in config.label_gates_per_width:
+        gates = config.label_gates_per_width
+        for round_index, gate in enumerate(gates):
             lines = label_points_by_camera(camera, points, curves, gate * W)
             if sum(len(p) for p in lines.values()) < 8:
                 break
-            camera = fit_camera_to_lines(camera, lines, curves, fit_config, position_prior_w=np.asarray(position)).camera
+            # k1 stays at 0 until the last round: with a wrong labelling it trades against f and drifts.
+            fixed = () if round_index == len(gates) - 1 else (1,)
+            camera = fit_camera_to_lines(camera, lines, curves, fit_config, position_prior_w=np.asarray(position),
+                                         fixed=fixed).camera
         jac = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
         if best is None or jac > best[0]:
             best = (jac, camera, position)

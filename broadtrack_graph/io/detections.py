@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.jsonfile import read_text
 from broadtrack_graph.observations import FrameObservations, KeypointObservations
 from broadtrack_graph.pitch import LINE_CLASSES, PitchTemplate
 
@@ -207,12 +208,7 @@ def read_detections(
     """
     path = Path(path)
     pitch = pitch or PitchTemplate()
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, "detections file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"cannot read: {exc}") from None
+    text = read_text(path, "detections file")
     result = DetectionsFile(image_size=image_size)
     lines = text.splitlines()
     for number, line in enumerate(lines, start=1):

@@ -45,7 +45,7 @@ def frames_from_detections(detections: DetectionsFile, fps: float = 25.0, start:
             yield FrameInput(frame.frame_index, frame.frame_id, frame.time_s, frame.image_bgr, observations,
                              frame.problem if frame.image_bgr is None else None)
         return
-    first = 0 if start is None else start
+    first = min(detections.frames) if start is None else start  # a file written with --start begins there
     last = detections.last_frame + 1 if end is None else min(end, detections.last_frame + 1)
     for index in range(first, last):
         observations = detections.frames.get(index) or FrameObservations(index, width, height)
@@ -53,12 +53,19 @@ def frames_from_detections(detections: DetectionsFile, fps: float = 25.0, start:
         yield FrameInput(index, frame_id, index / fps, None, observations)
 
 
-def read_mask(path: Path, width_px: int, height_px: int) -> np.ndarray | None:
-    """A binary marking mask image from a detections file, at (W, H); None (with a warning) if unreadable."""
-    mask = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
-    if mask is None:
+def read_mask(path: Path, width_px: int, height_px: int) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """A marking mask image of a detections file, at (W, H): (markings, field or None).
+
+    Markings are pixels above 127; when the image also has pixels in 1..127 they mark the
+    playing surface (``detect`` writes 255 on markings, 64 on the rest of the field).
+    None (with a warning) when the image cannot be read.
+    """
+    grey = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
+    if grey is None:
         log.warning("%s: marking mask cannot be read; ignored", path)
         return None
-    if mask.shape != (height_px, width_px):
-        mask = cv2.resize(mask, (width_px, height_px), interpolation=cv2.INTER_NEAREST)
-    return mask > 127
+    if grey.shape != (height_px, width_px):
+        grey = cv2.resize(grey, (width_px, height_px), interpolation=cv2.INTER_NEAREST)
+    markings = grey > 127
+    has_field = bool(np.any((grey > 0) & (grey <= 127)))
+    return markings, (grey > 0) if has_field else None

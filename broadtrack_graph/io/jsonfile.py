@@ -11,15 +11,21 @@ from pathlib import Path
 from broadtrack_graph.errors import InputError
 
 
+def read_text(path: str | Path, what: str = "file") -> str:
+    """A text file's content; InputError naming the file when it is missing or unreadable."""
+    path = Path(path)
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(path, f"{what} not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, f"cannot read: {exc}") from None
+
+
 def read_json(path: str | Path):
     """Parse a JSON file; raise InputError naming the file when it is missing, empty or malformed."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(path, "file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"cannot read: {exc}") from None
+    text = read_text(path)
     if not text.strip():
         raise InputError(path, "empty file")
     try:

@@ -1,0 +1,338 @@
+"""``broadtrack-graph bench accuracy``: the whole tracker on rendered clips, against exact ground truth.
+
+For every synthetic preset (default main and 16m, 1920x1080) a clip is rendered once
+(:func:`~broadtrack_graph.io.clip_writer.write_synthetic_clip`, reused from ``--out`` when
+it is already there) and tracked with the weight-free detector in every mode
+(online iSAM2, fixed-lag smoother, batch two-pass refinement) by
+:func:`~broadtrack_graph.tracking.track_input`. Each run is scored with the compare
+helpers (:mod:`broadtrack_graph.outputs.compare`, which call
+:func:`broadtrack_graph.evaluate.evaluate_cameras`):
+
+* SoccerNet metric on the clip's line annotations: JaC@5, JaC@10 (accuracy), completeness,
+  final score at 5 px, MRE / MedRE (px, at 1920x1080 when the clip is);
+* errors of the camera parameters against the ground-truth cameras (pan / tilt / roll RMS,
+  focal length mean |relative| error, focal point RMS), jitter (RMS second difference);
+* the fitted tripod against the clip's ``tripod.json``: |T - T_true|, its horizontal part
+  (the height of T is weakly observable with a main camera) and delta error. A run folder
+  has ``tripod.json`` once a tripod is fitted (batch always; online after
+  ``tripod_fit_frames`` frames).
+
+The ablation (as in the paper's table) tracks one preset with the optical-flow factor,
+the tripod factor and k1 each switched off in turn (``TrackingConfig(use_flow=...,
+use_tripod=..., estimate_k1=...)``). Its default mode is batch: without a known tripod
+the online modes only use the tripod term after fitting it on their first 150 frames, so
+on a short clip "no tripod" would differ from "full" on few frames.
+
+Per preset (and for the ablation) the comparison table and plots are written to
+``OUT/compare/<group>/`` (compare.md, series.png, focal_points.png).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+HELP = "tracking accuracy on rendered clips: JaC@5/10, MRE, completeness per preset and mode; flow/tripod/k1 ablation"
+
+log = logging.getLogger(__name__)
+
+# Ablation variant -> TrackingConfig changes.
+ABLATION_VARIANTS = {
+    "full": {},
+    "no-flow": {"use_flow": False},
+    "no-tripod": {"use_tripod": False},
+    "no-k1": {"estimate_k1": False},
+}
+
+
+def add_arguments(parser) -> None:
+    from broadtrack_graph.pipeline import MODES
+    from broadtrack_graph.synth.motion import PRESETS
+
+    parser.add_argument("--presets", nargs="+", default=["main", "16m"], choices=sorted(PRESETS),
+                        help="synthetic presets (default main 16m)")
+    parser.add_argument("--frames", type=int, default=200, help="frames per clip (default 200)")
+    parser.add_argument("--modes", nargs="+", default=list(MODES), choices=MODES,
+                        help="tracking modes (default online fixed-lag batch)")
+    parser.add_argument("--ablation-preset", default="hard", choices=sorted(PRESETS) + ["none"],
+                        help="preset of the flow / tripod / k1 ablation (default hard: fast sweeps, tight zooms, "
+                             "strong k1); 'none' skips it")
+    parser.add_argument("--ablation-mode", default="batch", choices=MODES, help="mode of the ablation runs (default batch)")
+    parser.add_argument("--ablation-variants", nargs="+", default=list(ABLATION_VARIANTS), choices=list(ABLATION_VARIANTS),
+                        help="ablation runs (default: full no-flow no-tripod no-k1)")
+    parser.add_argument("--seed", type=int, default=0, help="clip seed (default 0)")
+    parser.add_argument("--width", type=int, default=1920)
+    parser.add_argument("--height", type=int, default=1080)
+    parser.add_argument("--lag", type=int, default=25, help="fixed-lag smoother lag in frames (default 25)")
+    parser.add_argument("--out", type=Path, default=Path("bench-accuracy"),
+                        help="folder for clips/, runs/ and compare/ (default ./bench-accuracy); rendered clips found "
+                             "there are reused")
+    parser.add_argument("--reuse-runs", action="store_true",
+                        help="also reuse finished runs whose configuration matches (default: track again)")
+    parser.add_argument("--threads", type=int, default=1, help="OpenCV threads (default 1)")
+    parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+
+
+# --------------------------------------------------------------------------- clips and runs
+
+
+def clip_folder_name(preset: str, frames: int, width_px: int, height_px: int, seed: int) -> str:
+    """Folder name of a rendered clip: everything that determines its content."""
+    return f"{preset}-s{seed}-{frames}f-{width_px}x{height_px}"
+
+
+def ensure_clip(clips_dir: Path, preset: str, frames: int, width_px: int, height_px: int, seed: int,
+                progress: bool = True) -> tuple[Path, bool]:
+    """The rendered clip for these settings: reused when a complete one is in ``clips_dir``, else rendered.
+
+    Returns:
+        (clip folder, True when it was rendered now).
+    """
+    from broadtrack_graph.io.clip_writer import CLIP_FILE, write_synthetic_clip
+
+    folder = clips_dir / clip_folder_name(preset, frames, width_px, height_px, seed)
+    info_path = folder / CLIP_FILE
+    if info_path.is_file():
+        try:
+            info = json.loads(info_path.read_text(encoding="utf-8"))
+        except (OSError, json.JSONDecodeError):
+            info = {}
+        wanted = {"preset": preset, "seed": seed, "width_px": width_px, "height_px": height_px,
+                  "frame_count": frames, "frames_written": frames}
+        if all(info.get(k) == v for k, v in wanted.items()) and (folder / "Labels-GameState.json").is_file():
+            log.info("reusing clip %s", folder)
+            return folder, False
+    write_synthetic_clip(folder, preset=preset, frame_count=frames, width_px=width_px, height_px=height_px,
+                         seed=seed, progress=progress)
+    return folder, True
+
+
+def _config_matches(run_dir: Path, config) -> bool:
+    from dataclasses import asdict
+
+    summary_path = run_dir / "summary.json"
+    if not summary_path.is_file():
+        return False
+    try:
+        summary = json.loads(summary_path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError):
+        return False
+    stored = (summary.get("run") or {}).get("config")
+    return bool(summary.get("complete")) and stored == json.loads(json.dumps(asdict(config)))
+
+
+def track_clip(clip: Path, run_dir: Path, config, reuse: bool = False, progress: bool = True) -> dict:
+    """Track a clip folder into ``run_dir`` (or reuse a finished run of the same configuration).
+
+    A run that raises is a finding, not the end of the benchmark: the exception is
+    recorded (``error``) and the frames it wrote before are still scored (the frames it
+    never reached count as frames without a camera).
+
+    Returns:
+        {"wall_s": seconds of this call's tracking (None when reused), "reused": bool,
+         "summary": the run's summary.json ({} when it crashed), "error": None or
+         "<exception type>: <first line>", "frames_written": records in track.jsonl}.
+    """
+    from broadtrack_graph.tracking import DetectorOptions, track_input
+
+    if reuse and _config_matches(run_dir, config):
+        summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+        return {"wall_s": None, "reused": True, "summary": summary, "error": None,
+                "frames_written": summary.get("frames_written")}
+    started = time.perf_counter()
+    try:
+        result = track_input(clip, run_dir, config, DetectorOptions("weightfree"), progress=progress)
+    except Exception as exc:  # noqa: BLE001 -- a crashing run is reported, the other runs go on
+        message = next((line.strip() for line in str(exc).splitlines() if line.strip()), "")
+        track_file = run_dir / "track.jsonl"
+        written = sum(1 for line in track_file.read_text(encoding="utf-8").splitlines() if line.strip()) \
+            if track_file.is_file() else 0
+        log.error("%s: tracking raised %s: %s (after %d frames)", run_dir, type(exc).__name__, message, written)
+        return {"wall_s": round(time.perf_counter() - started, 2), "reused": False, "summary": {},
+                "error": f"{type(exc).__name__}: {message}", "frames_written": written}
+    return {"wall_s": round(time.perf_counter() - started, 2), "reused": False, "summary": result.summary,
+            "error": None, "frames_written": result.summary.get("frames_written")}
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def tripod_error(run_dir: Path, truth_path: Path) -> dict | None:
+    """The run's fitted tripod (``run_dir/tripod.json``) against the clip's, or None without one.
+
+    Returns:
+        {"T_w", "delta_m", "T_error_m" |T - T_true|, "T_error_xy_m" horizontal part,
+         "T_error_z_m" signed height error, "delta_error_m" signed}.
+    """
+    from broadtrack_graph.pipeline import TRIPOD_FILE, read_tripod
+
+    fitted_path = run_dir / TRIPOD_FILE
+    if not fitted_path.is_file() or not truth_path.is_file():
+        return None
+    fitted, truth = read_tripod(fitted_path), read_tripod(truth_path)
+    error = np.asarray(fitted.T_w, float) - np.asarray(truth.T_w, float)
+    return {
+        "T_w": [round(float(v), 4) for v in fitted.T_w],
+        "delta_m": round(float(fitted.delta_m), 4),
+        "T_error_m": round(float(np.linalg.norm(error)), 4),
+        "T_error_xy_m": round(float(np.linalg.norm(error[:2])), 4),
+        "T_error_z_m": round(float(error[2]), 4),
+        "delta_error_m": round(float(fitted.delta_m - truth.delta_m), 4),
+    }
+
+
+def stage_timings(summary: dict) -> dict:
+    """Per-stage seconds of a run (``timings_s``); for a batch run, those of its first pass."""
+    timings = summary.get("timings_s")
+    pass1 = summary.get("pass1")
+    if timings is None and pass1 and (Path(pass1) / "summary.json").is_file():
+        try:
+            timings = json.loads((Path(pass1) / "summary.json").read_text(encoding="utf-8")).get("timings_s")
+        except (OSError, json.JSONDecodeError):
+            timings = None
+    return dict(timings or {})
+
+
+def _r(value, digits: int = 4):
+    return None if value is None else round(float(value), digits)
+
+
+def run_figures(stats: dict | None, tracked: dict, tripod: dict | None) -> dict:
+    """The figures of one run from its compare statistics, tracking call and tripod error.
+
+    ``stats`` is None for a run that wrote no frame (all figures None, the error kept).
+    """
+    if stats is None:
+        return {"error": tracked["error"], "frames_written": tracked["frames_written"], "track_wall_s": tracked["wall_s"]}
+    metrics = stats.get("metrics") or {}
+    gt = stats.get("ground_truth_error") or {}
+    summary = tracked["summary"]
+    jitter = stats["jitter"]
+    return {
+        "error": tracked["error"],
+        "jac_5": _r(metrics.get("jac", {}).get("5")),
+        "jac_10": _r(metrics.get("jac", {}).get("10")),
+        "completeness": _r(metrics.get("completeness")),
+        "final_score_5": _r(metrics.get("final_score", {}).get("5")),
+        "mre_px": _r(metrics.get("mre_px"), 3),
+        "medre_px": _r(metrics.get("medre_px"), 3),
+        "frames": stats["frames"],
+        "frames_with_camera": stats["frames_with_camera"],
+        "reinitialisations": stats["reinitialisations"],
+        "status_counts": summary.get("status_counts"),
+        "gt_pan_rms_deg": _r(gt.get("pan_rms_deg")),
+        "gt_tilt_rms_deg": _r(gt.get("tilt_rms_deg")),
+        "gt_roll_rms_deg": _r(gt.get("roll_rms_deg")),
+        "gt_focal_mean_abs_rel_pct": _r(gt.get("focal_mean_abs_rel_pct"), 3),
+        "gt_position_rms_m": _r(gt.get("position_rms_m"), 3),
+        "jitter_d2_pan_deg": _r(jitter["pan_deg"]["rms_d2"], 5),
+        "jitter_d2_tilt_deg": _r(jitter["tilt_deg"]["rms_d2"], 5),
+        "jitter_d2_focal_px": _r(jitter["focal_px"]["rms_d2"], 3),
+        "focal_point_rms_to_mean_m": _r(stats["focal_point"]["rms_to_mean_m"], 3),
+        "tripod": tripod,
+        "track_wall_s": tracked["wall_s"],
+        "reused_run": tracked["reused"],
+        "timings_s": stage_timings(summary),
+    }
+
+
+def compare_group(clip: Path, runs: dict[str, Path], out_dir: Path) -> dict:
+    """compare_runs over the runs of one clip (metric, ground-truth errors, plots in out_dir).
+
+    Runs without any written frame (crashed at once) are left out; their name maps to None
+    in ``report["runs"]``.
+    """
+    from broadtrack_graph.outputs.compare import compare_runs
+
+    truth = json.loads((clip / "tripod.json").read_text(encoding="utf-8")) if (clip / "tripod.json").is_file() else None
+    empty = [name for name, path in runs.items()
+             if not (path / "track.jsonl").is_file() or not (path / "track.jsonl").read_text(encoding="utf-8").strip()]
+    runs = {name: path for name, path in runs.items() if name not in empty}
+    if not runs:
+        return {"runs": dict.fromkeys(empty)}
+    report = compare_runs(list(runs.values()), names=list(runs), annotations_path=clip / "Labels-GameState.json",
+                        ground_truth_dir=clip / "cameras", out_dir=out_dir,
+                        tripod_T_w=None if truth is None else truth["T_w"])
+    report["runs"].update(dict.fromkeys(empty))
+    return report
+
+
+# --------------------------------------------------------------------------- the suite
+
+
+def run(args) -> dict:
+    from broadtrack_graph.errors import InputError
+    from broadtrack_graph.pipeline import TrackingConfig
+
+    if args.frames < 2:
+        raise InputError(None, f"--frames must be >= 2, got {args.frames}")
+    cv2.setNumThreads(int(args.threads))
+    progress = not args.no_progress
+    out = Path(args.out)
+    clips_dir, runs_dir, compare_dir = out / "clips", out / "runs", out / "compare"
+    report: dict = {
+        "width_px": args.width, "height_px": args.height, "frames": args.frames, "seed": args.seed,
+        "modes": list(args.modes), "lag_frames": args.lag, "opencv_threads": cv2.getNumThreads(),
+        "out": str(out), "clips": {}, "presets": {}, "ablation": None,
+    }
+    # (preset, run name) -> (clip, run dir, config); the tracking is done once per entry.
+    done: dict[tuple[str, str], dict] = {}
+
+    def tracked(preset: str, name: str, clip: Path, config) -> dict:
+        key = (preset, name)
+        if key not in done:
+            log.info("tracking %s / %s", preset, name)
+            done[key] = track_clip(clip, runs_dir / preset / name, config, args.reuse_runs, progress)
+        return done[key]
+
+    def clip_for(preset: str) -> Path:
+        if preset not in report["clips"]:
+            started = time.perf_counter()
+            clip, rendered = ensure_clip(clips_dir, preset, args.frames, args.width, args.height, args.seed, progress)
+            report["clips"][preset] = {"path": str(clip), "rendered_now": rendered,
+                                       "render_s": round(time.perf_counter() - started, 2) if rendered else None}
+        return Path(report["clips"][preset]["path"])
+
+    mode_configs = {mode: TrackingConfig(mode=mode, lag_frames=args.lag) for mode in args.modes}
+    for preset in args.presets:
+        clip = clip_for(preset)
+        runs = {}
+        for mode, config in mode_configs.items():
+            tracked(preset, mode, clip, config)
+            runs[mode] = runs_dir / preset / mode
+        comparison = compare_group(clip, runs, compare_dir / preset)
+        report["presets"][preset] = {
+            name: run_figures(comparison["runs"][name], done[(preset, name)],
+                              tripod_error(path, clip / "tripod.json"))
+            for name, path in runs.items()
+        }
+        report["presets"][preset]["compare_md"] = comparison.get("files", {}).get("markdown")
+
+    if args.ablation_preset != "none" and args.ablation_variants:
+        preset = args.ablation_preset
+        clip = clip_for(preset)
+        base = mode_configs.get(args.ablation_mode) or TrackingConfig(mode=args.ablation_mode, lag_frames=args.lag)
+        runs = {}
+        for variant in args.ablation_variants:
+            config = replace(base, **ABLATION_VARIANTS[variant])
+            # The "full" variant is the preset's run of that mode when there is one.
+            name = args.ablation_mode if variant == "full" else f"{args.ablation_mode}-{variant}"
+            tracked(preset, name, clip, config)
+            runs[variant] = runs_dir / preset / name
+        comparison = compare_group(clip, runs, compare_dir / f"ablation-{preset}")
+        report["ablation"] = {
+            "preset": preset, "mode": args.ablation_mode,
+            "variants": {variant: run_figures(comparison["runs"][variant],
+                                              done[(preset, args.ablation_mode if variant == "full"
+                                                    else f"{args.ablation_mode}-{variant}")],
+                                              tripod_error(path, clip / "tripod.json"))
+                         for variant, path in runs.items()},
+            "compare_md": comparison.get("files", {}).get("markdown"),
+        }
+    return report

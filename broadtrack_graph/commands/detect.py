@@ -1,0 +1,53 @@
+"""``broadtrack-graph detect``: write a detections file, from frames (the project's detector) or annotations."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from broadtrack_graph.errors import InputError
+
+HELP = "write a detections file (JSON lines) from frames with the project's detector, or from SoccerNet annotations"
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("input", nargs="?", type=Path,
+                        help="video file, folder of numbered frames, or game-state sequence folder")
+    parser.add_argument("--out", required=True, type=Path, help="detections file to write (.jsonl); masks go to <stem>_masks/")
+    parser.add_argument("--annotations", type=Path,
+                        help="instead of INPUT: import SoccerNet line annotations (folder of per-image JSON or "
+                             "Labels-GameState.json) as line detections")
+    parser.add_argument("--width", type=int, help="--annotations: image width the annotations refer to")
+    parser.add_argument("--height", type=int, help="--annotations: image height")
+    parser.add_argument("--first-number", type=int, default=None,
+                        help="--annotations folder: number of the file of frame 0 (default 1, or 0 if a file 0 exists)")
+    parser.add_argument("--no-masks", action="store_true", help="do not write the marking masks")
+    parser.add_argument("--track-out", type=Path, default=None,
+                        help="keep the run folder of the online tracker that names the markings")
+    parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    from broadtrack_graph.commands.track import add_tracking_arguments
+
+    add_tracking_arguments(parser)
+
+
+def run(args) -> int:
+    from broadtrack_graph.detections_export import export_detections, import_annotations
+
+    if (args.input is None) == (args.annotations is None):
+        raise InputError(None, "give either INPUT (frames) or --annotations SOURCE")
+    if args.annotations is not None:
+        summary = import_annotations(args.annotations, args.out, args.width, args.height, args.first_number)
+        print(f"imported {summary.records} annotated frames into {summary.path}"
+              + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else ""))
+        return 0
+    from broadtrack_graph.commands.track import config_from_args, detector_options, tripod_from_args
+
+    if args.mode != "online":
+        raise InputError(None, "detect names the markings with the online tracker; --mode must be online")
+    tripod, position = tripod_from_args(args)
+    summary = export_detections(args.input, args.out, config_from_args(args), detector_options(args), tripod=tripod,
+                                tripod_position=position, start=args.start, end=args.end,
+                                write_masks=not args.no_masks, track_dir=args.track_out, progress=not args.no_progress)
+    print(f"wrote {summary.records} of {summary.frames} frames to {summary.path} in {summary.seconds:.1f} s "
+          f"({summary.frames_with_lines} with named lines, {summary.masks} masks"
+          + (f" in {summary.mask_dir}" if summary.mask_dir else "") + ")")
+    return 0
