@@ -227,7 +227,7 @@ def export_detections(
             with writer:
                 run = DetectionRecordingRun(writer, mask_dir, width_px=source.width_px, height_px=source.height_px,
                                             out_dir=track_dir, config=config, detector=made_detector, tripod=tripod,
-                                            pitch=pitch, run_info=run_info, progress=progress, total=len(source),
+                                            pitch=pitch, run_info=run_info,
                                             reinit_positions=positions)
                 run_loop(run, frames_from_source(source), progress, len(source), "detect")
                 result = run.finish({"detections_export": dict(run.stats)})

@@ -31,7 +31,7 @@ import logging
 import math
 import time
 from collections import deque
-from dataclasses import dataclass, field, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -350,8 +350,7 @@ class TrackingRun:
     def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
                  detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
                  graph_config: GraphConfig | None = None, run_info: dict | None = None,
-                 keep_observations: bool = False, progress: bool = True, total: int | None = None,
-                 reinit_positions=None, mask_paths: dict | None = None) -> None:
+                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None) -> None:
         self.W, self.H = int(width_px), int(height_px)
         self.config = config
         self.detector = detector
@@ -367,12 +366,10 @@ class TrackingRun:
                               self.graph_config, self.W, self.H, self.pitch, use_tripod_now)
         self.out_dir = Path(out_dir)
         self.writer = TrackWriter(self.out_dir, self.W, self.H, also_960x540=config.write_960x540,
-                                  run_info={**(run_info or {}), "mode": config.mode, "config": _plain(config)})
+                                  run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
         self.keep_observations = keep_observations
         self.kept: dict[int, FrameObservations] = {}
         self.records: list[TrackRecord] = []
-        self.progress = progress
-        self.total = total
         self._pending: deque[_Pending] = deque()
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
@@ -429,7 +426,7 @@ class TrackingRun:
             self.timings["flow_s"] += time.perf_counter() - started
         if detections is not None and frame.observations is None:
             observations = detections.to_observations(frame.frame_index, flow)
-            keep = detections.field_mask if detections.field_mask is not None else None
+            keep = detections.field_mask
             if keep is not None and detections.player_mask is not None:
                 keep = keep & ~detections.player_mask
             self._prev_keep_mask = keep
@@ -633,12 +630,6 @@ class TrackingRun:
         return RunResult(self.out_dir, summary, self.records, tripod)
 
 
-def _plain(config) -> dict:
-    from dataclasses import asdict
-
-    return asdict(config)
-
-
 def _rescale_observations(observations: FrameObservations, width_px: int, height_px: int) -> FrameObservations:
     """Observations at another resolution -> (width_px, height_px) (coordinates scale with the width)."""
     s = width_px / observations.width_px
@@ -696,13 +687,13 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     out_dir = Path(out_dir)
     if config.mode != "batch":
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
-                          progress=progress, total=total, reinit_positions=reinit_positions, mask_paths=mask_paths)
+                          reinit_positions=reinit_positions, mask_paths=mask_paths)
         run_loop(run, frames, progress, total, config.mode)
         return run.finish()
     first = replace(config, mode="online", use_tripod=False)
     run = TrackingRun(width_px, height_px, out_dir / "pass1", first, detector, None, pitch,
-                      graph_config_for(first, graph_config), run_info, keep_observations=True, progress=progress,
-                      total=total, reinit_positions=reinit_positions, mask_paths=mask_paths)
+                      graph_config_for(first, graph_config), run_info, keep_observations=True,
+                      reinit_positions=reinit_positions, mask_paths=mask_paths)
     run_loop(run, frames, progress, total, "pass 1 (no tripod)")
     pass1 = run.finish()
     return refine_run(pass1, run.kept, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
@@ -734,7 +725,7 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     sampling = TemplateSampling(pitch)
     by_index = {e.frame_index: e for e in track.frames if e is not None}
     writer = TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
-                         run_info={**(run_info or {}), "mode": "batch", "config": _plain(config)})
+                         run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)})
     records = []
     for record in pass1.records:
         estimate = by_index.get(record.frame_index)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
-import pytest
 
 from broadtrack_graph.camera import Camera
 from broadtrack_graph.evaluate import distances_to_polyline

@@ -266,15 +266,24 @@ def compare_group(clip: Path, runs: dict[str, Path], out_dir: Path) -> dict:
 # --------------------------------------------------------------------------- the suite
 
 
-def run(args) -> dict:
+def prepare_suite(args) -> tuple[bool, Path]:
+    """Common start of the accuracy and speed suites: check --frames, set OpenCV threads.
+
+    Returns:
+        (progress bar on, output folder).
+    """
     from broadtrack_graph.errors import InputError
-    from broadtrack_graph.pipeline import TrackingConfig
 
     if args.frames < 2:
         raise InputError(None, f"--frames must be >= 2, got {args.frames}")
     cv2.setNumThreads(int(args.threads))
-    progress = not args.no_progress
-    out = Path(args.out)
+    return not args.no_progress, Path(args.out)
+
+
+def run(args) -> dict:
+    from broadtrack_graph.pipeline import TrackingConfig
+
+    progress, out = prepare_suite(args)
     clips_dir, runs_dir, compare_dir = out / "clips", out / "runs", out / "compare"
     report: dict = {
         "width_px": args.width, "height_px": args.height, "frames": args.frames, "seed": args.seed,

@@ -75,16 +75,11 @@ def stage_figures(timings_s: dict, frames: int, wall_s: float) -> dict:
 
 
 def run(args) -> dict:
-    from broadtrack_graph.benchmarks.accuracy import ensure_clip, stage_timings
-    from broadtrack_graph.errors import InputError
+    from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite, stage_timings
     from broadtrack_graph.pipeline import TrackingConfig
     from broadtrack_graph.tracking import DetectorOptions, track_input
 
-    if args.frames < 2:
-        raise InputError(None, f"--frames must be >= 2, got {args.frames}")
-    cv2.setNumThreads(int(args.threads))
-    progress = not args.no_progress
-    out = Path(args.out)
+    progress, out = prepare_suite(args)
     started = time.perf_counter()
     clip, rendered = ensure_clip(out / "clips", args.preset, args.frames, args.width, args.height, args.seed, progress)
     report: dict = {

@@ -66,11 +66,9 @@ def detector_options(args) -> DetectorOptions:
 
 
 def run(args) -> int:
-    frames = args.input if args.detections is None else args.frames
     if args.detections is None and args.input is None:
         raise InputError(None, "give an INPUT (video, frame folder or game-state folder) or --detections FILE")
-    if args.detections is not None and args.input is not None and args.frames is None:
-        frames = args.input
+    frames = args.frames or args.input  # with --detections the frames are optional (they turn flow on)
     tripod, position = tripod_from_args(args)
     result = track_input(frames, args.out, config_from_args(args), detector_options(args), tripod=tripod,
                          tripod_position=position, detections_path=args.detections, start=args.start, end=args.end,

@@ -8,7 +8,6 @@ SoccerNet's trailing spaces on reading.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path

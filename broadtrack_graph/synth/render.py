@@ -266,7 +266,7 @@ class Renderer:
         band = slice(row0, row1)
         gx, gy = X[band], Y[band]
         img, lab = image[band], labels[band]
-        one, inf = np.float32(1.0), np.float32(np.inf)
+        one = np.float32(1.0)
         # Upward rays have a huge ground hit (clamped dz), so the ranges exclude them.
         in_foot = cv2.bitwise_and(cv2.inRange(gx, -st.stand_half_x_m, st.stand_half_x_m),
                                   cv2.inRange(gy, -st.stand_half_y_m, st.stand_half_y_m)) > 0
@@ -377,7 +377,6 @@ class Renderer:
     def _draw_objects(self, camera: Camera, image, labels, players: PlayerTrack | None, frame_index: int,
                       ) -> np.ndarray:
         """Goals and players, far to near; returns the player boxes (M, 5)."""
-        W, H = self.width_px, self.height_px
         items = []  # (depth, kind, payload)
         C = camera.position_m
         if self.settings.goals:
