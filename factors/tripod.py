@@ -49,7 +49,8 @@ def tripod_residual(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool =
     return residual, J_state, J_tripod
 
 
-def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool = True):
+def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool = True,
+                                lambda_prior: tuple[float, float] | None = None):
     """Full tripod model: the optical axis passes through ``O = T - delta r2``.
 
     ``C - T = -delta r2 + lambda r3`` with lambda free, so the components of
@@ -57,22 +58,38 @@ def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jaco
     ``[r1 . (C - T), r2 . (C - T) + delta]`` (metres, 2 values). Stronger than L_T (it uses
     the direction of the offset, not only its length).
 
+    Args:
+        lambda_prior: optional ``(lambda_mean_m, weight)``: a third residual
+            ``weight * (r3 . (C - T) - lambda_mean_m)`` keeps the focal point near its usual
+            place on the optical axis (the entrance pupil moves tens of centimetres with zoom).
+            At tight zoom, sliding C along the axis trades almost exactly against f, and
+            without it biased detections can walk C metres along the axis.
+            ``weight = sigma_m / lambda_sigma_m`` gives it the sigma lambda_sigma_m once the
+            factor divides by sigma_m.
+
     Returns:
-        residual_m (2,); J_state (2, 8) or None; J_tripod (2, 4) or None.
+        residual_m (2,) or (3,); J_state (2 or 3, 8) or None; J_tripod (2 or 3, 4) or None.
     """
     s = np.asarray(state, dtype=float)
     T, delta = np.asarray(tripod[:3], dtype=float), float(tripod[3])
     R, dR = rotation_and_derivatives(s[2], s[3], s[4])
     d = s[5:8] - T
+    rows = 2 if lambda_prior is None else 3
     residual = np.array([R[0] @ d, R[1] @ d + delta])
+    if lambda_prior is not None:
+        lambda_mean_m, weight = lambda_prior
+        residual = np.append(residual, weight * (R[2] @ d - lambda_mean_m))
     if not want_jacobian:
         return residual, None, None
-    J_state = np.zeros((2, STATE_SIZE))
-    J_state[:, 2:5] = (dR[:, :2, :] @ d).T  # (2 rows, 3 angles)
-    J_state[:, 5:8] = R[:2]
-    J_tripod = np.zeros((2, TRIPOD_SIZE))
-    J_tripod[:, :3] = -R[:2]
+    J_state = np.zeros((rows, STATE_SIZE))
+    J_state[:, 2:5] = (dR[:, :rows, :] @ d).T  # (rows, 3 angles)
+    J_state[:, 5:8] = R[:rows]
+    J_tripod = np.zeros((rows, TRIPOD_SIZE))
+    J_tripod[:, :3] = -R[:rows]
     J_tripod[1, 3] = 1.0
+    if lambda_prior is not None:
+        J_state[2] *= lambda_prior[1]
+        J_tripod[2] *= lambda_prior[1]
     return residual, J_state, J_tripod
 
 
@@ -80,20 +97,37 @@ TRIPOD_MODELS = ("distance", "axis_point")
 """``distance``: the paper's L_T (1 residual); ``axis_point``: the full model (2 residuals)."""
 
 
-def _model_function(model: str):
+def _model_function(model: str, lambda_prior: tuple[float, float] | None = None):
     if model == "distance":
         def fn(state, tripod, want):
             r, Js, Jt = tripod_residual(state, tripod, want)
             return np.array([r]), None if Js is None else Js[None, :], None if Jt is None else Jt[None, :]
         return fn, 1
     if model == "axis_point":
-        return tripod_axis_point_residuals, 2
+        if lambda_prior is None:
+            return tripod_axis_point_residuals, 2
+
+        def with_lambda(state, tripod, want):
+            return tripod_axis_point_residuals(state, tripod, want, lambda_prior)
+        return with_lambda, 3
     raise ValueError(f"unknown tripod model '{model}'; choose one of {TRIPOD_MODELS}")
 
 
-def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: str = "distance"):
-    """CustomFactor between a camera state and the tripod variable (residual length 1 or 2)."""
-    residual_fn, dim = _model_function(model)
+def _lambda_weight(sigma_m: float, lambda_prior_m: tuple[float, float] | None) -> tuple[float, float] | None:
+    """(mean, sigma) of lambda -> (mean, weight) for :func:`tripod_axis_point_residuals`."""
+    if lambda_prior_m is None:
+        return None
+    mean_m, sigma_lambda_m = lambda_prior_m
+    return float(mean_m), float(sigma_m) / float(sigma_lambda_m)
+
+
+def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: str = "distance",
+                       lambda_prior_m: tuple[float, float] | None = None):
+    """CustomFactor between a camera state and the tripod variable (residual length 1, 2 or 3).
+
+    lambda_prior_m: optional (mean, sigma) of lambda, metres (axis_point model only).
+    """
+    residual_fn, dim = _model_function(model, _lambda_weight(sigma_m, lambda_prior_m))
 
     def fn(vectors, want_jacobian):
         r, Js, Jt = residual_fn(vectors[0], vectors[1], want_jacobian)
@@ -104,10 +138,11 @@ def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: s
     return custom_factor([state_key, tripod_key], [STATE_SIZE, TRIPOD_SIZE], dim, fn)
 
 
-def make_fixed_tripod_factor(state_key: int, tripod_vector: np.ndarray, sigma_m: float, model: str = "distance"):
+def make_fixed_tripod_factor(state_key: int, tripod_vector: np.ndarray, sigma_m: float, model: str = "distance",
+                             lambda_prior_m: tuple[float, float] | None = None):
     """CustomFactor on one camera state with the tripod held fixed (online use)."""
     tripod_vector = np.asarray(tripod_vector, dtype=float).reshape(TRIPOD_SIZE).copy()
-    residual_fn, dim = _model_function(model)
+    residual_fn, dim = _model_function(model, _lambda_weight(sigma_m, lambda_prior_m))
 
     def fn(vectors, want_jacobian):
         r, Js, _ = residual_fn(vectors[0], tripod_vector, want_jacobian)

@@ -29,7 +29,7 @@ def bench_dir(tmp_path_factory) -> Path:
 def accuracy_report(bench_dir) -> dict:
     out = bench_dir / "report_accuracy.json"
     code = main(["bench", "accuracy", "--presets", "main", "--frames", str(FRAMES), "--modes", "online", "batch",
-                 "--ablation-preset", "main", "--ablation-mode", "online", "--ablation-variants", "full", "no-flow",
+                 "--ablation", "flow:main", "--ablation-mode", "online",
                  "--out", str(bench_dir), "--json", str(out), "--no-progress"])
     assert code == 0
     return json.loads(out.read_text())
@@ -74,14 +74,26 @@ def test_accuracy_suite_reports_the_batch_tripod_against_the_clip(accuracy_repor
 
 def test_accuracy_ablation_reuses_the_full_run_and_switches_flow_off(accuracy_report, bench_dir):
     ablation = accuracy_report["ablation"]
-    assert ablation["preset"] == "main" and ablation["mode"] == "online"
-    assert set(ablation["variants"]) == {"full", "no-flow"}
-    # "full" in online mode is the preset's online run, tracked once.
-    assert ablation["variants"]["full"]["jac_5"] == accuracy_report["presets"]["main"]["online"]["jac_5"]
+    assert ablation["mode"] == "online" and set(ablation["factors"]) == {"flow"}
+    flow = ablation["factors"]["flow"]
+    assert flow["preset"] == "main"
+    # "with" in online mode is the preset's online run, tracked once.
+    assert flow["with"]["jac_5"] == accuracy_report["presets"]["main"]["online"]["jac_5"]
     no_flow = json.loads((bench_dir / "runs" / "main" / "online-no-flow" / "summary.json").read_text())
     assert no_flow["run"]["config"]["use_flow"] is False and no_flow["run"]["config"]["use_tripod"] is True
     assert no_flow["timings_s"]["flow_s"] == 0.0
-    assert 0.9 <= ablation["variants"]["no-flow"]["jac_5"] <= 1.0
+    assert 0.9 <= flow["without"]["jac_5"] <= 1.0
+    assert flow["jac_5_gain"] == pytest.approx(flow["with"]["jac_5"] - flow["without"]["jac_5"], abs=1e-4)
+
+
+def test_accuracy_ablation_names_factor_and_preset():
+    from broadtrack_graph.benchmarks.accuracy import parse_ablation
+    from broadtrack_graph.errors import InputError
+
+    assert parse_ablation(["flow:hard", "k1:wide"]) == [("flow", "hard"), ("k1", "wide")]
+    for bad in ("flow", "focus:main", "tripod:nowhere"):
+        with pytest.raises(InputError, match="FACTOR:PRESET"):
+            parse_ablation([bad])
 
 
 def test_speed_suite_reuses_the_clip_and_accounts_for_the_wall_time(accuracy_report, bench_dir):

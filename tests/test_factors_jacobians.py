@@ -227,6 +227,41 @@ def test_tripod_axis_point_model_zero_on_tripod_and_jacobians():
     assert_jacobian_close(Jt, numeric_jacobian(lambda t: tripod_axis_point_residuals(state, t, False)[0], t_vec, np.full(4, 1e-6)))
 
 
+def test_tripod_lambda_prior_measures_the_place_on_the_axis_with_jacobians():
+    from broadtrack_graph.camera import rotation_from_angles
+    from broadtrack_graph.tripod import Tripod, focal_point
+    from factors.tripod import make_fixed_tripod_factor, tripod_axis_point_residuals
+
+    tripod = Tripod((0.0, 56.0, -14.0), 0.3)
+    state = state_of()
+    R = rotation_from_angles(*state[2:5])
+    state[5:8] = focal_point(R, tripod, 0.7)
+    t_vec = tripod.as_vector()
+    # On the tripod, lambda = 0.7: the third residual is weight * (0.7 - mean).
+    r, _, _ = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
+    np.testing.assert_allclose(r, [0.0, 0.0, 4.0 * 0.5], atol=1e-12)
+    # Sliding C along the optical axis leaves the first two residuals at 0 and moves the third.
+    state[5:8] += 1.5 * R[2]
+    r, Js, Jt = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
+    np.testing.assert_allclose(r, [0.0, 0.0, 4.0 * 2.0], atol=1e-9)
+    state[5:8] += [0.05, -0.03, 0.02]
+    r, Js, Jt = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
+    assert Js.shape == (3, 8) and Jt.shape == (3, 4)
+    fn = lambda s: tripod_axis_point_residuals(s, t_vec, False, (0.2, 4.0))[0]  # noqa: E731
+    assert_jacobian_close(Js, numeric_jacobian(fn, state, STEPS))
+    assert_jacobian_close(Jt, numeric_jacobian(lambda t: tripod_axis_point_residuals(state, t, False, (0.2, 4.0))[0],
+                                               t_vec, np.full(4, 1e-6)))
+    # The factor divides by sigma_m: lambda's own sigma is what remains.
+    import gtsam
+
+    factor = make_fixed_tripod_factor(0, t_vec, 0.02, "axis_point", lambda_prior_m=(0.2, 0.25))
+    values = gtsam.Values()
+    values.insert(0, state)
+    whitened = factor.unwhitenedError(values)
+    lam = R[2] @ (state[5:8] - t_vec[:3])
+    assert whitened[2] == pytest.approx((lam - 0.2) / 0.25, rel=1e-9)
+
+
 def test_line_residual_beyond_segment_end_is_distance_to_end_with_jacobian():
     pitch = PitchTemplate()
     polylines = MarkingPolylines.from_pitch(pitch)

@@ -65,3 +65,22 @@ def test_degenerate_inputs_return_none_with_reason():
     same = Camera(2000.0, 0.0, 0.1, 1.4, 0.0, (0.0, 55.0, -12.0), 960, 540)
     tripod, info = fit_tripod([same] * 10)
     assert tripod is None and "parallel" in info["reason"]
+
+
+def test_provisional_tripod_inverts_the_model_with_typical_offsets():
+    from broadtrack_graph.graph.tripod_fit import provisional_tripod
+
+    tripod = Tripod((36.0, 48.0, -9.0), 0.2)
+    rng = np.random.default_rng(4)
+    # An opening: 3 deg of pan, lambda exactly the assumed 0.2 m.
+    cameras = []
+    for _ in range(25):
+        pan, tilt = np.radians(rng.uniform(-22, -19)), np.radians(rng.uniform(72.5, 73.5))
+        R = rotation_from_angles(pan, tilt, 0.0)
+        cameras.append(Camera(2400.0, 0.0, pan, tilt, 0.0, focal_point(R, tripod, 0.2), 1920, 1080))
+    found = provisional_tripod(cameras + [None], delta_m=0.2, lambda_m=0.2)
+    np.testing.assert_allclose(found.T_w, tripod.T_w, atol=1e-9)
+    # lambda off by 0.3 m moves T by about 0.3 m along the mean optical axis, no more.
+    shifted = provisional_tripod(cameras, delta_m=0.2, lambda_m=0.5)
+    assert 0.25 < np.linalg.norm(np.subtract(shifted.T_w, tripod.T_w)) < 0.35
+    assert provisional_tripod([None]) is None

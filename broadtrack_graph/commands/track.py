@@ -31,6 +31,8 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--no-tripod", action="store_true", help="switch the tripod factor off")
     parser.add_argument("--no-k1", action="store_true", help="hold radial distortion k1 at 0")
     parser.add_argument("--confidence-threshold", type=float, default=0.5, help="re-initialise below this (default 0.5)")
+    parser.add_argument("--batch-tripod", choices=("fixed", "joint"), default="fixed",
+                        help="batch: hold the first pass's tripod fixed in the refinement (default) or re-estimate it jointly")
 
 
 def add_arguments(parser) -> None:
@@ -47,6 +49,7 @@ def add_arguments(parser) -> None:
 def config_from_args(args) -> TrackingConfig:
     return TrackingConfig(mode=args.mode, lag_frames=args.lag, use_flow=not args.no_flow, use_tripod=not args.no_tripod,
                           estimate_k1=not args.no_k1, confidence_threshold=args.confidence_threshold,
+                          batch_tripod=getattr(args, "batch_tripod", "fixed"),
                           write_960x540=getattr(args, "write_960x540", False))
 
 

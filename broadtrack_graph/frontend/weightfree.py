@@ -56,6 +56,7 @@ class WeightFreeConfig:
     grass_min_saturation: int = 40
     grass_min_value: int = 30
     grass_reach_px: int = 4  # field pixels farther than this from grass are not field (boards, text)
+    boundary_margin_px: int = 5  # ridges this close to the field's outer edge are dropped (board bases, stand edges)
     field_min_area_fraction: float = 0.02  # grass regions smaller than this share of the image are ignored
     presmooth_sigma_px: float = 0.0  # optional Gaussian on the grey image of frames not reduced >= 2x (0 = off)
     tophat_kernel_px: int = 9  # white top-hat size: lines up to about this wide are kept
@@ -103,6 +104,8 @@ class WeightFreeDetector:
         self._tophat_kernel = cv2.getStructuringElement(cv2.MORPH_RECT, (k, k))
         p = max(3, (config.player_open_px // 2) | 1)  # the opening runs at half the working width
         self._open_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (p, p))
+        b = 2 * config.boundary_margin_px + 1
+        self._boundary_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (b, b))
         m = 2 * config.player_margin_px + 1
         self._margin_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (m, m))
         g = 2 * config.grass_reach_px + 1
@@ -288,8 +291,12 @@ class WeightFreeDetector:
         grass, field = self.field_and_grass(small)
         boxes, player_mask = self.players(grass, field)
         # Markings lie on grass: keep only field pixels with grass close by (drops boards, stands).
+        # The outer edge of the field against boards and stands is a bright step, not a marking: keep
+        # ridges a margin inside the filled outline (which has no holes at lines or players; the
+        # image border is not an edge: erosion pads with the maximum).
+        inner = cv2.erode(field, self._boundary_kernel) if self.config.boundary_margin_px > 0 else field
         field = cv2.bitwise_and(field, cv2.dilate(grass, self._reach_kernel))
-        allowed = cv2.bitwise_and(field, cv2.bitwise_not(player_mask))
+        allowed = cv2.bitwise_and(cv2.bitwise_and(field, inner), cv2.bitwise_not(player_mask))
         # Frames reduced 2x or more to the working width are averaged clean of pixel noise and fine
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass.
         points, _ = self.ridges(grey, allowed, grass if W < 2 * work_w else None)

@@ -180,14 +180,21 @@ class GraphBuilder:
         return out
 
     def tripod_factor(self, frame_index: int, out: FrameFactors, tripod: Tripod | None, variable: bool = False) -> FrameFactors:
-        """Tripod factor: to the shared tripod variable (batch) or to a fixed tripod (online)."""
+        """Tripod factor: to the shared tripod variable (batch) or to a fixed tripod (online).
+
+        With a fixed tripod the focal point's place on the optical axis gets its prior
+        (``tripod_lambda_*``); with the tripod a variable it does not: there, a lambda prior
+        whose mean is off for the lens moves T along the axis and, through the height, delta.
+        """
         if not self.config.use_tripod:
             return out
-        sigma = self.config.measurements.tripod_sigma_m
+        m = self.config.measurements
+        sigma = m.tripod_sigma_m
+        zoom = None if m.tripod_lambda_sigma_m is None else (m.tripod_lambda_mean_m, m.tripod_lambda_sigma_m)
         if variable:
-            out.add("tripod", make_tripod_factor(camera_key(frame_index), tripod_key(), sigma, self.config.measurements.tripod_model))
+            out.add("tripod", make_tripod_factor(camera_key(frame_index), tripod_key(), sigma, m.tripod_model))
         elif tripod is not None:
-            out.add("tripod", make_fixed_tripod_factor(camera_key(frame_index), tripod.as_vector(), sigma, self.config.measurements.tripod_model))
+            out.add("tripod", make_fixed_tripod_factor(camera_key(frame_index), tripod.as_vector(), sigma, m.tripod_model, zoom))
         return out
 
 

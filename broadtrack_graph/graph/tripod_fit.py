@@ -116,3 +116,28 @@ def fit_tripod(
         condition=condition,
     )
     return Tripod.from_vector(params), info
+
+
+def provisional_tripod(cameras: list[Camera], delta_m: float = 0.2, lambda_m: float = 0.2) -> Tripod | None:
+    """A tripod from a few cameras whose pan range is too small for :func:`fit_tripod`.
+
+    Inverts the tripod model ``C = T - delta r2 + lambda r3`` with typical delta and lambda:
+    ``T_i = C_i + delta r2_i - lambda r3_i`` per camera, and T is their per-axis median.
+    Online, it holds the focal point in place from the first confident frames (without a
+    tripod, biased detections at tight zoom can walk it metres in a hundred frames) until
+    there are enough frames to fit.
+
+    Args:
+        cameras: trusted cameras of one tripod (None entries are skipped).
+        delta_m, lambda_m: the assumed offsets (metres).
+
+    Returns:
+        Tripod(T, delta_m), or None without a camera.
+    """
+    used = [c for c in cameras if c is not None]
+    if not used:
+        return None
+    rotations = np.array([c.R_cw for c in used])
+    centres = np.array([c.position_m for c in used])
+    T_i = centres + delta_m * rotations[:, 1] - lambda_m * rotations[:, 2]
+    return Tripod(tuple(float(v) for v in np.median(T_i, axis=0)), float(delta_m))

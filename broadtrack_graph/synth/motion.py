@@ -125,6 +125,19 @@ PRESETS: dict[str, MotionPreset] = {
         lambda_wide_m=0.05, lambda_tele_m=0.6, k1_wide=0.07, k1_tele=0.01,
         player_count=30, player_spread_m=10.0,
     ),
+    # The main camera held wide (tactical views) on a lens with strong barrel distortion at wide
+    # angle: the preset that needs k1 (at hfov 55 deg, k1 = 0.1 moves the image corners ~20 px).
+    "wide": MotionPreset(
+        name="wide", tripod_T_w=(0.0, 55.0, -12.0), delta_m=0.22,
+        ball_x_range_m=(-48.0, 48.0), ball_y_range_m=(-28.0, 28.0),
+        hfov_range_deg=(38.0, 62.0), hfov_typical_deg=52.0,
+        dribble_speed_mps=(1.5, 7.0), pass_speed_mps=(12.0, 22.0), pass_probability=0.2, pause_probability=0.15,
+        follow_time_s=0.6, zoom_time_s=1.5,
+        sparse_zoom_per_min=0.0, sparse_zoom_hfov_deg=(38.0, 40.0), sparse_zoom_duration_s=(2.0, 3.0),
+        aim_offset_y_m=3.0, aim_x_range_m=(-30.0, 30.0), aim_y_range_m=(-12.0, 16.0), jitter_deg=0.01, roll_max_deg=0.2,
+        lambda_wide_m=0.05, lambda_tele_m=0.2, k1_wide=0.1, k1_tele=0.04,
+        player_count=22, player_spread_m=22.0,
+    ),
     "long": MotionPreset(
         name="long", tripod_T_w=(0.0, 55.0, -12.0), delta_m=0.22,
         ball_x_range_m=(-48.0, 48.0), ball_y_range_m=(-28.0, 28.0),
@@ -321,7 +334,7 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     """A smooth broadcast camera track on a fixed tripod.
 
     Args:
-        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "long").
+        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long").
         frame_count: number of frames (>= 1), at FPS = 25.
         width_px, height_px: image size of the cameras.
         seed: random seed; the same arguments always give the same track.
