@@ -76,7 +76,7 @@ def test_accuracy_ablation_reuses_the_full_run_and_switches_flow_off(accuracy_re
     ablation = accuracy_report["ablation"]
     assert ablation["mode"] == "online" and set(ablation["factors"]) == {"flow"}
     flow = ablation["factors"]["flow"]
-    assert flow["preset"] == "main"
+    assert flow["preset"] == "main" and flow["seed"] == 0
     # "with" in online mode is the preset's online run, tracked once.
     assert flow["with"]["jac_5"] == accuracy_report["presets"]["main"]["online"]["jac_5"]
     no_flow = json.loads((bench_dir / "runs" / "main" / "online-no-flow" / "summary.json").read_text())
@@ -90,8 +90,8 @@ def test_accuracy_ablation_names_factor_and_preset():
     from broadtrack_graph.benchmarks.accuracy import parse_ablation
     from broadtrack_graph.errors import InputError
 
-    assert parse_ablation(["flow:hard", "k1:wide"]) == [("flow", "hard"), ("k1", "wide")]
-    for bad in ("flow", "focus:main", "tripod:nowhere"):
+    assert parse_ablation(["flow:hard:3", "k1:wide"], 7) == [("flow", "hard", 3), ("k1", "wide", 7)]
+    for bad in ("flow", "focus:main", "tripod:nowhere", "flow:hard:x"):
         with pytest.raises(InputError, match="FACTOR:PRESET"):
             parse_ablation([bad])
 

@@ -23,8 +23,12 @@ estimate_k1=...)``), each on the preset made to need it (``--ablation FACTOR:PRE
 flow on ``hard`` (fast sweeps and tight zooms on bare grass: markings blur away or leave
 the frame), the tripod on ``16m`` (tight zoom on few markings: the focal point slides
 along the optical axis against the focal length) and k1 on ``wide`` (a wide lens with
-strong distortion). Each pair is the full tracker and the tracker without that factor on
-the same clip. Its default mode is batch: without a known tripod the online modes only
+strong distortion). An optional third field picks the clip's seed (``flow:hard:3``;
+default ``--seed``): the default takes hard seed 3, whose first 200 frames hold 118
+frames moving more than 40 px per frame and 110 at f > 5000 px, where hard seed 0's
+first 200 frames never move faster than 31 px per frame and never zoom that tight
+(``synth.motion.generate_camera_track`` shows it without rendering). Each pair is the
+full tracker and the tracker without that factor on the same clip. Its default mode is batch: without a known tripod the online modes only
 use the tripod term after fitting it on their first confident frames, so on a short
 clip "no tripod" would differ from "full" on few frames.
 
@@ -53,23 +57,27 @@ ABLATION_FACTORS = {
     "tripod": {"use_tripod": False},
     "k1": {"estimate_k1": False},
 }
-DEFAULT_ABLATION = ("flow:hard", "tripod:16m", "k1:wide")
+DEFAULT_ABLATION = ("flow:hard:3", "tripod:16m", "k1:wide")
 """Each factor on the preset made to need it."""
 
 
-def parse_ablation(items) -> list[tuple[str, str]]:
-    """``["flow:hard", ...]`` -> ``[("flow", "hard"), ...]``; InputError on an unknown factor or preset."""
+def parse_ablation(items, default_seed: int = 0) -> list[tuple[str, str, int]]:
+    """``["flow:hard:3", "k1:wide"]`` -> ``[("flow", "hard", 3), ("k1", "wide", default_seed)]``.
+
+    InputError on an unknown factor or preset or a seed that is not an integer.
+    """
     from broadtrack_graph.errors import InputError
     from broadtrack_graph.synth.motion import PRESETS
 
-    pairs = []
+    triples = []
     for item in items:
-        factor, _, preset = str(item).partition(":")
-        if factor not in ABLATION_FACTORS or preset not in PRESETS:
-            raise InputError(None, f"--ablation {item!r}: expected FACTOR:PRESET with FACTOR in "
+        factor, _, rest = str(item).partition(":")
+        preset, _, seed = rest.partition(":")
+        if factor not in ABLATION_FACTORS or preset not in PRESETS or (seed and not seed.isdigit()):
+            raise InputError(None, f"--ablation {item!r}: expected FACTOR:PRESET[:SEED] with FACTOR in "
                                    f"{sorted(ABLATION_FACTORS)} and PRESET in {sorted(PRESETS)}")
-        pairs.append((factor, preset))
-    return pairs
+        triples.append((factor, preset, int(seed) if seed else int(default_seed)))
+    return triples
 
 
 def add_arguments(parser) -> None:
@@ -81,9 +89,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--frames", type=int, default=200, help="frames per clip (default 200)")
     parser.add_argument("--modes", nargs="+", default=list(MODES), choices=MODES,
                         help="tracking modes (default online fixed-lag batch)")
-    parser.add_argument("--ablation", nargs="*", default=list(DEFAULT_ABLATION), metavar="FACTOR:PRESET",
-                        help="factors to switch off, each on its preset (default: flow:hard tripod:16m k1:wide); "
-                             "give none to skip the ablation")
+    parser.add_argument("--ablation", nargs="*", default=list(DEFAULT_ABLATION), metavar="FACTOR:PRESET[:SEED]",
+                        help="factors to switch off, each on its preset and seed (default: flow:hard:3 tripod:16m "
+                             "k1:wide, seed --seed when not given); give none to skip the ablation")
     parser.add_argument("--ablation-mode", default="batch", choices=MODES, help="mode of the ablation runs (default batch)")
     parser.add_argument("--seed", type=int, default=0, help="clip seed (default 0)")
     parser.add_argument("--width", type=int, default=1920)
@@ -319,13 +327,19 @@ def run(args) -> dict:
             done[key] = track_clip(clip, runs_dir / preset / name, config, args.reuse_runs, progress)
         return done[key]
 
-    def clip_for(preset: str) -> Path:
-        if preset not in report["clips"]:
+    def group_name(preset: str, seed: int) -> str:
+        """Key of a clip in the report and folder of its runs: the preset, plus the seed when not --seed."""
+        return preset if seed == args.seed else f"{preset}-s{seed}"
+
+    def clip_for(preset: str, seed: int | None = None) -> Path:
+        seed = args.seed if seed is None else seed
+        group = group_name(preset, seed)
+        if group not in report["clips"]:
             started = time.perf_counter()
-            clip, rendered = ensure_clip(clips_dir, preset, args.frames, args.width, args.height, args.seed, progress)
-            report["clips"][preset] = {"path": str(clip), "rendered_now": rendered,
-                                       "render_s": round(time.perf_counter() - started, 2) if rendered else None}
-        return Path(report["clips"][preset]["path"])
+            clip, rendered = ensure_clip(clips_dir, preset, args.frames, args.width, args.height, seed, progress)
+            report["clips"][group] = {"path": str(clip), "rendered_now": rendered,
+                                      "render_s": round(time.perf_counter() - started, 2) if rendered else None}
+        return Path(report["clips"][group]["path"])
 
     mode_configs = {mode: TrackingConfig(mode=mode, lag_frames=args.lag) for mode in args.modes}
     for preset in args.presets:
@@ -342,23 +356,24 @@ def run(args) -> dict:
         }
         report["presets"][preset]["compare_md"] = comparison.get("files", {}).get("markdown")
 
-    ablation = parse_ablation(args.ablation or [])
+    ablation = parse_ablation(args.ablation or [], args.seed)
     if ablation:
         base = mode_configs.get(args.ablation_mode) or TrackingConfig(mode=args.ablation_mode, lag_frames=args.lag)
         report["ablation"] = {"mode": args.ablation_mode, "factors": {}}
-        for factor, preset in ablation:
-            clip = clip_for(preset)
+        for factor, preset, seed in ablation:
+            clip = clip_for(preset, seed)
+            group = group_name(preset, seed)
             # "with" is the preset's run of that mode when the suite tracked it already.
             names = {"with": args.ablation_mode, "without": f"{args.ablation_mode}-no-{factor}"}
             configs = {"with": base, "without": replace(base, **ABLATION_FACTORS[factor])}
             runs = {}
             for side in ("with", "without"):
-                tracked(preset, names[side], clip, configs[side])
-                runs[side] = runs_dir / preset / names[side]
-            comparison = compare_group(clip, runs, compare_dir / f"ablation-{factor}-{preset}")
-            entry = {"preset": preset, "compare_md": comparison.get("files", {}).get("markdown")}
+                tracked(group, names[side], clip, configs[side])
+                runs[side] = runs_dir / group / names[side]
+            comparison = compare_group(clip, runs, compare_dir / f"ablation-{factor}-{group}")
+            entry = {"preset": preset, "seed": seed, "compare_md": comparison.get("files", {}).get("markdown")}
             for side, path in runs.items():
-                entry[side] = run_figures(comparison["runs"][side], done[(preset, names[side])],
+                entry[side] = run_figures(comparison["runs"][side], done[(group, names[side])],
                                           tripod_error(path, clip / "tripod.json"))
             with_jac, without_jac = entry["with"].get("jac_5"), entry["without"].get("jac_5")
             entry["jac_5_gain"] = None if with_jac is None or without_jac is None else round(with_jac - without_jac, 4)
