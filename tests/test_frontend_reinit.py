@@ -121,3 +121,126 @@ def test_reinit_from_keypoints_ransac_rejects_outliers():
     assert result.camera.pan_deg == pytest.approx(truth.pan_deg, abs=0.3)
     assert result.camera.focal_px == pytest.approx(truth.focal_px, rel=0.03)
     assert result.score.inlier_share == pytest.approx((len(uv) - 2) / len(uv))
+
+
+# --------------------------------------------------------------------------- weight-free: from the marking map
+
+
+def _median_template_error_px(camera, truth):
+    """Median pixel distance between the ground template (1 m samples) seen by truth and by camera."""
+    samples = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
+    uv_true, front = truth.project(samples)
+    shown = front & truth.in_image(uv_true)
+    uv, _ = camera.project(samples[shown])
+    return float(np.nanmedian(np.linalg.norm(uv - uv_true[shown], axis=1)))
+
+
+def test_marking_lines_finds_the_drawn_lines_not_the_specks():
+    import cv2
+
+    from broadtrack_graph.frontend.reinit import marking_lines
+
+    mask = np.zeros((540, 960), np.uint8)
+    drawn = [((40, 100), (900, 140)), ((300, 520), (620, 60)), ((100, 400), (500, 420))]
+    for a, b in drawn:
+        cv2.line(mask, a, b, 1, 1)
+    rng = np.random.default_rng(4)
+    for x, y in rng.integers([0, 0], [960, 540], size=(60, 2)):  # grass specks: 2 px each
+        mask[y, x: x + 2] = 1
+    lines = marking_lines(mask > 0, 1920)  # frame twice the map's width
+    assert len(lines) == 3
+    for a, b in drawn:
+        a2, b2 = 2 * np.array(a, float), 2 * np.array(b, float)
+        best = min(lines, key=lambda line: abs(line.normal @ a2 + line.offset_px) + abs(line.normal @ b2 + line.offset_px))
+        assert abs(best.normal @ a2 + best.offset_px) < 3.0 and abs(best.normal @ b2 + best.offset_px) < 3.0
+        assert 0.6 * np.linalg.norm(b2 - a2) < best.support_px < 1.3 * np.linalg.norm(b2 - a2)
+
+
+def test_line_pair_cameras_contain_a_tight_roll_free_camera():
+    from broadtrack_graph.frontend.reinit import ImageLine, line_pair_cameras
+
+    truth = Camera.from_degrees(2.25 * 1920, 0.0, 10.6, 79.6, 0.0, (0.0, 55.0, -12.0), 1920, 1080)
+    lines = []
+    for name in ("Middle line", "Side line top"):
+        uv, front = truth.project(PITCH.sample_uniform(0.5)[name])
+        uv = uv[front & truth.in_image(uv)]
+        centre = uv.mean(axis=0)
+        direction = np.linalg.svd(uv - centre)[2][0]
+        normal = np.array([-direction[1], direction[0]])
+        along = (uv - centre) @ direction
+        lines.append(ImageLine(normal, float(-normal @ centre), centre, direction,
+                               (float(along.min()), float(along.max())), float(np.ptp(along))))
+    pairs = line_pair_cameras(lines, (0.0, 55.0, -12.0), (1920, 1080), PITCH)
+    assert 0 < len(pairs.focals_px) < 500
+    errors = [_median_template_error_px(Camera(f, 0.0, p, t, 0.0, np.array([0.0, 55.0, -12.0]), 1920, 1080), truth)
+              for p, t, f in zip(pairs.pans_rad, pairs.tilts_rad, pairs.focals_px)]
+    # f is gridded (4 % steps): the closest camera is within a grid step of the truth, not exactly on it.
+    assert 0.0 < min(errors) < 15.0
+
+
+def test_pointing_turns_a_direction_onto_a_ray_with_roll_zero():
+    from broadtrack_graph.frontend.reinit import _pointing
+
+    truth = Camera.from_degrees(2000.0, 0.0, 14.0, 77.0, 0.0, (0.0, 55.0, -12.0), 1920, 1080)
+    point_w = np.array([8.0, -5.0, 0.0])
+    uv, _ = truth.project(point_w[None])
+    ray_c = np.array([uv[0, 0] - 960.0, uv[0, 1] - 540.0, 2000.0])
+    solutions = _pointing(point_w - truth.position_m, ray_c)
+    assert len(solutions) == 2
+    pan, tilt = min(solutions, key=lambda pt: abs(pt[0] - truth.pan_rad))
+    assert math.degrees(pan) == pytest.approx(14.0, abs=1e-6) and math.degrees(tilt) == pytest.approx(77.0, abs=1e-6)
+
+
+@pytest.fixture(scope="module")
+def hard_frames():
+    """Two rendered frames of the `hard` preset at 1920x1080, zoomed to f = 2.25 W, and their weight-free detections."""
+    from broadtrack_graph.frontend.weightfree import WeightFreeDetector
+    from broadtrack_graph.synth.clip import render_clip
+    from broadtrack_graph.synth.motion import generate_camera_track
+
+    track = generate_camera_track("hard", 40, 1920, 1080, seed=7)
+    out = []
+    detector = WeightFreeDetector(PITCH)
+    for index in (8, 26):  # the right penalty area from afar; the centre circle with the middle line
+        frame = render_clip("hard", 1, 1920, 1080, seed=7, cameras=[track.cameras[index]]).frames[0]
+        out.append((frame.camera, detector.detect(frame.image)))
+    return out
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_reinit_from_mask_finds_a_tight_zoom_on_a_rendered_hard_frame(hard_frames, which):
+    from broadtrack_graph.frontend.reinit import reinit_from_mask
+
+    truth, det = hard_frames[which]
+    assert truth.focal_px > 2.2 * 1920  # about 25 deg of field of view: a coarse pan/tilt grid misses it
+    # The default tripod guesses, not the true focal point (which is ~0.3 m from the main one here).
+    result = reinit_from_mask(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, curves=CURVES,
+                              field_mask=det.field_mask)
+    assert result.camera is not None
+    assert 0.0 < _median_template_error_px(result.camera, truth) < 2.0
+    assert 0.7 < result.score.jaccard <= 1.0
+
+
+def test_reinit_from_mask_on_the_real_broadcast_frame():
+    """The real frame is a main-camera view of the right penalty area from far back (a stadium with a track)."""
+    import pathlib
+
+    import cv2
+
+    from broadtrack_graph.frontend.reinit import reinit_from_mask
+    from broadtrack_graph.frontend.weightfree import WeightFreeDetector
+
+    path = pathlib.Path(__file__).resolve().parents[2] / "shared/data/real-frames/broadcast-frame-1073x603.png"
+    if not path.exists():
+        pytest.skip(f"{path} not available")
+    image = cv2.imread(str(path))
+    det = WeightFreeDetector(PITCH).detect(image)
+    result = reinit_from_mask(det.marking_mask, det.marking_points_px, (image.shape[1], image.shape[0]), PITCH,
+                              curves=CURVES, field_mask=det.field_mask)
+    camera = result.camera
+    assert camera is not None and 0.65 < result.score.jaccard <= 1.0
+    # Looking at the right goal from the near side: the penalty spot is in the picture, the centre spot is not.
+    uv, front = camera.project(np.array([[41.5, 0.0, 0.0], [0.0, 0.0, 0.0]]))
+    assert front[0] and camera.in_image(uv[:1])[0] and not camera.in_image(uv[1:])[0]
+    assert 10.0 < camera.pan_deg < 40.0 and 75.0 < camera.tilt_deg < 85.0
+    assert camera.position_m[1] > 40.0 and camera.position_m[2] < -8.0  # behind the near touchline, above the pitch
