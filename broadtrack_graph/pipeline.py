@@ -347,12 +347,24 @@ class _Solver:
 
 @dataclass
 class RunResult:
-    """What a run produced: its folder, summary, the per-frame records and the tripod used."""
+    """What a run produced: its folder, summary, the per-frame records and the tripod used.
+
+    ``records`` are read back from the run's ``track.jsonl`` on first use when the run did not
+    keep them in memory (a long run does not: a record is about 1.5 KB, 200 MB over a match).
+    """
 
     out_dir: Path
     summary: dict
-    records: list[TrackRecord] = field(default_factory=list)
+    kept_records: list[TrackRecord] | None = None
     tripod: Tripod | None = None
+
+    @property
+    def records(self) -> list[TrackRecord]:
+        if self.kept_records is None:
+            from broadtrack_graph.io.track_files import read_track
+
+            self.kept_records = read_track(self.out_dir).records
+        return self.kept_records
 
 
 class TrackingRun:
@@ -368,12 +380,15 @@ class TrackingRun:
         graph_config: solver sigmas (default from :func:`graph_config_for`).
         run_info: stored in summary.json.
         keep_observations: keep every frame's observations (needed by the batch pass).
+        keep_records: keep every written record in memory for :class:`RunResult` (else it reads them
+            back from the track file when asked: memory stays flat over a long run).
     """
 
     def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
                  detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
                  graph_config: GraphConfig | None = None, run_info: dict | None = None,
-                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None) -> None:
+                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
+                 keep_records: bool = False) -> None:
         self.W, self.H = int(width_px), int(height_px)
         self.config = config
         self.detector = detector
@@ -392,7 +407,7 @@ class TrackingRun:
                                   run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
         self.keep_observations = keep_observations
         self.kept: dict[int, FrameObservations] = {}
-        self.records: list[TrackRecord] = []
+        self.records: list[TrackRecord] | None = [] if keep_records else None
         self._pending: deque[_Pending] = deque()
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
@@ -661,7 +676,8 @@ class TrackingRun:
         while self._pending and self._pending[0].record is not None:
             record = self._pending.popleft().record
             self.writer.write(record)
-            self.records.append(record)
+            if self.records is not None:
+                self.records.append(record)
         self.timings["write_s"] += time.perf_counter() - started
 
     def finish(self, extra_summary: dict | None = None) -> RunResult:

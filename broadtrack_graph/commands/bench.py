@@ -21,6 +21,7 @@ SUITES = (
     "accuracy",
     "speed",
     "detections",
+    "endurance",
 )
 
 
