@@ -1005,6 +1005,15 @@ class ImageLine:
     support_px: float
 
 
+def _at_most_width(marking_mask: np.ndarray, width_px: int) -> np.ndarray:
+    """The bool map reduced (area-averaged, any marked pixel kept) to at most width_px wide."""
+    h, w = marking_mask.shape
+    if w <= width_px:
+        return marking_mask
+    h_new = max(1, int(round(h * width_px / w)))
+    return cv2.resize(marking_mask.astype(np.uint8) * 255, (width_px, h_new), interpolation=cv2.INTER_AREA) > 0
+
+
 def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: MaskSearchConfig = MaskSearchConfig()
                   ) -> list[ImageLine]:
     """Straight markings of the map by a greedy Hough transform: take the strongest line, remove its pixels, repeat.
@@ -1019,12 +1028,8 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: MaskSea
     Returns:
         Up to ``max_lines`` lines, strongest first.
     """
+    marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
     h, w = marking_mask.shape
-    if w > config.line_work_width_px:
-        w_new = config.line_work_width_px
-        h_new = max(1, int(round(h * w_new / w)))
-        marking_mask = cv2.resize(marking_mask.astype(np.uint8) * 255, (w_new, h_new), interpolation=cv2.INTER_AREA) > 0
-        h, w = h_new, w_new
     unit = w / 960.0
     min_support = max(10.0, config.line_min_support_px * unit)
     ys, xs = np.nonzero(marking_mask)
@@ -1347,12 +1352,8 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mask
     an ellipse is kept when it is wide, about level (roll about 0), and many map pixels lie on
     it; the best ``max_ellipses`` distinct ones are returned, most supported first.
     """
+    marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
     h, w = marking_mask.shape
-    if w > config.line_work_width_px:
-        w_new = config.line_work_width_px
-        h_new = max(1, int(round(h * w_new / w)))
-        marking_mask = cv2.resize(marking_mask.astype(np.uint8) * 255, (w_new, h_new), interpolation=cv2.INTER_AREA) > 0
-        h, w = h_new, w_new
     unit = w / 960.0
     count, labels, stats, _ = cv2.connectedComponentsWithStats(marking_mask.astype(np.uint8), connectivity=8)
     areas = stats[1:, cv2.CC_STAT_AREA]
