@@ -31,7 +31,7 @@ import logging
 import math
 import time
 from collections import deque
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -47,9 +47,9 @@ from broadtrack_graph.frontend.reinit import (
     ReinitResult,
     reinit_from_keypoints,
     reinit_from_lines,
-    reinit_from_mask,
     score_labelled,
 )
+from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother

@@ -138,7 +138,7 @@ def _median_template_error_px(camera, truth):
 def test_marking_lines_finds_the_drawn_lines_not_the_specks():
     import cv2
 
-    from broadtrack_graph.frontend.reinit import marking_lines
+    from broadtrack_graph.frontend.reinit_mask import marking_lines
 
     mask = np.zeros((540, 960), np.uint8)
     drawn = [((40, 100), (900, 140)), ((300, 520), (620, 60)), ((100, 400), (500, 420))]
@@ -157,7 +157,7 @@ def test_marking_lines_finds_the_drawn_lines_not_the_specks():
 
 
 def test_line_pair_cameras_contain_a_tight_roll_free_camera():
-    from broadtrack_graph.frontend.reinit import ImageLine, line_pair_cameras
+    from broadtrack_graph.frontend.reinit_mask import ImageLine, line_pair_cameras
 
     truth = Camera.from_degrees(2.25 * 1920, 0.0, 10.6, 79.6, 0.0, (0.0, 55.0, -12.0), 1920, 1080)
     lines = []
@@ -179,7 +179,7 @@ def test_line_pair_cameras_contain_a_tight_roll_free_camera():
 
 
 def test_pointing_turns_a_direction_onto_a_ray_with_roll_zero():
-    from broadtrack_graph.frontend.reinit import _pointing
+    from broadtrack_graph.frontend.reinit_mask import _pointing
 
     truth = Camera.from_degrees(2000.0, 0.0, 14.0, 77.0, 0.0, (0.0, 55.0, -12.0), 1920, 1080)
     point_w = np.array([8.0, -5.0, 0.0])
@@ -209,7 +209,7 @@ def hard_frames():
 
 @pytest.mark.parametrize("which", [0, 1])
 def test_reinit_from_mask_finds_a_tight_zoom_on_a_rendered_hard_frame(hard_frames, which):
-    from broadtrack_graph.frontend.reinit import reinit_from_mask
+    from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
 
     truth, det = hard_frames[which]
     assert truth.focal_px > 2.2 * 1920  # about 25 deg of field of view: a coarse pan/tilt grid misses it
@@ -227,7 +227,7 @@ def test_reinit_from_mask_on_the_real_broadcast_frame():
 
     import cv2
 
-    from broadtrack_graph.frontend.reinit import reinit_from_mask
+    from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
     from broadtrack_graph.frontend.weightfree import WeightFreeDetector
 
     path = pathlib.Path(__file__).resolve().parents[2] / "shared/data/real-frames/broadcast-frame-1073x603.png"

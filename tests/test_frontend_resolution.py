@@ -16,7 +16,7 @@ import pytest
 from broadtrack_graph.evaluate import distances_to_polyline
 from broadtrack_graph.frontend.confidence import confidence_parts, needs_reinit
 from broadtrack_graph.frontend.linefit import TemplateCurves
-from broadtrack_graph.frontend.reinit import reinit_from_mask
+from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
 from broadtrack_graph.frontend.template_image import finite_runs, project_template
 from broadtrack_graph.frontend.weightfree import WeightFreeDetector, cell_means
 from broadtrack_graph.pitch import LINE_CLASSES, PitchTemplate

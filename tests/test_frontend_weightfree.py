@@ -140,7 +140,7 @@ def test_flow_recovers_a_known_shift_and_respects_the_mask():
 
 
 def test_reinit_from_the_marking_map_alone_finds_the_camera():
-    from broadtrack_graph.frontend.reinit import reinit_from_mask
+    from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
 
     truth = _truth()
     image, _ = _draw(truth, seed=5, players=6)

@@ -51,7 +51,7 @@ def run(args) -> dict:
     from broadtrack_graph.frontend.detector import PredictedCamera
     from broadtrack_graph.frontend.flow import grid_flow, prepare
     from broadtrack_graph.frontend.linefit import TemplateCurves
-    from broadtrack_graph.frontend.reinit import reinit_from_mask
+    from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
     from broadtrack_graph.frontend.weightfree import WeightFreeDetector
     from broadtrack_graph.pitch import PitchTemplate
     from broadtrack_graph.synth.clip import render_clip

@@ -22,7 +22,7 @@ mapped back to the frame's pixels. Pipeline:
    projected sample (k-d tree) when within ``gate_px + gate_sigmas * uncertainty``;
    named points are averaged per small grid cell. Without a prediction only the
    unnamed points and the marking map are returned (re-initialisation then works from
-   the map, see reinit.reinit_from_mask).
+   the map, see reinit_mask.reinit_from_mask).
 
 No I/O.
 """
