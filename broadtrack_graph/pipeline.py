@@ -55,7 +55,7 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.track import FrameEstimate, Track
-from broadtrack_graph.graph.tripod_fit import fit_tripod, provisional_tripod
+from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
 from broadtrack_graph.io.jsonfile import write_json_atomic
 from broadtrack_graph.io.track_files import (
     STATUS_FAILED,
@@ -380,15 +380,12 @@ class TrackingRun:
         graph_config: solver sigmas (default from :func:`graph_config_for`).
         run_info: stored in summary.json.
         keep_observations: keep every frame's observations (needed by the batch pass).
-        keep_records: keep every written record in memory for :class:`RunResult` (else it reads them
-            back from the track file when asked: memory stays flat over a long run).
     """
 
     def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
                  detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
                  graph_config: GraphConfig | None = None, run_info: dict | None = None,
-                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
-                 keep_records: bool = False) -> None:
+                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None) -> None:
         self.W, self.H = int(width_px), int(height_px)
         self.config = config
         self.detector = detector
@@ -407,7 +404,6 @@ class TrackingRun:
                                   run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
         self.keep_observations = keep_observations
         self.kept: dict[int, FrameObservations] = {}
-        self.records: list[TrackRecord] | None = [] if keep_records else None
         self._pending: deque[_Pending] = deque()
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
@@ -621,9 +617,7 @@ class TrackingRun:
                          np.round(provisional.T_w, 2).tolist())
         if len(self._opening_cameras) < self.config.tripod_fit_frames:
             return
-        tripod, info = fit_tripod(self._opening_cameras, delta_prior_m=solver.tripod_delta_prior_m,
-                                  delta_prior_sigma_m=solver.tripod_delta_prior_sigma_m)
-        info = {k: v for k, v in info.items() if k not in ("residuals_m", "inliers", "axis_point_miss_m", "used_frames")}
+        tripod, info = fit_tripod_for_run(self._opening_cameras, solver)
         if tripod is not None and (info.get("inlier_ratio", 0.0) < self.config.tripod_fit_min_inliers
                                    or not plausible_position(tripod.T_w, self.pitch)):
             info["rejected"] = (f"inlier ratio {info.get('inlier_ratio', 0.0):.2f}, T {np.round(tripod.T_w, 2).tolist()}: "
@@ -675,9 +669,7 @@ class TrackingRun:
         started = time.perf_counter()
         while self._pending and self._pending[0].record is not None:
             record = self._pending.popleft().record
-            self.writer.write(record)
-            if self.records is not None:
-                self.records.append(record)
+            self.writer.write(record)  # records are read back from the file (RunResult.records)
         self.timings["write_s"] += time.perf_counter() - started
 
     def finish(self, extra_summary: dict | None = None) -> RunResult:
@@ -699,7 +691,7 @@ class TrackingRun:
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
         extra["solver_restarts"] = self.solver.rebuilds
         summary = self.writer.close(extra)
-        return RunResult(self.out_dir, summary, self.records, tripod)
+        return RunResult(self.out_dir, summary, None, tripod)
 
 
 def _rescale_observations(observations: FrameObservations, width_px: int, height_px: int) -> FrameObservations:
@@ -753,8 +745,9 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
     In batch mode this is the paper's two-pass offline workflow: an online first pass
-    (written to ``<out>/pass1``), a tripod fit, and a batch refinement that re-estimates
-    the tripod jointly with the trajectory (written to ``<out>``). Unlike the paper, the
+    (written to ``<out>/pass1``), a tripod fit, and a batch refinement with that tripod held
+    fixed, or re-estimated jointly with the trajectory (``batch_tripod``), written to
+    ``<out>``. Unlike the paper, the
     first pass already holds the focal point with the online tripod (provisional, then
     fitted on its confident frames: ``tripod_provisional_frames``, ``tripod_fit_frames``):
     without any tripod term, biased detections at tight zoom walked the focal point
@@ -798,14 +791,13 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     joint = config.use_tripod and config.batch_tripod == "joint"
     start_tripod, fit_info = (tripod if tripod is not None else pass1.tripod), None
     if config.use_tripod and start_tripod is None and not joint:
-        start_tripod, fit_info = fit_tripod([r.camera for r in tracked], delta_prior_m=graph.solver.tripod_delta_prior_m,
-                                            delta_prior_sigma_m=graph.solver.tripod_delta_prior_sigma_m)
+        start_tripod, fit_info = fit_tripod_for_run([r.camera for r in tracked], graph.solver)
     track, fitted = refiner.refine(frames, initial, tripod=start_tripod if config.use_tripod else None,
                                    estimate_tripod=joint, progress=progress)
     if config.use_tripod and not joint:
         fitted = start_tripod
         if fit_info is not None:
-            refiner.last_info["tripod_fit"] = {k: v for k, v in fit_info.items() if k not in ("residuals_m", "inliers")}
+            refiner.last_info["tripod_fit"] = fit_info
         elif pass1.summary.get("tripod_fit"):
             refiner.last_info["tripod_fit"] = {"from_first_pass": pass1.summary.get("tripod_fit")}
     elapsed = time.perf_counter() - started

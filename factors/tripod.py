@@ -98,6 +98,8 @@ TRIPOD_MODELS = ("distance", "axis_point")
 
 
 def _model_function(model: str, lambda_prior: tuple[float, float] | None = None):
+    """(residual function, residual length) of a tripod model; the lambda prior applies to axis_point
+    only (the distance model measures no place along the axis)."""
     if model == "distance":
         def fn(state, tripod, want):
             r, Js, Jt = tripod_residual(state, tripod, want)

@@ -314,6 +314,7 @@ def run(args) -> dict:
     from broadtrack_graph.pipeline import TrackingConfig
 
     progress, out = prepare_suite(args)
+    ablation = parse_ablation(args.ablation or [], args.seed)  # a bad --ablation fails before any tracking
     clips_dir, runs_dir, compare_dir = out / "clips", out / "runs", out / "compare"
     report: dict = {
         "width_px": args.width, "height_px": args.height, "frames": args.frames, "seed": args.seed,
@@ -359,7 +360,6 @@ def run(args) -> dict:
         }
         report["presets"][preset]["compare_md"] = comparison.get("files", {}).get("markdown")
 
-    ablation = parse_ablation(args.ablation or [], args.seed)
     if ablation:
         base = mode_configs.get(args.ablation_mode) or TrackingConfig(mode=args.ablation_mode, lag_frames=args.lag)
         report["ablation"] = {"mode": args.ablation_mode, "factors": {}}

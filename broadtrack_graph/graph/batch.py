@@ -21,7 +21,7 @@ from broadtrack_graph.graph.builder import GraphBuilder, graph_of
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.noise import lm_params
 from broadtrack_graph.graph.track import FrameEstimate, Track
-from broadtrack_graph.graph.tripod_fit import fit_tripod
+from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.keys import camera_key, tripod_key
 from broadtrack_graph.observations import FrameObservations
 from broadtrack_graph.pitch import PitchTemplate
@@ -76,13 +76,9 @@ class BatchRefiner:
         info: dict = {"chunks": []}
         use_tripod = self.config.use_tripod
         if use_tripod and tripod is None and estimate_tripod:
-            tripod, fit_info = fit_tripod(
-                start, delta_prior_m=self.config.solver.tripod_delta_prior_m,
-                delta_prior_sigma_m=self.config.solver.tripod_delta_prior_sigma_m,
-            )
-            info["tripod_fit"] = {k: v for k, v in fit_info.items() if k not in ("residuals_m", "inliers")}
+            tripod, info["tripod_fit"] = fit_tripod_for_run(start, self.config.solver)
             if tripod is None:
-                logger.warning("tripod fit failed (%s); refining without the tripod factor", fit_info["reason"])
+                logger.warning("tripod fit failed (%s); refining without the tripod factor", info["tripod_fit"]["reason"])
         size = max(int(self.config.solver.batch_chunk_frames), 10)
         overlap = min(int(self.config.solver.batch_chunk_overlap_frames), size // 2)
         bounds = []

@@ -141,3 +141,23 @@ def provisional_tripod(cameras: list[Camera], delta_m: float = 0.2, lambda_m: fl
     centres = np.array([c.position_m for c in used])
     T_i = centres + delta_m * rotations[:, 1] - lambda_m * rotations[:, 2]
     return Tripod(tuple(float(v) for v in np.median(T_i, axis=0)), float(delta_m))
+
+
+PER_FRAME_KEYS = ("residuals_m", "inliers", "axis_point_miss_m", "used_frames")
+"""Keys of :func:`fit_tripod`'s info that hold one value per camera (left out of run summaries)."""
+
+
+def fit_tripod_for_run(cameras: list[Camera | None], solver) -> tuple[Tripod | None, dict]:
+    """:func:`fit_tripod` with the solver's delta prior; the info without its per-camera arrays.
+
+    Args:
+        cameras: trusted cameras of one tripod (None entries are skipped).
+        solver: :class:`~broadtrack_graph.graph.config.SolverSettings` (``tripod_delta_prior_m``,
+            ``tripod_delta_prior_sigma_m``).
+
+    Returns:
+        (tripod or None, summary info: inlier ratio, rms, condition, standard deviations, reason).
+    """
+    tripod, info = fit_tripod(cameras, delta_prior_m=solver.tripod_delta_prior_m,
+                              delta_prior_sigma_m=solver.tripod_delta_prior_sigma_m)
+    return tripod, {k: v for k, v in info.items() if k not in PER_FRAME_KEYS}
