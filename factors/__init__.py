@@ -4,7 +4,7 @@ One module per measurement kind, each a pure numpy function returning stacked
 residuals and analytic Jacobians for all its points at once, plus a thin
 ``make_*_factor`` wrapper (see :mod:`factors.custom`):
 
-* :mod:`factors.projection` - projection of the 8-vector state ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]``;
+* :mod:`broadtrack_graph.geometry.state` - projection of the 8-vector state ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]``;
 * :mod:`factors.lines` - line/circle points to the projected marking (Cauchy);
 * :mod:`factors.keypoints` - labelled keypoints (Cauchy);
 * :mod:`factors.flow` - optical flow through the ground plane between t-1 and t (Cauchy);

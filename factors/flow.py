@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from broadtrack_graph.camera import undistort_normalized
+from broadtrack_graph.geometry.camera import undistort_normalized
 from factors.custom import custom_factor
-from factors.projection import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
+from broadtrack_graph.geometry.state import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
 from factors.robust import cauchy_rows
 
 INVALID_RESIDUAL_SIGMAS = 10.0

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from factors.custom import custom_factor
-from factors.projection import STATE_SIZE, project_state
+from broadtrack_graph.geometry.state import STATE_SIZE, project_state
 from factors.robust import cauchy_rows
 
 INVALID_RESIDUAL_SIGMAS = 10.0

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from factors.custom import custom_factor
-from factors.projection import STATE_SIZE
+from broadtrack_graph.geometry.state import STATE_SIZE
 
 SMOOTH_INDICES = (0, 2, 3, 4)
 """State entries constrained by the smoothness factor (f through log f, pan, tilt, roll)."""

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from factors.custom import custom_factor
-from factors.projection import STATE_SIZE, rotation_and_derivatives
+from broadtrack_graph.geometry.state import STATE_SIZE, rotation_and_derivatives
 
 TRIPOD_SIZE = 4
 MIN_AXIS_DISTANCE_M = 1e-6

@@ -72,7 +72,7 @@ def main(argv=None) -> int:
     except ImportError:
         raise SystemExit("this script needs PyTorch (pip install torch); the package itself does not") from None
 
-    from broadtrack_graph.frontend.onnx_detector import ModelContract, OnnxModel, contract_path, read_contract
+    from broadtrack_graph.detect.onnx_detector import ModelContract, OnnxModel, contract_path, read_contract
 
     classes = args.classes or [line.strip() for line in args.classes_file.read_text().splitlines() if line.strip()]
     contract = ModelContract(args.kind, args.width, args.height, args.colour_order, args.scale, tuple(args.mean),

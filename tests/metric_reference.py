@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from broadtrack_graph.pitch import MIRRORED_CLASS, PitchTemplate
+from broadtrack_graph.geometry.pitch import MIRRORED_CLASS, PitchTemplate
 
 
 def _project_point(camera, point_w):

@@ -1,12 +1,12 @@
 """``broadtrack-graph bench accuracy``: the whole tracker on rendered clips, against exact ground truth.
 
 For every synthetic preset (default main and 16m, 1920x1080) a clip is rendered once
-(:func:`~broadtrack_graph.io.clip_writer.write_synthetic_clip`, reused from ``--out`` when
+(:func:`~broadtrack_graph.synth.writer.write_synthetic_clip`, reused from ``--out`` when
 it is already there) and tracked with the weight-free detector in every mode
 (online iSAM2, fixed-lag smoother, batch two-pass refinement) by
-:func:`~broadtrack_graph.tracking.track_input`. Each run is scored with the compare
-helpers (:mod:`broadtrack_graph.outputs.compare`, which call
-:func:`broadtrack_graph.evaluate.evaluate_cameras`):
+:func:`~broadtrack_graph.actions.track.track_input`. Each run is scored with the compare
+helpers (:mod:`broadtrack_graph.metrics.compare`, which call
+:func:`broadtrack_graph.metrics.soccernet.evaluate_cameras`):
 
 * SoccerNet metric on the clip's line annotations: JaC@5, JaC@10 (accuracy), completeness,
   final score at 5 px, MRE / MedRE (px, at 1920x1080 when the clip is);
@@ -84,7 +84,7 @@ def parse_ablation(items, default_seed: int = 0) -> list[tuple[str, str, int]]:
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.pipeline import MODES
+    from broadtrack_graph.track.config import MODES
     from broadtrack_graph.synth.motion import PRESETS
 
     parser.add_argument("--presets", nargs="+", default=["main", "16m"], choices=sorted(PRESETS),
@@ -124,7 +124,7 @@ def ensure_clip(clips_dir: Path, preset: str, frames: int, width_px: int, height
     Returns:
         (clip folder, True when it was rendered now).
     """
-    from broadtrack_graph.io.clip_writer import CLIP_FILE, write_synthetic_clip
+    from broadtrack_graph.synth.writer import CLIP_FILE, write_synthetic_clip
 
     folder = clips_dir / clip_folder_name(preset, frames, width_px, height_px, seed)
     info_path = folder / CLIP_FILE
@@ -169,7 +169,7 @@ def track_clip(clip: Path, run_dir: Path, config, reuse: bool = False, progress:
          "summary": the run's summary.json ({} when it crashed), "error": None or
          "<exception type>: <first line>", "frames_written": records in track.jsonl}.
     """
-    from broadtrack_graph.tracking import DetectorOptions, track_input
+    from broadtrack_graph.actions.track import DetectorOptions, track_input
 
     if reuse and _config_matches(run_dir, config):
         summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
@@ -200,7 +200,7 @@ def tripod_error(run_dir: Path, truth_path: Path) -> dict | None:
         {"T_w", "delta_m", "T_error_m" |T - T_true|, "T_error_xy_m" horizontal part,
          "T_error_z_m" signed height error, "delta_error_m" signed}.
     """
-    from broadtrack_graph.pipeline import TRIPOD_FILE, read_tripod
+    from broadtrack_graph.io.tripod_file import TRIPOD_FILE, read_tripod
 
     fitted_path = run_dir / TRIPOD_FILE
     if not fitted_path.is_file() or not truth_path.is_file():
@@ -278,7 +278,7 @@ def compare_group(clip: Path, runs: dict[str, Path], out_dir: Path) -> dict:
     Runs without any written frame (crashed at once) are left out; their name maps to None
     in ``report["runs"]``.
     """
-    from broadtrack_graph.outputs.compare import compare_runs
+    from broadtrack_graph.metrics.compare import compare_runs
 
     truth = json.loads((clip / "tripod.json").read_text(encoding="utf-8")) if (clip / "tripod.json").is_file() else None
     empty = [name for name, path in runs.items()
@@ -311,7 +311,7 @@ def prepare_suite(args) -> tuple[bool, Path]:
 
 
 def run(args) -> dict:
-    from broadtrack_graph.pipeline import TrackingConfig
+    from broadtrack_graph.track.config import TrackingConfig
 
     progress, out = prepare_suite(args)
     ablation = parse_ablation(args.ablation or [], args.seed)  # a bad --ablation fails before any tracking

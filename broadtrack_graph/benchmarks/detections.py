@@ -3,19 +3,19 @@
 One synthetic clip (rendered once into ``--clip``, reused when it is already there):
 
 * ``files``: the project's weight-free detector writes a detections file
-  (:func:`~broadtrack_graph.detections_export.export_detections`, i.e. ``broadtrack-graph
+  (:func:`~broadtrack_graph.actions.detect.export_detections`, i.e. ``broadtrack-graph
   detect``; its naming tracker is the direct online run on the frames), then the clip is
   tracked from the file alone (no frames, no flow: online, fixed-lag, batch), from the
   file plus the frames (flow on: online, fixed-lag), and from the frames directly
   (fixed-lag; online = the naming run). Also the clip's own line annotations imported
-  with :func:`~broadtrack_graph.detections_export.import_annotations` (ground-truth
+  with :func:`~broadtrack_graph.actions.detect.import_annotations` (ground-truth
   lines driving the tracker). Each run is scored with the SoccerNet metric (JaC@5,
   JaC@10, completeness, MRE) against the clip's annotations.
 * ``keypoints``: keypoints only (no lines): the clip's visible template keypoints with
   Gaussian pixel noise (``--kp-noise-px`` per axis) and a share ``--kp-mislabel`` given
   the name of another template keypoint (one the frame does not already hold), written
   as a detections file and tracked from it (online, fixed-lag, batch); compared with
-  fitting each frame alone (:func:`~broadtrack_graph.frontend.reinit.reinit_from_keypoints`,
+  fitting each frame alone (:func:`~broadtrack_graph.reinit.lines.reinit_from_keypoints`,
   the pipeline's per-frame re-initialisation). Figures, over the frames where the
   per-frame fit and the track both have a camera: reprojection error of the pitch
   markings (every 1 m, the points the true camera sees; estimate vs truth, pixels;
@@ -69,7 +69,7 @@ def add_arguments(parser) -> None:
 
 def ensure_clip(args) -> dict:
     """The clip's clip.json, rendering the clip first when the folder has none."""
-    from broadtrack_graph.io.clip_writer import read_clip_info, write_synthetic_clip
+    from broadtrack_graph.synth.writer import read_clip_info, write_synthetic_clip
 
     if not (args.clip / "clip.json").is_file():
         log.info("rendering %d frames of %s into %s", args.frames, args.preset, args.clip)
@@ -80,7 +80,7 @@ def ensure_clip(args) -> dict:
 
 def score_run(result, annotations, width_px: int, height_px: int) -> dict:
     """SoccerNet metric (tau 5 and 10) and run figures of one RunResult."""
-    from broadtrack_graph.evaluate import evaluate_cameras
+    from broadtrack_graph.metrics.soccernet import evaluate_cameras
 
     cameras = {r.frame_id: r.camera for r in result.records}
     report = evaluate_cameras(annotations, cameras, width_px, height_px, taus=(5.0, 10.0))
@@ -147,7 +147,7 @@ def noisy_keypoint_records(keypoints_by_frame: list[dict], frame_ids: list[str],
 
 
 def _jitters(states_by_name: dict[str, np.ndarray], frames: np.ndarray) -> dict:
-    from broadtrack_graph.outputs.compare import jitter
+    from broadtrack_graph.metrics.compare import jitter
 
     out = {}
     for name, states in states_by_name.items():
@@ -161,10 +161,10 @@ def _jitters(states_by_name: dict[str, np.ndarray], frames: np.ndarray) -> dict:
 
 def run_files(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 1: detect -> file -> track (file alone, file + frames, frames directly)."""
-    from broadtrack_graph.detections_export import export_detections, import_annotations
+    from broadtrack_graph.actions.detect import export_detections, import_annotations
     from broadtrack_graph.io.annotations import read_annotations
-    from broadtrack_graph.pipeline import TrackingConfig
-    from broadtrack_graph.tracking import track_input
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.actions.track import track_input
 
     W, H = int(info["width_px"]), int(info["height_px"])
     annotations = read_annotations(args.clip / "annotations")
@@ -207,13 +207,13 @@ def run_files(args, info: dict, plot_dir: Path | None) -> dict:
 
 def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 2: keypoints only, smoothed track vs fitting each frame alone."""
-    from broadtrack_graph.frontend.reinit import reinit_from_keypoints
-    from broadtrack_graph.io.clip_writer import read_camera_track, read_keypoints_file
+    from broadtrack_graph.reinit.lines import reinit_from_keypoints
+    from broadtrack_graph.synth.writer import read_camera_track, read_keypoints_file
     from broadtrack_graph.io.detections import read_detections
     from broadtrack_graph.io.jsonfile import read_json
-    from broadtrack_graph.pipeline import TrackingConfig
-    from broadtrack_graph.pitch import PitchTemplate
-    from broadtrack_graph.tracking import track_input
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.actions.track import track_input
 
     W, H = int(info["width_px"]), int(info["height_px"])
     pitch = PitchTemplate()

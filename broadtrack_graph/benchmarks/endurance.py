@@ -15,8 +15,8 @@ with ``--unique-frames`` >= ``--frames`` the clip is rendered in full and played
 Tracking reads JPEG frames, so its time never includes rendering.
 
 The tracked run. The clip is tracked online with the weight-free detector through the
-product's own loop (:class:`~broadtrack_graph.pipeline.TrackingRun` and
-:func:`~broadtrack_graph.pipeline.run_loop`, as :func:`~broadtrack_graph.tracking.track_input`
+product's own loop (:class:`~broadtrack_graph.track.pipeline.TrackingRun` and
+:func:`~broadtrack_graph.track.pipeline.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
 builds them: frames prefetched and decoded in a background thread). Each call of
 ``TrackingRun.process`` is timed (wall clock and the main thread's CPU time: on a shared
 machine the CPU time is the steadier figure); the process RSS (``VmRSS`` of
@@ -32,7 +32,7 @@ The killed run. ``broadtrack-graph track`` runs on the same clip as a subprocess
 sent SIGKILL once its ``track.jsonl`` holds ``--kill-fraction`` of the frames (default
 0.5; ``--no-kill`` skips this step). Then every ``camera_*.json`` must read
 (:func:`~broadtrack_graph.io.cameras.read_camera_file`), ``track.jsonl`` must read with
-:func:`~broadtrack_graph.io.track_files.read_track`, and the two must agree (every record
+:func:`~broadtrack_graph.io.run_folder.read_track`, and the two must agree (every record
 with a camera has its file, with the same camera; at most one file of the frame in flight
 has no line yet); its cameras are compared with the full run's on the same frames (the
 same code tracks the same frames identically; ``same_code_as_tracked_run`` says whether the
@@ -228,10 +228,10 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
         (RunResult, FrameClock).
     """
     from broadtrack_graph.io.frames import open_frames
-    from broadtrack_graph.io.inputs import frames_from_source
-    from broadtrack_graph.pipeline import TrackingRun, run_loop
-    from broadtrack_graph.pitch import PitchTemplate
-    from broadtrack_graph.tracking import DetectorOptions, make_detector
+    from broadtrack_graph.track.inputs import frames_from_source
+    from broadtrack_graph.track.pipeline import TrackingRun, run_loop
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.actions.track import DetectorOptions, make_detector
 
     pitch = PitchTemplate()
     with open_frames(clip) as source:
@@ -281,7 +281,7 @@ def ground_truth_scores(records, segment: Path, unique_frames: int, width_px: in
         frame index -> {"camera": bool, "jac_5": float, "mre_px": float or None,
         "pan_error_deg": float or None, "focal_error_rel": float or None}.
     """
-    from broadtrack_graph.evaluate import TemplateSampling, evaluate_frame
+    from broadtrack_graph.metrics.soccernet import TemplateSampling, evaluate_frame
     from broadtrack_graph.io.annotations import read_annotations
     from broadtrack_graph.io.cameras import read_camera_file
 
@@ -541,7 +541,7 @@ def check_interrupted_run(run_dir: Path, reference_records=None) -> dict:
     from broadtrack_graph.errors import InputError
     from broadtrack_graph.io.cameras import list_camera_files, read_camera_file
     from broadtrack_graph.io.jsonfile import read_json
-    from broadtrack_graph.io.track_files import CAMERA_DIR, SUMMARY_FILE, read_track
+    from broadtrack_graph.io.run_folder import CAMERA_DIR, SUMMARY_FILE, read_track
 
     out: dict = {"run": str(run_dir)}
     files = list_camera_files(run_dir / CAMERA_DIR) if (run_dir / CAMERA_DIR).is_dir() else {}
@@ -621,7 +621,7 @@ def run(args) -> dict:
     from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite
     from broadtrack_graph.benchmarks.speed import stage_figures
     from broadtrack_graph.errors import InputError
-    from broadtrack_graph.pipeline import TrackingConfig
+    from broadtrack_graph.track.config import TrackingConfig
 
     progress, out = prepare_suite(args)
     if args.unique_frames < 2 or args.block < 1 or not 0.0 < args.kill_fraction < 1.0:

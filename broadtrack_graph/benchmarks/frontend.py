@@ -46,14 +46,14 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     from tqdm import tqdm
 
-    from broadtrack_graph.evaluate import distances_to_polyline
-    from broadtrack_graph.frontend.confidence import camera_confidence
-    from broadtrack_graph.frontend.detector import PredictedCamera
-    from broadtrack_graph.frontend.flow import grid_flow, prepare
-    from broadtrack_graph.frontend.linefit import TemplateCurves
-    from broadtrack_graph.frontend.reinit_mask import reinit_from_mask
-    from broadtrack_graph.frontend.weightfree import WeightFreeDetector
-    from broadtrack_graph.pitch import PitchTemplate
+    from broadtrack_graph.metrics.soccernet import distances_to_polyline
+    from broadtrack_graph.reinit.confidence import camera_confidence
+    from broadtrack_graph.detect.detector import PredictedCamera
+    from broadtrack_graph.detect.flow import grid_flow, prepare
+    from broadtrack_graph.reinit.linefit import TemplateCurves
+    from broadtrack_graph.reinit.mask import reinit_from_mask
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.synth.clip import render_clip
 
     cv2.setNumThreads(1)
@@ -110,7 +110,7 @@ def run(args) -> dict:
                 uv_est, _ = result.camera.project(ground_samples[ok])
                 outcomes.append(float(np.nanmedian(np.linalg.norm(uv_est - uv_true[ok], axis=1))))
         if args.images is not None:
-            from broadtrack_graph.frontend.detector import draw_detections
+            from broadtrack_graph.detect.detector import draw_detections
 
             args.images.mkdir(parents=True, exist_ok=True)
             picture = draw_detections(clip.frames[-1].image, det, predicted, curves)
@@ -141,7 +141,7 @@ def run(args) -> dict:
             "reinit_cpu_ms_p90": round(float(np.percentile(reinit_cpu_ms, 90)), 1) if reinit_cpu_ms else None,
         }
     if args.real_frame is not None:
-        from broadtrack_graph.frontend.detector import draw_detections
+        from broadtrack_graph.detect.detector import draw_detections
 
         image = cv2.imread(str(args.real_frame))
         if image is None:

@@ -2,7 +2,7 @@
 
 A synthetic clip is rendered once (1920x1080 by default; reused from ``--out`` when it is
 there) and tracked from its JPEG frames with the weight-free detector by
-:func:`~broadtrack_graph.tracking.track_input`, in each requested mode. The run's
+:func:`~broadtrack_graph.actions.track.track_input`, in each requested mode. The run's
 ``summary.json`` carries the seconds spent per stage (``timings_s``: detect_s, flow_s,
 solve_s, confidence_s, reinit_s, write_s); the suite adds the wall time and process CPU
 time of the whole call (which include reading and decoding the frames, and for batch
@@ -30,7 +30,7 @@ STAGES = ("detect_s", "flow_s", "solve_s", "confidence_s", "reinit_s", "write_s"
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.pipeline import MODES
+    from broadtrack_graph.track.config import MODES
     from broadtrack_graph.synth.motion import PRESETS
 
     parser.add_argument("--preset", default="main", choices=sorted(PRESETS), help="synthetic preset (default main)")
@@ -76,8 +76,8 @@ def stage_figures(timings_s: dict, frames: int, wall_s: float) -> dict:
 
 def run(args) -> dict:
     from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite, stage_timings
-    from broadtrack_graph.pipeline import TrackingConfig
-    from broadtrack_graph.tracking import DetectorOptions, track_input
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.actions.track import DetectorOptions, track_input
 
     progress, out = prepare_suite(args)
     started = time.perf_counter()

@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.frontend.calibrate import FrameCalibration, calibrate_annotation_set, draw_calibration
+from broadtrack_graph.reinit.calibrate import FrameCalibration, calibrate_annotation_set, draw_calibration
 from broadtrack_graph.io.annotations import read_annotations
 from broadtrack_graph.io.cameras import camera_file_name, write_camera_file
 

@@ -1,10 +1,10 @@
-"""``broadtrack-graph demo``: the README's main command (see broadtrack_graph.demo)."""
+"""``broadtrack-graph demo``: the README's main command (see broadtrack_graph.actions.demo)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from broadtrack_graph.demo import DemoSettings, run_demo
+from broadtrack_graph.actions.demo import DemoSettings, run_demo
 
 HELP = "render the embedded synthetic clip, track it online and smoothed, evaluate, draw and compare"
 

@@ -30,7 +30,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from broadtrack_graph.detections_export import export_detections, import_annotations
+    from broadtrack_graph.actions.detect import export_detections, import_annotations
 
     if (args.input is None) == (args.annotations is None):
         raise InputError(None, "give either INPUT (frames) or --annotations SOURCE")

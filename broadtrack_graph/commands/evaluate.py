@@ -6,7 +6,7 @@ import logging
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.evaluate import DEFAULT_TAUS, evaluate_cameras
+from broadtrack_graph.metrics.soccernet import DEFAULT_TAUS, evaluate_cameras
 from broadtrack_graph.io.annotations import read_annotations
 from broadtrack_graph.io.cameras import list_camera_files, read_camera_file
 from broadtrack_graph.io.jsonfile import write_json_atomic

@@ -19,7 +19,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from broadtrack_graph.outputs.overlay import write_overlay
+    from broadtrack_graph.products.overlay import write_overlay
 
     result = write_overlay(args.run, args.frames, args.out, args.start, args.end, inset=not args.no_inset,
                            progress=not args.no_progress)

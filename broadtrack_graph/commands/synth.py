@@ -26,7 +26,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from broadtrack_graph.io.clip_writer import write_synthetic_clip  # imports the renderer: only when run
+    from broadtrack_graph.synth.writer import write_synthetic_clip  # imports the renderer: only when run
 
     if args.frames < 1 or args.width < 16 or args.height < 16:
         raise InputError(None, f"--frames must be >= 1 and the size at least 16x16, got {args.frames} frames of "

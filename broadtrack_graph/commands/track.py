@@ -6,9 +6,10 @@ import logging
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.tracking import DetectorOptions, track_input
-from broadtrack_graph.pipeline import MODES, TrackingConfig, read_tripod
-from broadtrack_graph.tripod import Tripod
+from broadtrack_graph.actions.track import DetectorOptions, track_input
+from broadtrack_graph.io.tripod_file import read_tripod
+from broadtrack_graph.track.config import MODES, TrackingConfig
+from broadtrack_graph.geometry.tripod import Tripod
 
 HELP = "track a clip online, with a fixed-lag smoother, or offline (two passes + batch refinement)"
 log = logging.getLogger(__name__)

@@ -7,7 +7,7 @@ Public entry points:
 * :class:`broadtrack_graph.graph.fixed_lag.FixedLagSmoother` - estimates after L frames;
 * :class:`broadtrack_graph.graph.batch.BatchRefiner` - LM over a clip with the tripod;
 * :func:`broadtrack_graph.graph.tripod_fit.fit_tripod` - T and delta from a track;
-* :mod:`broadtrack_graph.graph.track` - FrameEstimate / Track (camera, std, active factors);
+* :mod:`broadtrack_graph.graph.estimates` - FrameEstimate / Track (camera, std, active factors);
 * :mod:`broadtrack_graph.graph.config` - the sigmas and solver settings (frozen dataclasses);
 * :mod:`broadtrack_graph.graph.builder` - FrameObservations -> factors (shared by all solvers);
 * :mod:`broadtrack_graph.graph.simulate` - synthetic observations for tests and benchmarks.

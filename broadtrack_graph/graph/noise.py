@@ -10,7 +10,7 @@ import gtsam
 import numpy as np
 
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.keys import CAMERA_CHAR, TRIPOD_CHAR
+from broadtrack_graph.graph.keys import CAMERA_CHAR, TRIPOD_CHAR
 
 
 def isam2_params(config: GraphConfig) -> gtsam.ISAM2Params:

@@ -21,8 +21,8 @@ import logging
 
 import numpy as np
 
-from broadtrack_graph.camera import Camera
-from broadtrack_graph.tripod import Tripod
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.tripod import Tripod
 
 logger = logging.getLogger(__name__)
 

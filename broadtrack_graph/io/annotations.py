@@ -16,7 +16,7 @@ import numpy as np
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
-from broadtrack_graph.pitch import ALL_ANNOTATION_CLASSES
+from broadtrack_graph.geometry.pitch import ALL_ANNOTATION_CLASSES
 
 GAMESTATE_FILE = "Labels-GameState.json"
 

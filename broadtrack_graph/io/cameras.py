@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from broadtrack_graph.camera import Camera
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 

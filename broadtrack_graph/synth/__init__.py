@@ -3,7 +3,7 @@
 Modules: ``motion`` (camera tracks on a tripod, presets), ``scene`` (stadium geometry,
 players), ``texture`` (precomputed grass / boards / stands textures), ``render``
 (per-pixel ray casting), ``annotate`` (SoccerNet annotations, masks, keypoints),
-``clip`` (in-memory clips). Writing clip folders: :mod:`broadtrack_graph.io.clip_writer`.
+``clip`` (in-memory clips). Writing clip folders: :mod:`broadtrack_graph.synth.writer`.
 
 ``generate_camera_track`` and ``PRESETS`` import without the renderer; ``render_clip``,
 ``iter_clip_frames`` and ``SyntheticClip`` are loaded on first use.

@@ -3,7 +3,7 @@
 ``render_clip`` returns a whole clip (for tests, keep it small: 480x270, ~10 frames);
 ``iter_clip_frames`` yields frame after frame (the clip writer uses it to write as it
 goes). Everything is deterministic for a given seed. No I/O here
-(:mod:`broadtrack_graph.io.clip_writer` writes clip folders).
+(:mod:`broadtrack_graph.synth.writer` writes clip folders).
 """
 
 from __future__ import annotations
@@ -13,14 +13,14 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
-from broadtrack_graph.camera import Camera
-from broadtrack_graph.observations import FrameObservations, KeypointObservations
-from broadtrack_graph.pitch import PitchTemplate
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.detect.observations import FrameObservations, KeypointObservations
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.annotate import Annotator
 from broadtrack_graph.synth.motion import FPS, PRESETS, generate_camera_track, get_preset
 from broadtrack_graph.synth.render import RenderSettings, Renderer
 from broadtrack_graph.synth.scene import PlayerTrack, simulate_players
-from broadtrack_graph.tripod import Tripod
+from broadtrack_graph.geometry.tripod import Tripod
 
 
 IN_MEMORY_SETTINGS = RenderSettings(jpeg_quality=90)

@@ -22,7 +22,7 @@ A camera operator on a fluid head follows play. The model (DESIGN.md, tripod):
   annotations in most main-camera frames. A positive k1 (pincushion) is monotonic.
 * Roll is a tiny constant (tripod levelling error).
 
-Angles follow the SoccerNet convention of :mod:`broadtrack_graph.camera` (pan 0 looks
+Angles follow the SoccerNet convention of :mod:`broadtrack_graph.geometry.camera` (pan 0 looks
 towards -y, tilt 90 deg is horizontal, z down). No I/O here.
 """
 
@@ -34,8 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-from broadtrack_graph.camera import Camera, rotation_from_angles
-from broadtrack_graph.tripod import Tripod, focal_point
+from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
+from broadtrack_graph.geometry.tripod import Tripod, focal_point
 
 FPS = 25.0
 """Frame rate of the generated tracks (frames per second)."""

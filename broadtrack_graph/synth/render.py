@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from broadtrack_graph.camera import Camera, undistort_normalized
-from broadtrack_graph.pitch import PitchTemplate
+from broadtrack_graph.geometry.camera import Camera, undistort_normalized
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM, GoalPart, PlayerTrack, Stadium, goal_parts
 from broadtrack_graph.synth.texture import TextureSet, build_textures
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.pitch import PitchTemplate
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.motion import smooth_noise
 
 

@@ -25,7 +25,7 @@ from functools import lru_cache
 import cv2
 import numpy as np
 
-from broadtrack_graph.pitch import LINE_CLASSES, PitchTemplate
+from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM, Stadium
 
 GRASS_BGR = np.array([72.0, 172.0, 118.0], dtype=np.float32)

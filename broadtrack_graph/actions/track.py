@@ -1,0 +1,96 @@
+"""Track what the user gives: open the input, build the detector, run the pipeline.
+
+The library entry point behind ``broadtrack-graph track`` (and ``detect``):
+:func:`track_input` for a path, :func:`run_frames` (in :mod:`broadtrack_graph.track.pipeline`)
+for frames already in memory.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.detections import read_detections
+from broadtrack_graph.io.frames import open_frames
+from broadtrack_graph.track.inputs import frames_from_detections, frames_from_source
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.pipeline import RunResult, run_frames
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.tripod import Tripod
+
+
+@dataclass(frozen=True)
+class DetectorOptions:
+    """Which field detector to run on frames."""
+
+    kind: str = "weightfree"  # weightfree | onnx
+    segmentation_model: Path | None = None  # ONNX line-segmentation model
+    keypoint_model: Path | None = None  # ONNX keypoint-heatmap model
+
+
+def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
+    """The detector described by the options (ONNX models are checked against their contract)."""
+    if options.kind == "weightfree":
+        from broadtrack_graph.detect.weightfree import WeightFreeDetector
+
+        return WeightFreeDetector(pitch)
+    if options.kind == "onnx":
+        from broadtrack_graph.detect.onnx_detector import OnnxDetector
+
+        for path in (options.segmentation_model, options.keypoint_model):
+            if path is not None and not Path(path).is_file():
+                raise InputError(path, "model file not found")
+        return OnnxDetector(options.segmentation_model, options.keypoint_model, pitch=pitch)
+    raise InputError(None, f"unknown detector '{options.kind}' (weightfree or onnx)")
+
+
+def track_input(
+    frames_path: str | Path | None,
+    out_dir: str | Path,
+    config: TrackingConfig = TrackingConfig(),
+    detector: DetectorOptions = DetectorOptions(),
+    tripod: Tripod | None = None,
+    tripod_position=None,
+    detections_path: str | Path | None = None,
+    start: int | None = None,
+    end: int | None = None,
+    progress: bool = True,
+    pitch: PitchTemplate | None = None,
+) -> RunResult:
+    """Track a video / frame folder / game-state sequence, or a detections file (with or without frames).
+
+    Args:
+        frames_path: the frames (None with a detections file alone: no optical flow).
+        out_dir: run folder.
+        config: tracking options (mode, lag, switches).
+        detector: detector for image input (unused with a detections file).
+        tripod: known tripod, or None; tripod_position: known pan/tilt centre only (metres).
+        detections_path: a detections file (JSON lines) to track from instead of a detector.
+        start, end: frame range (0-based, end exclusive).
+    """
+    pitch = pitch or PitchTemplate()
+    run_info = {"input": None if frames_path is None else str(frames_path),
+                "detections": None if detections_path is None else str(detections_path),
+                "detector": None if detections_path is not None else detector.kind}
+    positions = None if tripod_position is None else [tuple(float(v) for v in tripod_position)]
+    if detections_path is not None:
+        detections = read_detections(detections_path, pitch)
+        source = open_frames(frames_path, start, end) if frames_path is not None else None
+        try:
+            width, height = (source.width_px, source.height_px) if source is not None else detections.image_size
+            total = len(source) if source is not None else None
+            frames = frames_from_detections(detections, 25.0 if source is None else source.fps, start, end, source)
+            run_info["detection_issues"] = len(detections.issues)
+            return run_frames(frames, width, height, out_dir, config, None, tripod, pitch, run_info, progress, total,
+                              reinit_positions=positions, mask_paths=detections.mask_paths)
+        finally:
+            if source is not None:
+                source.close()
+    if frames_path is None:
+        raise InputError(None, "no input frames given")
+    with open_frames(frames_path, start, end) as source:
+        run_info["source"] = source.describe()
+        return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, config,
+                          make_detector(detector, pitch), tripod, pitch, run_info, progress, len(source),
+                          reinit_positions=positions)

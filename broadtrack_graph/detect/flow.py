@@ -1,0 +1,109 @@
+"""Optical flow between consecutive frames: pyramidal Lucas-Kanade on a grid, checked both ways.
+
+Grid points of frame t-1 are tracked into frame t and back; a match is kept when it
+returns within ``fb_max_px`` of where it started, lies on the projected pitch of the
+previous camera (or on the field mask when no camera is known) and away from
+players. The tracker back-projects the t-1 point to the ground with camera t-1
+(:func:`ground_points` here, factors.flow in the graph). No I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.detect.observations import FlowMatches
+
+
+@dataclass(frozen=True)
+class FlowConfig:
+    """Settings of :func:`grid_flow`."""
+
+    work_width_px: int = 640  # flow runs on grey frames resized to this width
+    grid_step_px: int = 28  # grid spacing at the working width
+    window_px: int = 15  # Lucas-Kanade window
+    pyramid_levels: int = 3
+    fb_max_px: float = 0.5  # forward-backward error bound, working pixels
+    pitch_margin_m: float = 1.0  # matches must back-project inside the pitch grown by this
+
+
+@dataclass
+class FlowFrame:
+    """A frame prepared once for flow: grey working image (h, w) uint8.
+
+    (OpenCV 5's Python binding does not accept prebuilt pyramids, so LK builds them.)
+    """
+
+    grey: np.ndarray
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.grey.shape
+
+
+def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig()) -> FlowFrame:
+    """Grey working image for :func:`grid_flow` (compute once per frame and reuse)."""
+    h, w = image_bgr.shape[:2]
+    ww = min(config.work_width_px, w)
+    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)  # grey first: the reduction then moves one channel, not three
+    return FlowFrame(grey if ww == w else cv2.resize(grey, (ww, int(round(h * ww / w))), interpolation=cv2.INTER_AREA))
+
+
+def ground_points(camera: Camera, uv_px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Back-project pixels of a frame to the pitch plane z = 0 with its camera: (points_w (N, 3), hits (N,))."""
+    return camera.ground_intersection(uv_px)
+
+
+def grid_flow(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height_px: int,
+              prev_camera: Camera | None = None, keep_mask: np.ndarray | None = None,
+              config: FlowConfig = FlowConfig(), pitch_half_size_m=(52.5, 34.0)) -> FlowMatches:
+    """Grid Lucas-Kanade matches from frame t-1 to frame t, in full-frame pixels.
+
+    Args:
+        prev_frame, cur_frame: prepared frames from :func:`prepare` (same config).
+        width_px, height_px: full frame size (the matches are returned at it).
+        prev_camera: camera t-1 (full size); matches must back-project onto the pitch. None: no such check.
+        keep_mask: bool mask, True where matches are allowed (field, not players), at the frame size or
+            a reduced size of the same aspect ratio; or None.
+
+    Returns:
+        FlowMatches (uv_prev_px, uv_cur_px), possibly empty.
+    """
+    h, w = prev_frame.shape
+    scale = w / width_px
+    step = config.grid_step_px
+    xs, ys = np.meshgrid(np.arange(step / 2, w, step), np.arange(step / 2, h, step))
+    p0 = np.column_stack([xs.ravel(), ys.ravel()]).astype(np.float32)
+    full0 = (p0 + 0.5) / scale - 0.5
+    ok = np.ones(len(p0), dtype=bool)
+    if keep_mask is not None:
+        ok &= _mask_at(keep_mask, full0, width_px, height_px)
+    if prev_camera is not None and ok.any():
+        ground, hits = prev_camera.ground_intersection(full0[ok])
+        inside = hits & (np.abs(ground[:, 0]) <= pitch_half_size_m[0] + config.pitch_margin_m) & (
+            np.abs(ground[:, 1]) <= pitch_half_size_m[1] + config.pitch_margin_m)
+        ok[np.flatnonzero(ok)[~inside]] = False
+    p0 = p0[ok]
+    if len(p0) == 0:
+        return FlowMatches(np.zeros((0, 2)), np.zeros((0, 2)))
+    params = dict(winSize=(config.window_px, config.window_px), maxLevel=config.pyramid_levels,
+                  criteria=(cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 20, 0.03))
+    p1, st1, _ = cv2.calcOpticalFlowPyrLK(prev_frame.grey, cur_frame.grey, p0.reshape(-1, 1, 2), None, **params)
+    p0b, st2, _ = cv2.calcOpticalFlowPyrLK(cur_frame.grey, prev_frame.grey, p1, None, **params)
+    p1, p0b = p1.reshape(-1, 2), p0b.reshape(-1, 2)
+    good = (st1.ravel() == 1) & (st2.ravel() == 1) & (np.linalg.norm(p0b - p0, axis=1) <= config.fb_max_px)
+    good &= (p1[:, 0] >= 0) & (p1[:, 0] < w) & (p1[:, 1] >= 0) & (p1[:, 1] < h)
+    if keep_mask is not None and good.any():
+        good &= _mask_at(keep_mask, (p1 + 0.5) / scale - 0.5, width_px, height_px)
+    return FlowMatches(((p0[good] + 0.5) / scale - 0.5).astype(float), ((p1[good] + 0.5) / scale - 0.5).astype(float))
+
+
+def _mask_at(mask: np.ndarray, uv_px: np.ndarray, width_px: int, height_px: int) -> np.ndarray:
+    """Values of a (possibly reduced-size) mask at full-frame pixels."""
+    mh, mw = mask.shape
+    c = np.clip(np.round((uv_px[:, 0] + 0.5) * mw / width_px - 0.5).astype(int), 0, mw - 1)
+    r = np.clip(np.round((uv_px[:, 1] + 0.5) * mh / height_px - 0.5).astype(int), 0, mh - 1)
+    return mask[r, c]

@@ -1,0 +1,92 @@
+"""One frame -> a camera without a trusted prediction, and the confidence of a camera for a frame."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from broadtrack_graph.detect.detector import Detections
+from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.metrics.soccernet import TemplateSampling
+from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.linefit import TemplateCurves
+from broadtrack_graph.reinit.lines import ReinitResult, reinit_from_keypoints, reinit_from_lines, score_labelled
+from broadtrack_graph.reinit.mask import reinit_from_mask
+
+def reinitialise(
+    observations: FrameObservations,
+    detections: Detections | None,
+    pitch: PitchTemplate,
+    positions_w=None,
+    curves: TemplateCurves | None = None,
+    sampling: TemplateSampling | None = None,
+) -> ReinitResult:
+    """A camera for a frame without a trusted prediction (module docstring, step 2).
+
+    Tries, by what the frame carries: labelled keypoints (two-point method in RANSAC),
+    labelled lines (homography or global search), and the unlabelled marking map
+    (global search of pan, tilt and focal length at the candidate positions).
+    """
+    W, H = observations.width_px, observations.height_px
+    results = []
+    kp = observations.keypoints
+    if kp is not None and len(kp) >= 2:
+        results.append(reinit_from_keypoints(kp.uv_px, kp.points_w, W, H, positions_w=positions_w))
+    if observations.lines_px and sum(len(p) for p in observations.lines_px.values()) >= 6:
+        results.append(reinit_from_lines(observations.lines_px, W, H, pitch, positions_w=positions_w, curves=curves,
+                                         sampling=sampling))
+    if detections is not None and detections.marking_mask is not None and not observations.lines_px:
+        results.append(reinit_from_mask(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
+                                        positions_w=positions_w, curves=curves, field_mask=detections.field_mask))
+    good = [replace(r, camera=_wrapped(r.camera)) for r in results
+            if r.camera is not None and plausible_position(r.camera.position_m, pitch)]
+    if not good and any(r.camera is not None for r in results):
+        return ReinitResult(None, None, "", "every re-initialised camera was under 1 m or on the pitch")
+    if not good:
+        reasons = "; ".join(r.reason for r in results if r.reason) or "nothing to re-initialise from"
+        return ReinitResult(None, None, "", reasons)
+    return max(good, key=lambda r: (r.score.jaccard if r.score else 0.0, r.score.inlier_share if r.score else 0.0))
+
+
+def plausible_position(position_w, pitch: PitchTemplate, min_height_m: float = 1.0) -> bool:
+    """A broadcast focal point or tripod: at least min_height_m above the grass and off the pitch.
+
+    Args:
+        position_w: (3,) metres, pitch frame (z down).
+    """
+    x, y, z = (float(v) for v in position_w)
+    half_length, half_width = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2
+    return z <= -min_height_m and not (abs(x) < half_length and abs(y) < half_width)
+
+
+def _wrapped(camera: Camera) -> Camera:
+    """The same camera with pan and roll in (-pi, pi]."""
+    pan = math.remainder(camera.pan_rad, 2 * math.pi)
+    roll = math.remainder(camera.roll_rad, 2 * math.pi)
+    return camera if (pan, roll) == (camera.pan_rad, camera.roll_rad) else camera.replace(pan_rad=pan, roll_rad=roll)
+
+
+def frame_confidence(
+    camera: Camera,
+    observations: FrameObservations,
+    detections: Detections | None,
+    curves: TemplateCurves,
+    sampling: TemplateSampling,
+) -> float | None:
+    """Confidence in [0, 1] of a camera for a frame (module docstring, step 4)."""
+    if detections is not None and detections.marking_mask is not None and detections.marking_mask.any():
+        return camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
+                                 player_mask=detections.player_mask)
+    if observations.lines_px:
+        score = score_labelled(camera, observations.lines_px, 5.0, sampling)
+        return 0.5 * (score.jaccard + score.inlier_share)
+    kp = observations.keypoints
+    if kp is not None and len(kp):
+        uv, front = camera.project(kp.points_w)
+        error = np.linalg.norm(uv - kp.uv_px, axis=1)
+        return float(np.mean(front & (error < 10.0)))
+    return None

@@ -1,0 +1,53 @@
+"""How a clip is tracked: the tracking options (one frozen dataclass) and the solver settings they imply."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from broadtrack_graph.detect.flow import FlowConfig
+from broadtrack_graph.graph.config import GraphConfig
+
+MODES = ("online", "fixed-lag", "batch")
+
+
+@dataclass(frozen=True)
+class TrackingConfig:
+    """How a clip is tracked (every field can be set from the command line)."""
+
+    mode: str = "online"  # online | fixed-lag | batch (two-pass offline refinement)
+    lag_frames: int = 25  # fixed-lag: future frames used before a frame is released
+    confidence_threshold: float = 0.5  # below: re-initialise and distrust flow from this frame
+    lost_confidence: float = 0.2  # below this (after a failed re-initialisation): lost, search globally
+    use_flow: bool = True  # optical-flow factor between consecutive frames
+    use_tripod: bool = True  # tripod factor (known, fitted online, or estimated in batch)
+    estimate_k1: bool = True  # False: k1 held at 0
+    tripod_fit_frames: int = 150  # online without a tripod: confident frames tracked before fitting it
+    tripod_provisional_frames: int = 25  # ... and before a provisional tripod holds the focal point (0: none)
+    tripod_fit_min_confidence: float = 0.6  # only frames at least this confident enter the online tripod fit
+    tripod_fit_min_inliers: float = 0.6  # an online fit explaining fewer of its frames is rejected (retried later)
+    # batch: "fixed" holds the first pass's tripod (or one fitted to it) in the refinement, where the
+    # focal point's place on the axis keeps its prior; "joint" re-estimates T and delta with the track
+    # (16m seed 2: T 0.28 m off fixed vs 0.81 m joint; the height of T and delta trade freely there).
+    batch_tripod: str = "fixed"
+    min_marking_points: int = 12  # fewer marking points (or too little grass): "no pitch"
+    min_grass_share: float = 0.05  # share of the image that must be playing surface
+    write_960x540: bool = False  # also write cameras at the calibration benchmark's resolution
+    flow: FlowConfig = FlowConfig()
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
+        if self.lag_frames < 1:
+            raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
+        if self.batch_tripod not in ("fixed", "joint"):
+            raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
+
+
+def graph_config_for(config: TrackingConfig, base: GraphConfig | None = None) -> GraphConfig:
+    """The solver settings implied by the tracking options (flow / tripod / k1 switches)."""
+    base = base or GraphConfig()
+    changes = {"use_flow": config.use_flow, "use_tripod": config.use_tripod}
+    graph = replace(base, **{k: v for k, v in changes.items() if hasattr(base, k)})
+    if not config.estimate_k1 and hasattr(graph.priors, "k1_fixed"):
+        graph = replace(graph, priors=replace(graph.priors, k1_fixed=True))
+    return graph

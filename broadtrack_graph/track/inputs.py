@@ -1,0 +1,66 @@
+"""Turn what the user gives (frames, a detections file, or both) into the tracking loop's frames."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Iterator
+
+import numpy as np
+
+from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.detections import DetectionsFile
+from broadtrack_graph.io.frames import FrameSource
+from broadtrack_graph.detect.observations import FrameObservations
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class FrameInput:
+    """One frame as the loop sees it: image and/or precomputed observations."""
+
+    frame_index: int
+    frame_id: str
+    time_s: float | None
+    image: np.ndarray | None = None
+    observations: FrameObservations | None = None  # from a detections file
+    problem: str | None = None  # why the frame is missing
+    flow_frame: object | None = None  # prepared for optical flow (frontend.flow.prepare), when done ahead
+
+
+def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:
+    """Image input: one FrameInput per frame of the source (missing frames carry their problem)."""
+    for frame in source:
+        yield FrameInput(frame.frame_index, frame.frame_id, frame.time_s, frame.image_bgr, None, frame.problem)
+
+
+def frames_from_detections(detections: DetectionsFile, fps: float = 25.0, start: int | None = None,
+                           end: int | None = None, source: FrameSource | None = None) -> Iterator[FrameInput]:
+    """Detections-file input, optionally with the frames (which turn optical flow on).
+
+    Frames the file does not mention get empty observations (tracked through on the
+    motion prior and reported). With a frame source, its frames set the range and ids.
+    """
+    if detections.image_size is None:
+        raise InputError(None, "detections file states no image size")
+    width, height = detections.image_size
+    if source is not None:
+        if (source.width_px, source.height_px) != (width, height):
+            log.warning("detections are for %dx%d, frames are %dx%d: coordinates are rescaled",
+                        width, height, source.width_px, source.height_px)
+        for frame in source:
+            observations = detections.frames.get(frame.frame_index)
+            if observations is None:
+                observations = FrameObservations(frame.frame_index, width, height)
+            yield FrameInput(frame.frame_index, frame.frame_id, frame.time_s, frame.image_bgr, observations,
+                             frame.problem if frame.image_bgr is None else None)
+        return
+    first = min(detections.frames) if start is None else start  # a file written with --start begins there
+    last = detections.last_frame + 1 if end is None else min(end, detections.last_frame + 1)
+    for index in range(first, last):
+        observations = detections.frames.get(index) or FrameObservations(index, width, height)
+        frame_id = detections.frame_ids.get(index, f"{index + 1:06d}")
+        yield FrameInput(index, frame_id, index / fps, None, observations)
+
+

@@ -1,0 +1,157 @@
+"""Weight-free detector, mean-shift thinning, confidence and flow on small images drawn here."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.metrics.soccernet import distances_to_polyline
+from broadtrack_graph.reinit.confidence import camera_confidence, needs_reinit
+from broadtrack_graph.detect.detector import PredictedCamera, draw_detections
+from broadtrack_graph.detect.flow import FlowConfig, grid_flow, prepare
+from broadtrack_graph.reinit.linefit import TemplateCurves
+from broadtrack_graph.detect.meanshift import mean_shift_thin
+from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector, template_mask
+from broadtrack_graph.geometry.pitch import PitchTemplate
+
+W, H = 640, 360
+PITCH = PitchTemplate()
+FINE = TemplateCurves(PITCH, line_step_m=0.1, circle_step_m=0.05)
+
+
+def _truth():
+    return Camera.from_degrees(700.0, 0.0, -8.0, 74.0, 0.0, (0.0, 55.0, -12.0), W, H)
+
+
+def _draw(camera, seed=0, players=12):
+    """Green striped grass, white markings 2 px wide (supersampled), dark stands above, players."""
+    rng = np.random.default_rng(seed)
+    scale = 4
+    big = np.zeros((H * scale, W * scale, 3), np.uint8)
+    big[:] = (40, 40, 40)
+    hi = camera.rescaled(W * scale, H * scale)
+    outline, _ = hi.project(np.vstack([PITCH.outline_w * 1.15]))
+    cv2.fillPoly(big, [np.round(outline).astype(np.int32)], (40, 140, 50))
+    for name, pts in FINE.samples_w.items():
+        if not PITCH.is_on_ground(name):
+            continue
+        uv, front = hi.project(pts)
+        ok = front & np.all(np.abs(uv) < 1e5, axis=1)
+        if ok.sum() > 1:
+            cv2.polylines(big, [np.round(uv[ok] * 16).astype(np.int32)], False, (235, 235, 235), 2 * scale, cv2.LINE_AA, 4)
+    image = cv2.resize(big, (W, H), interpolation=cv2.INTER_AREA).astype(np.int16)
+    image += rng.normal(0, 3, image.shape).astype(np.int16)
+    image = np.clip(image, 0, 255).astype(np.uint8)
+    boxes = []
+    for _ in range(players):
+        x, y = int(rng.uniform(20, W - 20)), int(rng.uniform(H * 0.45, H - 30))
+        cv2.rectangle(image, (x, y), (x + 8, y + 22), (30, 30, 200), -1)
+        boxes.append((x, y, x + 8, y + 22))
+    return image, np.array(boxes, float)
+
+
+def test_mean_shift_thins_a_thick_band_to_its_centre():
+    rng = np.random.default_rng(0)
+    t = rng.uniform(0, 100, 3000)
+    across = rng.uniform(-3, 3, 3000)
+    points = np.column_stack([10 + t, 50 + 0.5 * t]) + np.outer(across, [-0.5, 1.0]) / np.hypot(0.5, 1.0)
+    thin = mean_shift_thin(points, bandwidth_px=5.0, spacing_px=3.0)
+    distance = np.abs((thin[:, 0] - 10) * 0.5 - (thin[:, 1] - 50)) / np.hypot(0.5, 1.0)
+    inner = (thin[:, 0] > 15) & (thin[:, 0] < 105)
+    assert np.max(distance[inner]) < 0.8 and np.mean(distance[inner]) < 0.2  # input spread is +-3 px
+    assert 25 < len(thin) < 120
+    assert mean_shift_thin(np.zeros((0, 2))).shape == (0, 2)
+
+
+def test_detector_names_markings_within_a_pixel_and_finds_players():
+    truth = _truth()
+    image, boxes = _draw(truth)
+    detector = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W))
+    predicted = truth.replace(pan_rad=truth.pan_rad + 0.004)  # ~3 px off
+    det = detector.detect(image, PredictedCamera(predicted, uncertainty_px=3.0))
+    assert len(det.lines_px) >= 4
+    errors = []
+    for name, pts in det.lines_px.items():
+        uv, front = truth.project(FINE.samples_w[name])
+        errors.append(distances_to_polyline(pts, uv[front]))
+    errors = np.concatenate(errors)
+    assert len(errors) > 100
+    assert np.mean(errors < 1.0) > 0.95
+    assert det.marking_mask.shape == (H, W) and det.field_mask.shape == (H, W)
+    # Most drawn players are found (boxes overlap).
+    found = sum(any(b[0] <= p[2] and p[0] <= b[2] and b[1] <= p[3] and p[1] <= b[3] for b in det.player_boxes_px)
+                for p in boxes)
+    assert found >= 0.7 * len(boxes)
+    # No named point on a player.
+    for pts in det.lines_px.values():
+        for x0, y0, x1, y1 in boxes:
+            assert not np.any((pts[:, 0] > x0 + 1) & (pts[:, 0] < x1 - 1) & (pts[:, 1] > y0 + 1) & (pts[:, 1] < y1 - 1))
+    # Observations for the graph: full-size marking map, the named points as they are.
+    obs = det.to_observations(5)
+    assert obs.marking_mask.shape == (H, W) and obs.line_point_count == sum(len(p) for p in det.lines_px.values())
+    picture = draw_detections(image, det, truth)
+    assert picture.shape == image.shape and not np.array_equal(picture, image)
+    # Without a prediction nothing is named, the map is still there.
+    bare = detector.detect(image)
+    assert bare.lines_px == {} and len(bare.marking_points_px) > 100
+
+
+def test_confidence_high_for_the_true_camera_low_for_a_wrong_one():
+    truth = _truth()
+    image, _ = _draw(truth, players=0)
+    det = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W)).detect(image)
+    curves = TemplateCurves(PITCH)
+    good = camera_confidence(truth, det.marking_mask, curves, field_mask=det.field_mask)
+    bad = camera_confidence(truth.replace(pan_rad=truth.pan_rad + 0.05), det.marking_mask, curves, field_mask=det.field_mask)
+    assert good > 0.5 and not needs_reinit(good)
+    assert needs_reinit(bad) and good - bad > 0.2
+    assert camera_confidence(truth, np.zeros((H, W), bool), curves) == 0.0
+
+
+def test_template_mask_draws_visible_markings_only():
+    truth = _truth()
+    mask = template_mask(truth, TemplateCurves(PITCH), W, H, 1)
+    uv, front = truth.project(np.array([[0.0, 0.0, 0.0]]))  # centre spot lies on the middle line
+    u, v = np.round(uv[0]).astype(int)
+    assert mask[v - 1:v + 2, u - 1:u + 2].any()
+    assert mask.mean() < 0.05
+
+
+def test_flow_recovers_a_known_shift_and_respects_the_mask():
+    rng = np.random.default_rng(4)
+    texture = cv2.GaussianBlur(rng.integers(0, 255, (H + 20, W + 20, 3)).astype(np.uint8), (0, 0), 1.5)
+    prev = texture[10:10 + H, 10:10 + W]
+    cur = texture[7:7 + H, 12:12 + W]  # content moves by (-2, +3) px
+    config = FlowConfig(work_width_px=W, grid_step_px=32)
+    matches = grid_flow(prepare(prev, config), prepare(cur, config), W, H, config=config)
+    assert len(matches) > 100
+    np.testing.assert_allclose(np.median(matches.uv_cur_px - matches.uv_prev_px, axis=0), [-2.0, 3.0], atol=0.05)
+    keep = np.zeros((H, W), bool)
+    keep[:, : W // 2] = True
+    half = grid_flow(prepare(prev, config), prepare(cur, config), W, H, keep_mask=keep, config=config)
+    assert 0 < len(half) < len(matches) and np.all(half.uv_prev_px[:, 0] < W / 2)
+    # With a camera, matches must back-project onto the pitch: the sky half of a looking-up camera is dropped.
+    camera = Camera.from_degrees(700.0, 0.0, 0.0, 89.0, 0.0, (0.0, 55.0, -12.0), W, H)
+    ground = grid_flow(prepare(prev, config), prepare(cur, config), W, H, prev_camera=camera, config=config)
+    assert 0 < len(ground) < len(matches)
+    points_w, hits = camera.ground_intersection(ground.uv_prev_px)
+    assert hits.all() and np.all(np.abs(points_w[:, 1]) < 35.1)
+
+
+def test_reinit_from_the_marking_map_alone_finds_the_camera():
+    from broadtrack_graph.reinit.mask import reinit_from_mask
+
+    truth = _truth()
+    image, _ = _draw(truth, seed=5, players=6)
+    det = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W)).detect(image)
+    result = reinit_from_mask(det.marking_mask, det.marking_points_px, (W, H), PITCH,
+                              positions_w=[(0.0, 55.0, -12.0), (36.0, 55.0, -12.0)], field_mask=det.field_mask)
+    assert result.camera is not None and result.score.jaccard > 0.5
+    samples = np.vstack([p for n, p in PITCH.sample_uniform(2.0).items() if PITCH.is_on_ground(n)])
+    uv_true, front = truth.project(samples)
+    ok = front & truth.in_image(uv_true)
+    uv_est, _ = result.camera.project(samples[ok])
+    assert np.median(np.linalg.norm(uv_est - uv_true[ok], axis=1)) < 2.0
+    empty = reinit_from_mask(np.zeros((H, W), bool), np.zeros((0, 2)), (W, H), PITCH)
+    assert empty.camera is None and empty.reason

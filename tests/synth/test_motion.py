@@ -1,0 +1,77 @@
+"""Tests of broadtrack_graph.synth.motion: tripod camera tracks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from broadtrack_graph.synth.motion import (
+    PRESETS,
+    generate_camera_track,
+    k1_from_focal,
+    lambda_from_focal,
+    pitch_coverage,
+)
+from broadtrack_graph.geometry.tripod import focal_point, tripod_residual, zoom_lambda
+
+
+@pytest.mark.parametrize("preset", sorted(PRESETS))
+def test_track_is_exactly_on_the_tripod(preset):
+    track = generate_camera_track(preset, 120, 640, 360, seed=3)
+    assert len(track.cameras) == 120 and track.lambdas_m.shape == (120,) and track.fps == 25.0
+    for camera, lam in zip(track.cameras, track.lambdas_m):
+        assert abs(tripod_residual(camera.position_m, camera.R_cw, track.tripod)) < 1e-9
+        np.testing.assert_allclose(camera.position_m, focal_point(camera.R_cw, track.tripod, lam), atol=1e-12)
+        assert zoom_lambda(camera.position_m, camera.R_cw, track.tripod) == pytest.approx(lam, abs=1e-9)
+        assert (camera.width_px, camera.height_px) == (640, 360)
+
+
+def test_deterministic_for_a_seed_and_different_across_seeds():
+    a = np.array([c.to_vector() for c in generate_camera_track("main", 60, 480, 270, seed=7).cameras])
+    b = np.array([c.to_vector() for c in generate_camera_track("main", 60, 480, 270, seed=7).cameras])
+    c = np.array([c.to_vector() for c in generate_camera_track("main", 60, 480, 270, seed=8).cameras])
+    np.testing.assert_array_equal(a, b)
+    assert np.abs(a - c).max() > 1e-3
+
+
+def test_main_preset_looks_like_a_broadcast_main_camera():
+    track = generate_camera_track("main", 1500, 1920, 1080, seed=1)
+    states = np.array([c.to_vector() for c in track.cameras])
+    tilt_deg = np.degrees(states[:, 3])
+    assert 60.0 < tilt_deg.min() and tilt_deg.max() < 85.0
+    # Smooth fluid-head motion: pan speed below 60 deg/s, no frame-to-frame jumps.
+    pan_rate = np.degrees(np.abs(np.diff(states[:, 2]))) * track.fps
+    assert pan_rate.max() < 60.0
+    assert pan_rate.mean() > 0.3  # it does move
+    roll_deg = np.degrees(states[:, 4])
+    assert np.abs(roll_deg).max() <= PRESETS["main"].roll_max_deg + 1e-9
+    coverage = np.array([pitch_coverage(c, grid=12) for c in track.cameras[::10]])
+    assert coverage.min() > 0.45 and np.median(coverage) > 0.55
+    np.testing.assert_allclose(track.cameras[0].position_m, PRESETS["main"].tripod_T_w, atol=1.0)
+
+
+def test_zoom_laws_tie_k1_and_lambda_to_focal_length():
+    preset = PRESETS["main"]
+    wide = (1920 / 2) / math.tan(math.radians(preset.hfov_range_deg[1]) / 2)
+    tele = (1920 / 2) / math.tan(math.radians(preset.hfov_range_deg[0]) / 2)
+    assert k1_from_focal(preset, wide, 1920) == pytest.approx(preset.k1_wide)
+    assert k1_from_focal(preset, tele, 1920) == pytest.approx(preset.k1_tele)
+    assert lambda_from_focal(preset, wide, 1920) == pytest.approx(preset.lambda_wide_m)
+    assert lambda_from_focal(preset, tele, 1920) == pytest.approx(preset.lambda_tele_m)
+    track = generate_camera_track("hard", 400, 960, 540, seed=2)
+    focal = np.array([c.focal_px for c in track.cameras])
+    k1 = np.array([c.k1 for c in track.cameras])
+    order = np.argsort(focal)
+    assert np.all(np.diff(k1[order]) <= 1e-12)  # k1 decreases towards tele
+    assert k1.min() >= 0.0  # no folding distortion (see the motion module docstring)
+    assert np.all(np.diff(track.lambdas_m[order]) >= -1e-12)
+    assert focal.max() / focal.min() > 1.5  # the zoom really changes
+
+
+def test_bad_arguments_raise():
+    with pytest.raises(ValueError, match="unknown preset"):
+        generate_camera_track("nope", 10, 100, 100)
+    with pytest.raises(ValueError, match="frame_count"):
+        generate_camera_track("main", 0, 100, 100)

@@ -1,0 +1,356 @@
+"""Tests of the synthetic clip generator: rendering, ground truth, clip folders, CLI."""
+
+from __future__ import annotations
+
+import json
+
+import cv2
+import numpy as np
+import pytest
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.cli import main as cli_main
+from broadtrack_graph.metrics.soccernet import evaluate_cameras
+from broadtrack_graph.io.annotations import AnnotationSet, read_annotations
+from broadtrack_graph.io.cameras import list_camera_files, read_camera_file, write_camera_file
+from broadtrack_graph.geometry.pitch import LINE_CLASSES
+from broadtrack_graph.synth.clip import render_clip
+from broadtrack_graph.synth.motion import generate_camera_track
+from broadtrack_graph.synth.render import (
+    EXACT_SETTINGS,
+    SURFACE_BOARD,
+    SURFACE_GOAL,
+    SURFACE_GROUND,
+    SURFACE_STAND,
+    Renderer,
+)
+from broadtrack_graph.synth.scene import DEFAULT_STADIUM
+
+W, H = 480, 270
+
+
+@pytest.fixture(scope="module")
+def main_clip():
+    return render_clip("main", 6, W, H, seed=4)
+
+
+@pytest.fixture(scope="module")
+def exact_clip():
+    return render_clip("hard", 4, 960, 540, seed=4, settings=EXACT_SETTINGS)
+
+
+def _score(clip, tau="5"):
+    report = evaluate_cameras(AnnotationSet(frames=clip.annotations), {f.frame_id: f.camera for f in clip.frames},
+                              clip.width_px, clip.height_px)
+    return report["taus"][tau]["final_score"], report
+
+
+def test_deterministic_for_a_seed_and_a_short_clip_is_the_start_of_a_long_one(main_clip):
+    again = render_clip("main", 2, W, H, seed=4)  # main_clip has 6 frames
+    other = render_clip("main", 2, W, H, seed=8)
+    for a, b in zip(main_clip.frames[:2], again.frames):
+        np.testing.assert_array_equal(a.image, b.image)
+        np.testing.assert_array_equal(a.mask, b.mask)
+        assert a.lines_norm.keys() == b.lines_norm.keys()
+        for name in a.lines_norm:
+            np.testing.assert_array_equal(a.lines_norm[name], b.lines_norm[name])
+    assert np.abs(main_clip.frames[0].image.astype(int) - other.frames[0].image.astype(int)).mean() > 5
+
+
+@pytest.mark.parametrize("preset", ["main", "high-behind", "16m"])
+def test_ground_truth_cameras_score_one_at_tau_5(preset):
+    clip = render_clip(preset, 4, W, H, seed=4, want_masks=False)
+    score, report = _score(clip)
+    assert score == 1.0
+    assert report["mre_px"] < 0.5  # annotated points lie on the projected template
+    assert np.mean([len(f.lines_norm) for f in clip.frames]) >= 3  # real content, not empty frames
+
+
+def test_ground_truth_scores_one_with_noise_effects(main_clip, exact_clip):
+    for clip in (main_clip, exact_clip):
+        assert _score(clip)[0] == 1.0
+    # Like real annotations: a handful of points per straight line, more on circles.
+    counts = [len(p) for f in main_clip.frames for p in f.lines_norm.values()]
+    assert 2 <= np.median(counts) <= 12
+
+
+def _apparent_width_px(camera, name, uv_px, pitch):
+    """Projected width (pixels) of the 12 cm marking at image points of class name."""
+    if not pitch.is_on_ground(name):
+        depth = camera.world_to_camera(np.asarray(pitch.elements[name].start_w, float)[None])[0, 2]
+        return np.full(len(uv_px), 0.12 * camera.focal_px / depth)
+    points, _ = camera.ground_intersection(uv_px)
+    element = pitch.elements[name]
+    if hasattr(element, "radius_m"):
+        normal = points[:, :2] - np.asarray(element.centre_w[:2])
+    else:
+        direction = np.subtract(element.end_w, element.start_w)[:2]
+        normal = np.tile([-direction[1], direction[0]], (len(points), 1))
+    normal = normal / np.linalg.norm(normal, axis=1, keepdims=True)
+    offset = np.column_stack([0.06 * normal, np.zeros(len(points))])
+    a, _ = camera.project(points + offset)
+    b, _ = camera.project(points - offset)
+    return np.linalg.norm(a - b, axis=1)
+
+
+def test_annotated_points_lie_on_white_line_pixels(exact_clip, main_clip):
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+    for clip in (exact_clip, main_clip):  # without and with noise, blur, shadows, sharpening
+        contrasts, mask_hits, total = [], 0, 0
+        for frame in clip.frames:
+            gray = cv2.cvtColor(frame.image, cv2.COLOR_BGR2GRAY).astype(float)
+            brightest = cv2.dilate(gray, np.ones((3, 3)))
+            background = cv2.cvtColor(cv2.medianBlur(frame.image, 21), cv2.COLOR_BGR2GRAY).astype(float)
+            for name, points in frame.lines_norm.items():
+                if name in frame.occluded_classes:
+                    continue
+                index = LINE_CLASSES.index(name) + 1
+                near_mask = cv2.dilate((frame.mask == index).astype(np.uint8), np.ones((3, 3))) > 0
+                uv = points * [clip.width_px - 1, clip.height_px - 1]
+                px = np.rint(uv).astype(int)
+                mask_hits += int(near_mask[px[:, 1], px[:, 0]].sum())
+                total += len(px)
+                # A marking thinner than half a pixel cannot be white; it must still be in the mask.
+                wide = _apparent_width_px(frame.camera, name, uv, pitch) >= 0.5
+                contrasts.extend(brightest[px[wide, 1], px[wide, 0]] - background[px[wide, 1], px[wide, 0]])
+        contrasts = np.asarray(contrasts)
+        assert total > 40 and len(contrasts) > 0.5 * total
+        assert np.mean(contrasts > 12) > 0.95  # brighter than the grass around
+        assert np.median(contrasts) > 40
+        assert mask_hits / total > 0.97  # the mask marks the same class there
+
+
+def test_masks_and_keypoints_agree_with_geometry(main_clip):
+    frame = main_clip.frames[0]
+    assert frame.mask.shape == (H, W) and frame.mask.dtype == np.uint8
+    assert 0 < np.count_nonzero(frame.mask) < 0.2 * W * H
+    assert set(np.unique(frame.mask)) - {0} <= set(range(1, len(LINE_CLASSES) + 1))
+    assert frame.keypoints_px, "a main-camera frame shows some keypoints"
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+    names = list(frame.keypoints_px)
+    uv, _ = frame.camera.project(pitch.keypoint_array(names))
+    np.testing.assert_allclose(np.array([frame.keypoints_px[n] for n in names]), uv, atol=1e-9)
+    near_mask = cv2.dilate((frame.mask > 0).astype(np.uint8), np.ones((5, 5))) > 0
+    on_lines = [near_mask[int(round(v)), int(round(u))] for n, (u, v) in frame.keypoints_px.items()
+                if "spot" not in n and "mark" not in n]
+    assert np.mean(on_lines) > 0.9
+
+
+def test_renderer_rays_are_the_camera_model():
+    camera = Camera.from_degrees(900.0, 0.06, 20.0, 72.0, 0.3, [3.0, 55.0, -12.0], W, H)
+    renderer = Renderer(W, H, seed=0, settings=EXACT_SETTINGS)
+    dx, dy, dz = renderer.rays(camera)
+    rng = np.random.default_rng(0)
+    cols, rows = rng.integers(0, W, 200), rng.integers(0, H, 200)
+    rays = np.column_stack([dx[rows, cols], dy[rows, cols], dz[rows, cols]]).astype(float)
+    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    expected = camera.backproject(np.column_stack([cols, rows]).astype(float))
+    angle = np.arccos(np.clip(np.sum(rays * expected, axis=1), -1, 1))
+    assert angle.max() < 2e-5  # float32 rays, exact distortion inversion
+
+
+def test_surface_labels_follow_the_geometry():
+    # Main camera, wide, looking at the far side: ground, boards and stands in view.
+    camera = Camera.from_degrees(500.0, 0.03, 10.0, 82.0, 0.0, [0.0, 55.0, -12.0], W, H)
+    frame = Renderer(W, H, seed=0, settings=EXACT_SETTINGS).render(camera)
+    labels = frame.labels
+    for surface in (SURFACE_GROUND, SURFACE_BOARD, SURFACE_STAND):
+        assert np.count_nonzero(labels == surface) > 200
+    rng = np.random.default_rng(1)
+    st = DEFAULT_STADIUM
+    board_rows, board_cols = np.nonzero(labels == SURFACE_BOARD)
+    pick = rng.choice(len(board_rows), 100)
+    rays = camera.backproject(np.column_stack([board_cols[pick], board_rows[pick]]).astype(float))
+    C = camera.position_m
+    # Where the ray leaves the board rectangle (slab method), it is between 0 and 0.9 m high.
+    with np.errstate(divide="ignore"):
+        t_x = (np.sign(rays[:, 0]) * st.board_half_x_m - C[0]) / rays[:, 0]
+        t_y = (np.sign(rays[:, 1]) * st.board_half_y_m - C[1]) / rays[:, 1]
+    z = C[2] + np.minimum(t_x, t_y) * rays[:, 2]
+    assert np.all((z > -st.board_height_m - 0.05) & (z < 0.05))
+    ground_rows, ground_cols = np.nonzero(labels == SURFACE_GROUND)
+    pick = rng.choice(len(ground_rows), 200)
+    points, hits = camera.ground_intersection(np.column_stack([ground_cols[pick], ground_rows[pick]]).astype(float))
+    assert hits.all()
+    assert np.all(np.abs(points[:, 1]) <= st.stand_half_y_m + 0.05)
+    stand_rows, stand_cols = np.nonzero(labels == SURFACE_STAND)
+    pick = rng.choice(len(stand_rows), 100)
+    points, hits = camera.ground_intersection(np.column_stack([stand_cols[pick], stand_rows[pick]]).astype(float))
+    beyond = ~hits | (np.abs(points[:, 1]) > st.stand_half_y_m) | (np.abs(points[:, 0]) > st.stand_half_x_m)
+    assert beyond.all()
+
+
+def test_cli_writes_a_clip_folder_that_reads_back(tmp_path):
+    out = tmp_path / "clip"
+    code = cli_main(["synth", "--preset", "main", "--frames", "3", "--width", "320", "--height", "180", "--seed", "2",
+                     "--out", str(out), "--no-progress"])
+    assert code == 0
+    for name in ("Labels-GameState.json", "clip.json", "tripod.json", "players.json", "ground_truth.json"):
+        assert (out / name).is_file(), name
+    assert sorted(p.name for p in (out / "img1").iterdir()) == ["000001.jpg", "000002.jpg", "000003.jpg"]
+    image = cv2.imread(str(out / "img1" / "000002.jpg"))
+    assert image.shape == (180, 320, 3)
+    mask = cv2.imread(str(out / "masks" / "000002.png"), cv2.IMREAD_UNCHANGED)
+    assert mask.shape == (180, 320) and mask.dtype == np.uint8 and mask.max() <= len(LINE_CLASSES)
+    annotations = read_annotations(out)  # Labels-GameState.json
+    per_frame = read_annotations(out / "annotations")
+    assert sorted(annotations.frames) == sorted(per_frame.frames) == ["000001", "000002", "000003"]
+    assert annotations.image_sizes["000001"] == (320, 180)
+    cameras = {fid: read_camera_file(path, 320, 180) for fid, path in list_camera_files(out / "cameras").items()}
+    report = evaluate_cameras(annotations, cameras, 320, 180)
+    assert report["taus"]["5"]["final_score"] == 1.0
+    labels = json.loads((out / "Labels-GameState.json").read_text())
+    assert any(a.get("supercategory") == "object" for a in labels["annotations"])
+    truth = json.loads((out / "ground_truth.json").read_text())
+    tripod = json.loads((out / "tripod.json").read_text())
+    track = generate_camera_track("main", 3, 320, 180, seed=2)
+    assert tripod["T_w"] == pytest.approx(list(track.tripod.T_w)) and tripod["delta_m"] == pytest.approx(track.tripod.delta_m)
+    assert [f["lambda_m"] for f in truth["frames"]] == pytest.approx(list(track.lambdas_m))
+    np.testing.assert_allclose(cameras["000003"].to_vector(), track.cameras[2].to_vector(), atol=1e-9)
+    keypoints = json.loads((out / "keypoints" / "000001.json").read_text())
+    assert all(len(uv) == 2 for uv in keypoints.values())
+
+
+def test_cli_renders_along_a_given_camera_track(tmp_path):
+    track = generate_camera_track("16m", 3, 960, 540, seed=9)
+    cams_dir = tmp_path / "cams"
+    for i, camera in enumerate(track.cameras):
+        write_camera_file(cams_dir / f"camera_{i + 1:05d}.json", camera)
+    out = tmp_path / "clip"
+    assert cli_main(["synth", "--cameras", str(cams_dir), "--width", "320", "--height", "180", "--out", str(out),
+                     "--no-progress", "--no-masks"]) == 0
+    written = list_camera_files(out / "cameras")
+    assert len(written) == 3
+    for (fid, path), original in zip(sorted(written.items()), track.cameras):
+        np.testing.assert_allclose(read_camera_file(path).to_vector(), original.rescaled(320, 180).to_vector(), atol=1e-9)
+    assert not (out / "tripod.json").exists()  # a given track has no known tripod
+    clip_info = json.loads((out / "clip.json").read_text())
+    assert clip_info["frames_written"] == 3 and clip_info["camera_source"] == str(cams_dir)
+
+
+def test_cli_reports_a_bad_camera_folder(tmp_path, capsys):
+    code = cli_main(["synth", "--cameras", str(tmp_path / "missing"), "--width", "320", "--height", "180",
+                     "--out", str(tmp_path / "out"), "--no-progress"])
+    assert code == 2
+    assert "camera folder not found" in capsys.readouterr().err
+
+
+def test_k1_below_zero_never_annotates_folded_points():
+    # With k1 < 0 the model folds points far off-axis back into the image; they must not be annotated.
+    from broadtrack_graph.metrics.soccernet import TemplateSampling, _project_like_official
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    camera = Camera.from_degrees(450.0, -0.08, -60.0, 70.0, 0.0, [0.0, 55.0, -12.0], W, H)
+    sampling = TemplateSampling()
+    uv, front = _project_like_official(camera, sampling.points_w)
+    points_c = camera.world_to_camera(sampling.points_w)
+    folded = front & ((points_c[:, 0] ** 2 + points_c[:, 1] ** 2) / points_c[:, 2] ** 2 >= 1 / (3 * 0.08))
+    inside = front & (uv[:, 0] >= 0) & (uv[:, 0] < W) & (uv[:, 1] >= 0) & (uv[:, 1] < H)
+    assert (folded & inside).any()  # the case exists in this view
+    frame = render_clip("main", 1, W, H, seed=0, cameras=[camera], want_masks=False).frames[0]
+    pitch = PitchTemplate()
+    dense = pitch.sample_uniform(0.02)
+    for name, points in frame.lines_norm.items():
+        if not pitch.is_on_ground(name):
+            continue
+        uv_px = points * [W - 1, H - 1]
+        ground, hits = camera.ground_intersection(uv_px)  # the pixel's real ray (first branch)
+        assert hits.all()
+        gap = np.min(np.linalg.norm(ground[:, None, :2] - dense[name][None, :, :2], axis=2), axis=1)
+        assert gap.max() < 0.05, name  # the ray really meets the marking there
+    # Classes the metric sees only through the fold are listed, not annotated; they are the only misses.
+    from broadtrack_graph.metrics.soccernet import evaluate_frame
+
+    score = evaluate_frame(frame.lines_norm, camera, W, H, taus=(5.0,))
+    misses = {name for name, outcome in score.class_outcome[5.0].items() if outcome != "tp"}
+    assert frame.folded_classes and misses == set(frame.folded_classes)
+
+
+def test_frame_observations_carry_the_ground_truth(main_clip):
+    frame = main_clip.frames[1]
+    obs = frame.observations()
+    assert (obs.width_px, obs.height_px, obs.frame_index) == (W, H, 1)
+    for name, points_px in obs.lines_px.items():
+        np.testing.assert_allclose(points_px, frame.lines_norm[name] * [W - 1, H - 1])
+    uv, _ = frame.camera.project(obs.keypoints.points_w)
+    np.testing.assert_allclose(obs.keypoints.uv_px, uv, atol=1e-9)
+    assert obs.marking_mask.dtype == bool and obs.marking_mask.shape == (H, W)
+    assert obs.player_boxes_px.shape[1] == 4
+    assert np.all(obs.player_boxes_px[:, 2] >= obs.player_boxes_px[:, 0])
+
+
+def test_an_interrupted_clip_keeps_its_finished_frames(tmp_path, monkeypatch):
+    import broadtrack_graph.synth.writer as clip_writer
+
+    real = clip_writer.iter_clip_frames
+
+    def two_then_interrupt(*args, **kwargs):
+        for count, frame in enumerate(real(*args, **kwargs)):
+            if count == 2:
+                raise KeyboardInterrupt
+            yield frame
+
+    monkeypatch.setattr(clip_writer, "iter_clip_frames", two_then_interrupt)
+    out = tmp_path / "clip"
+    with pytest.raises(KeyboardInterrupt):
+        clip_writer.write_synthetic_clip(out, "main", 5, 320, 180, seed=1, progress=False)
+    info = json.loads((out / "clip.json").read_text())
+    assert info["frame_count"] == 5 and info["frames_written"] == 2
+    assert sorted(read_annotations(out).frames) == ["000001", "000002"]
+    assert len(json.loads((out / "players.json").read_text())) == 2
+
+
+def _expected_board(camera, uv_px):
+    """(N,) bool: the pixel's ray meets a board wall (0..0.9 m high) before the ground, in float64."""
+    st = DEFAULT_STADIUM
+    rays = camera.backproject(uv_px)
+    C = camera.position_m
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_ground = np.where(rays[:, 2] > 0, -C[2] / rays[:, 2], np.inf)
+        t_board = np.full(len(rays), np.inf)
+        for axis, half, other_half in ((0, st.board_half_x_m, st.board_half_y_m), (1, st.board_half_y_m, st.board_half_x_m)):
+            for sign in (-1.0, 1.0):
+                t = (sign * half - C[axis]) / rays[:, axis]
+                hit = C + t[:, None] * rays
+                ok = (t > 0) & (np.abs(hit[:, 1 - axis]) <= other_half) & (hit[:, 2] <= 0) & (hit[:, 2] >= -st.board_height_m)
+                t_board = np.where(ok & (t < t_board), t, t_board)
+    return t_board < t_ground
+
+
+@pytest.mark.parametrize("pan_deg, tilt_deg, focal_px", [(10.0, 82.0, 500.0), (-35.0, 62.0, 400.0), (60.0, 75.0, 700.0)])
+def test_board_pixels_are_exactly_the_rays_meeting_a_board(pan_deg, tilt_deg, focal_px):
+    camera = Camera.from_degrees(focal_px, 0.02, pan_deg, tilt_deg, 0.0, [0.0, 55.0, -12.0], W, H)
+    labels = Renderer(W, H, seed=0, settings=EXACT_SETTINGS).render(camera).labels
+    rng = np.random.default_rng(5)
+    uv = np.column_stack([rng.integers(0, W, 4000), rng.integers(0, H, 4000)]).astype(float)
+    expected = _expected_board(camera, uv)
+    label = labels[uv[:, 1].astype(int), uv[:, 0].astype(int)]
+    got = label == SURFACE_BOARD
+    background = label != SURFACE_GOAL  # the goals are drawn over whatever is behind them
+    assert expected[background].sum() > 30  # the view shows boards
+    assert np.sum(expected[background] != got[background]) <= 3  # float32 rays may flip an edge pixel
+
+
+def test_a_frame_without_markings_has_no_annotation(tmp_path):
+    # Tight zoom on plain grass between the centre circle and the penalty area.
+    camera = Camera.from_degrees(6000.0, 0.01, -28.0, 76.0, 0.0, [0.0, 55.0, -12.0], 320, 180)
+    points, hits = camera.ground_intersection(np.array([[0.0, 0.0], [319.0, 179.0], [160.0, 90.0]]))
+    assert hits.all() and np.all(np.abs(points[:, 0]) > 10) and np.all(np.abs(points[:, 0]) < 35)
+    cams_dir = tmp_path / "cams"
+    write_camera_file(cams_dir / "camera_00001.json", camera)
+    write_camera_file(cams_dir / "camera_00002.json", camera.replace(focal_px=500.0))  # wide: markings
+    out = tmp_path / "clip"
+    assert cli_main(["synth", "--cameras", str(cams_dir), "--width", "320", "--height", "180", "--out", str(out),
+                     "--no-progress"]) == 0
+    assert sorted(p.name for p in (out / "annotations").iterdir()) == ["000002.json"]
+    labels = json.loads((out / "Labels-GameState.json").read_text())
+    assert [image["has_labeled_pitch"] for image in labels["images"]] == [False, True]
+    assert sorted(read_annotations(out).frames) == ["000002"]
+    mask = cv2.imread(str(out / "masks" / "000001.png"), cv2.IMREAD_UNCHANGED)
+    assert mask.max() == 0
+    truth = json.loads((out / "ground_truth.json").read_text())
+    assert [f["annotated"] for f in truth["frames"]] == [False, True]
