@@ -2,8 +2,8 @@
 
 Every factor here whitens its own residuals (and applies its per-point Cauchy loss,
 see :mod:`factors.robust`), so the GTSAM noise model is always ``Unit(dim)``.
-Jacobian shapes are checked before they are handed to GTSAM: a wrong shape
-segfaults the process (DESIGN.md).
+Jacobian shapes are checked before they are handed to GTSAM: a Jacobian of the
+wrong shape written into GTSAM's matrices segfaults the process instead of raising.
 """
 
 from __future__ import annotations

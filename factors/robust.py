@@ -1,8 +1,8 @@
 """Cauchy loss applied per point inside a stacked factor (iteratively reweighted least squares).
 
 ``noiseModel.Robust`` weights a factor by the norm of its whole error vector, which on a
-per-frame stacked factor down-weights the frame rather than the outlier point
-(DESIGN.md). So each factor whitens its own residuals and calls :func:`cauchy_rows`:
+per-frame stacked factor down-weights the frame rather than the outlier point.
+So each factor whitens its own residuals and calls :func:`cauchy_rows`:
 
 * linearise path (Jacobians wanted): each point's rows are scaled by ``sqrt(w_k)``,
   ``w_k = 1 / (1 + e_k^2 / c^2)``, residual and Jacobian alike (one IRLS step);

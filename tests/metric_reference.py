@@ -1,7 +1,8 @@
 """A deliberately plain, point-by-point implementation of the SoccerNet camera metric rules.
 
 Used only by the tests, to check the vectorised evaluator frame by frame: every
-rule is written as a loop over points, the way DESIGN.md states it.
+rule is written as a loop over points, the way the official SoccerNet evaluation states it
+(the rules are listed in broadtrack_graph/geometry/template.py and broadtrack_graph/metrics/soccernet.py).
 """
 
 from __future__ import annotations

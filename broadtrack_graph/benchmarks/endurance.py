@@ -281,7 +281,8 @@ def ground_truth_scores(records, segment: Path, unique_frames: int, width_px: in
         frame index -> {"camera": bool, "jac_5": float, "mre_px": float or None,
         "pan_error_deg": float or None, "focal_error_rel": float or None}.
     """
-    from broadtrack_graph.metrics.soccernet import TemplateSampling, evaluate_frame
+    from broadtrack_graph.geometry.template import TemplateSampling
+    from broadtrack_graph.metrics.soccernet import evaluate_frame
     from broadtrack_graph.io.annotations import read_annotations
     from broadtrack_graph.io.cameras import read_camera_file
 

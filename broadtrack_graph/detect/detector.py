@@ -121,7 +121,7 @@ def draw_detections(image_bgr: np.ndarray, detections: Detections, camera: Camer
         from broadtrack_graph.detect.template_raster import template_mask
 
         if curves is None:
-            from broadtrack_graph.reinit.linefit import TemplateCurves
+            from broadtrack_graph.geometry.template import TemplateCurves
 
             curves = TemplateCurves()
         out[template_mask(camera, curves, W, H, max(1, W // 960))] = (255, 0, 255)

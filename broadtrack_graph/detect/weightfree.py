@@ -38,8 +38,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
-from broadtrack_graph.reinit.linefit import TemplateCurves
-from broadtrack_graph.detect.template_raster import project_template, template_mask  # noqa: F401 (re-exported)
+from broadtrack_graph.geometry.template import TemplateCurves, project_template
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 
 REFERENCE_WIDTH_PX = 960

@@ -1,11 +1,12 @@
 """The SoccerNet broadcast camera: rotation conventions, projection, back-projection.
 
-Conventions (DESIGN.md, kept exactly):
+Conventions (SoccerNet's, kept exactly):
 
 * World frame: origin at the centre spot, x towards the right goal, +y towards the
   near touchline, z DOWN (a camera above the pitch has negative z).
 * Rotation world -> camera: ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T`` with
-  ``Rz(a) = [[c,-s,0],[s,c,0],[0,0,1]]`` and ``Rx(t) = [[1,0,0],[0,c,-s],[0,s,c]]``.
+  ``Rz(a) = [[c,-s,0],[s,c,0],[0,0,1]]`` and ``Rx(t) = [[1,0,0],[0,c,-s],[0,s,c]]``
+  (the builders of :mod:`broadtrack_graph.geometry.state`, shared with the tracker state).
   tilt 0 looks straight down, tilt 90 deg looks horizontally, pan 0 looks
   towards -y, positive pan turns towards +x.
 * Projection: ``Xc = R_cw (X_w - C_w)``; a point with ``Xc_z <= 1e-3`` is behind
@@ -16,6 +17,8 @@ Conventions (DESIGN.md, kept exactly):
   are projected with their full model.
 * The principal point is the image centre ``(W / 2, H / 2)`` unless a file says
   otherwise.
+* The tracker's 8-vector (:meth:`Camera.to_vector`) is the state of
+  :mod:`broadtrack_graph.geometry.state` (order :data:`~broadtrack_graph.geometry.state.STATE_NAMES`).
 
 This module does no I/O: :mod:`broadtrack_graph.io.cameras` reads and writes files.
 """
@@ -29,9 +32,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from broadtrack_graph.geometry.shapes import check_points
-
-BEHIND_CAMERA_Z = 1e-3
-"""Camera-frame depth (metres) at or below which a point counts as behind the camera."""
+from broadtrack_graph.geometry.state import (
+    BEHIND_CAMERA_Z, FOCAL, K1, PAN, POSITION, ROLL, STATE_SIZE, TILT, rotation_x, rotation_z,
+)
 
 
 # --------------------------------------------------------------------------- rotations
@@ -46,13 +49,7 @@ def rotation_from_angles(pan_rad: float, tilt_rad: float, roll_rad: float) -> np
     Returns:
         (3, 3) rotation matrix mapping world vectors to camera vectors.
     """
-    cp, sp = math.cos(pan_rad), math.sin(pan_rad)
-    ct, st = math.cos(tilt_rad), math.sin(tilt_rad)
-    cr, sr = math.cos(roll_rad), math.sin(roll_rad)
-    rz_pan = np.array([[cp, -sp, 0.0], [sp, cp, 0.0], [0.0, 0.0, 1.0]])
-    rx_tilt = np.array([[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]])
-    rz_roll = np.array([[cr, -sr, 0.0], [sr, cr, 0.0], [0.0, 0.0, 1.0]])
-    return (rz_pan @ rx_tilt @ rz_roll).T
+    return (rotation_z(pan_rad) @ rotation_x(tilt_rad) @ rotation_z(roll_rad)).T
 
 
 def angles_from_rotation(R_cw: np.ndarray) -> tuple[float, float, float]:
@@ -263,13 +260,23 @@ class Camera:
 
     @classmethod
     def from_vector(cls, state: np.ndarray, width_px: int, height_px: int) -> "Camera":
-        """Camera from the tracker's 8-vector ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]`` (radians, metres)."""
-        s = np.asarray(state, dtype=float).reshape(8)
-        return cls(float(s[0]), float(s[1]), float(s[2]), float(s[3]), float(s[4]), s[5:8], width_px, height_px)
+        """Camera from the tracker's 8-vector ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]`` (px, -, radians, metres).
+
+        Args:
+            state: (8,) in the order of :data:`broadtrack_graph.geometry.state.STATE_NAMES`.
+            width_px, height_px: the image size f refers to.
+        """
+        s = np.asarray(state, dtype=float).reshape(STATE_SIZE)
+        return cls(float(s[FOCAL]), float(s[K1]), float(s[PAN]), float(s[TILT]), float(s[ROLL]), s[POSITION],
+                   width_px, height_px)
 
     def to_vector(self) -> np.ndarray:
-        """The tracker's 8-vector ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]`` (radians, metres)."""
-        return np.array([self.focal_px, self.k1, self.pan_rad, self.tilt_rad, self.roll_rad, *self.position_m])
+        """(8,) the tracker's state ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]`` (px, -, radians, metres)."""
+        state = np.empty(STATE_SIZE)
+        state[FOCAL], state[K1] = self.focal_px, self.k1
+        state[PAN], state[TILT], state[ROLL] = self.pan_rad, self.tilt_rad, self.roll_rad
+        state[POSITION] = self.position_m
+        return state
 
     def replace(self, **changes) -> "Camera":
         """A copy with some fields changed (dataclasses.replace)."""

@@ -1,6 +1,6 @@
 """The soccer pitch template: the 26 SoccerNet marking classes as 3D elements.
 
-Frame (DESIGN.md): origin at the centre spot, x towards the right goal, y towards
+Frame (SoccerNet convention): origin at the centre spot, x towards the right goal, y towards
 the near touchline ("Side line bottom" is y = +W/2), z down (crossbars at z = -2.44).
 Dimensions are parameters; the default is the 105 x 68 m pitch of SoccerNet.
 

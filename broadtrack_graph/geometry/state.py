@@ -1,9 +1,12 @@
-"""Vectorised projection of the tracker's 8-vector state with its analytic Jacobian.
+"""The tracker's 8-vector camera state, its projection and analytic Jacobian (numpy only, no I/O).
 
-State (SoccerNet convention, DESIGN.md): ``s = [f, k1, pan, tilt, roll, Cx, Cy, Cz]``
-(pixels, unitless, radians, metres). ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T``,
+State ``s = [f, k1, pan, tilt, roll, Cx, Cy, Cz]`` (pixels, unitless, radians x3,
+metres x3; the order of :data:`STATE_NAMES`), SoccerNet convention: world frame with
+z down, ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T`` with
+``Rz(a) = [[c,-s,0],[s,c,0],[0,0,1]]`` and ``Rx(t) = [[1,0,0],[0,c,-s],[0,s,c]]``,
 ``Xc = R_cw (X_w - C_w)``, ``x_n = Xc_xy / Xc_z``, ``uv = f (1 + k1 r^2) x_n + p`` with
-``p = (W / 2, H / 2)``. Pure numpy, no I/O.
+``p = (W / 2, H / 2)``. :class:`broadtrack_graph.geometry.camera.Camera` converts to and
+from this vector and uses the same rotation builders.
 """
 
 from __future__ import annotations
@@ -12,39 +15,73 @@ import math
 
 import numpy as np
 
-STATE_SIZE = 8
-"""Length of the camera state vector."""
-
 STATE_NAMES: tuple[str, ...] = ("f_px", "k1", "pan_rad", "tilt_rad", "roll_rad", "Cx_m", "Cy_m", "Cz_m")
-"""Parameter order of the camera state (columns of every camera Jacobian)."""
+"""Parameter order of the camera state (columns of every camera Jacobian), each name ending in its unit."""
+
+STATE_SIZE = len(STATE_NAMES)
+"""Length of the camera state vector (8)."""
+
+FOCAL = 0
+"""Index of f (pixels at the image size the state refers to)."""
+K1 = 1
+"""Index of k1 (radial distortion, normalised coordinates)."""
+PAN, TILT, ROLL = 2, 3, 4
+"""Indices of pan, tilt, roll (radians)."""
+ANGLES = slice(PAN, ROLL + 1)
+"""Slice of (pan, tilt, roll) in the state."""
+POSITION = slice(5, 8)
+"""Slice of the focal point (Cx, Cy, Cz), metres, pitch frame (z down)."""
 
 BEHIND_CAMERA_Z = 1e-3
 """Camera-frame depth (metres) at or below which a point counts as behind the camera."""
 
 
-def _rz(a: float) -> tuple[np.ndarray, np.ndarray]:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), np.array([[-s, -c, 0.0], [c, -s, 0.0], [0.0, 0.0, 0.0]])
+# --------------------------------------------------------------------------- rotation builders
 
 
-def _rx(a: float) -> tuple[np.ndarray, np.ndarray]:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]), np.array([[0.0, 0.0, 0.0], [0.0, -s, -c], [0.0, c, -s]])
+def rotation_z(angle_rad: float) -> np.ndarray:
+    """(3, 3) ``Rz(a) = [[c, -s, 0], [s, c, 0], [0, 0, 1]]``."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def rotation_x(angle_rad: float) -> np.ndarray:
+    """(3, 3) ``Rx(a) = [[1, 0, 0], [0, c, -s], [0, s, c]]``."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def _rotation_z_derivative(angle_rad: float) -> np.ndarray:
+    """(3, 3) d Rz(a) / d a."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[-s, -c, 0.0], [c, -s, 0.0], [0.0, 0.0, 0.0]])
+
+
+def _rotation_x_derivative(angle_rad: float) -> np.ndarray:
+    """(3, 3) d Rx(a) / d a."""
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[0.0, 0.0, 0.0], [0.0, -s, -c], [0.0, c, -s]])
 
 
 def rotation_and_derivatives(pan_rad: float, tilt_rad: float, roll_rad: float) -> tuple[np.ndarray, np.ndarray]:
     """World-to-camera rotation and its derivatives with respect to pan, tilt, roll.
 
+    Args:
+        pan_rad, tilt_rad, roll_rad: angles in radians.
+
     Returns:
-        R_cw: (3, 3).
+        R_cw: (3, 3) ``(Rz(pan) Rx(tilt) Rz(roll))^T``.
         dR: (3, 3, 3), ``dR[i]`` = d R_cw / d angle_i for angles (pan, tilt, roll).
     """
-    P, dP = _rz(pan_rad)
-    T, dT = _rx(tilt_rad)
-    Q, dQ = _rz(roll_rad)
+    P, dP = rotation_z(pan_rad), _rotation_z_derivative(pan_rad)
+    T, dT = rotation_x(tilt_rad), _rotation_x_derivative(tilt_rad)
+    Q, dQ = rotation_z(roll_rad), _rotation_z_derivative(roll_rad)
     R = (P @ T @ Q).T
     dR = np.stack([(dP @ T @ Q).T, (P @ dT @ Q).T, (P @ T @ dQ).T])
     return R, dR
+
+
+# --------------------------------------------------------------------------- projection
 
 
 def distortion_jacobian(xy_n: np.ndarray, focal_px: float, k1: float) -> np.ndarray:
@@ -82,9 +119,9 @@ def project_state(
         in_front: (N,) bool, False where the camera-frame depth is <= 1e-3 m.
     """
     s = np.asarray(state, dtype=float)
-    focal, k1 = s[0], s[1]
-    R, dR = rotation_and_derivatives(s[2], s[3], s[4])
-    d_w = np.asarray(points_w, dtype=float) - s[5:8]
+    focal, k1 = s[FOCAL], s[K1]
+    R, dR = rotation_and_derivatives(s[PAN], s[TILT], s[ROLL])
+    d_w = np.asarray(points_w, dtype=float) - s[POSITION]
     points_c = d_w @ R.T
     depth = points_c[:, 2]
     in_front = depth > BEHIND_CAMERA_Z
@@ -96,12 +133,12 @@ def project_state(
     if not want_jacobian:
         return uv_px, None, in_front
     J = np.empty((len(points_c), 2, STATE_SIZE))
-    J[:, :, 0] = g[:, None] * xy_n
-    J[:, :, 1] = focal * r2[:, None] * xy_n
+    J[:, :, FOCAL] = g[:, None] * xy_n
+    J[:, :, K1] = focal * r2[:, None] * xy_n
     duv_dXc = _duv_dXc(xy_n, safe_depth, focal, k1)
     dXc_dangles = np.tensordot(d_w, dR, axes=([1], [2])).transpose(0, 2, 1)  # (N, 3, 3): columns pan, tilt, roll
-    J[:, :, 2:5] = duv_dXc @ dXc_dangles
-    J[:, :, 5:8] = -(duv_dXc @ R)
+    J[:, :, ANGLES] = duv_dXc @ dXc_dangles
+    J[:, :, POSITION] = -(duv_dXc @ R)
     J[~in_front] = 0.0
     return uv_px, J, in_front
 
@@ -119,8 +156,8 @@ def _duv_dXc(xy_n: np.ndarray, depth: np.ndarray, focal_px: float, k1: float) ->
 def project_state_dX(state: np.ndarray, points_w: np.ndarray) -> np.ndarray:
     """d uv_px / d X_w (N, 2, 3) for points in front of the camera (see :func:`project_state`)."""
     s = np.asarray(state, dtype=float)
-    R, _ = rotation_and_derivatives(s[2], s[3], s[4])
-    points_c = (np.asarray(points_w, dtype=float) - s[5:8]) @ R.T
+    R, _ = rotation_and_derivatives(s[PAN], s[TILT], s[ROLL])
+    points_c = (np.asarray(points_w, dtype=float) - s[POSITION]) @ R.T
     depth = np.where(points_c[:, 2] > BEHIND_CAMERA_Z, points_c[:, 2], 1.0)
     xy_n = points_c[:, :2] / depth[:, None]
-    return _duv_dXc(xy_n, depth, s[0], s[1]) @ R
+    return _duv_dXc(xy_n, depth, s[FOCAL], s[K1]) @ R

@@ -182,10 +182,6 @@ def _num(value) -> float | None:
     return value if math.isfinite(value) else None
 
 
-STATE_ORDER = ("focal_px", "k1", "pan_rad", "tilt_rad", "roll_rad", "Cx_m", "Cy_m", "Cz_m")
-"""Order of the tracker state vector (``Camera.to_vector``)."""
-
-
 def std_from_covariance(covariance: np.ndarray) -> dict:
     """Standard deviations of a tracker state covariance, as :attr:`TrackRecord.std`.
 

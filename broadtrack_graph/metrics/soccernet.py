@@ -1,13 +1,10 @@
 """The SoccerNet camera calibration metric (JaC@tau, completeness, final score) and MRE.
 
-It reproduces the official SoccerNet evaluation rule for rule (DESIGN.md):
+It reproduces the official SoccerNet evaluation rule for rule:
 
-* every pitch class is sampled as the official template does (lines every 0.9 m,
-  circles every 0.2 m of arc; :meth:`PitchTemplate.sample_soccernet`), projected
-  with the full distortion model; points behind the camera are skipped, points
-  outside ``[0, W) x [0, H)`` are dropped, and where the polyline leaves or enters
-  the image the intersection with the border lines x = 0, x = W - 1, y = 0,
-  y = H - 1 nearest the outside (leaving) or inside (entering) point is added;
+* every pitch class is projected into the image as the official evaluation does
+  (its template sampling, float32-rounded projection and border points:
+  :func:`broadtrack_graph.geometry.template.project_template_polylines`);
 * per class: projected but not annotated -> FP; annotated but not projected -> FN;
   both -> TP if every annotated point is strictly closer than tau pixels to the
   projected polyline (point-to-segment distance), else FP;
@@ -24,9 +21,6 @@ script uses the file's intrinsics as they are, which agrees when the file is at 
 evaluation resolution); a broken camera file counts as a missing camera and is
 reported; a broken annotation file is reported and left out.
 
-The official projection rounds the distorted normalised coordinates to float32;
-this is reproduced so that borderline points fall on the same side of tau.
-
 Also reported: the mean and median distance (pixels) of annotated points to their
 projected class (MRE, MedRE), over classes both annotated and projected, with the
 labelling chosen at each tau.
@@ -36,147 +30,16 @@ This module does no I/O; :func:`evaluate_folders` in the command module reads fi
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera, distort_normalized
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, MIRRORED_CLASS, PitchTemplate
+from broadtrack_graph.geometry.template import TemplateSampling, distances_to_polyline, project_template_polylines
 
 DEFAULT_TAUS = (5.0, 10.0, 20.0)
-SOCCERNET_LINE_STEP_M = 0.9
-SOCCERNET_CIRCLE_STEP_M = 0.2
-
-
-# --------------------------------------------------------------------------- projection of the template
-
-
-class TemplateSampling:
-    """The template sampled once as the official evaluation does; reused for every frame."""
-
-    def __init__(self, pitch: PitchTemplate | None = None) -> None:
-        pitch = pitch or PitchTemplate()
-        samples = pitch.sample_soccernet(SOCCERNET_LINE_STEP_M, SOCCERNET_CIRCLE_STEP_M)
-        self.class_names: list[str] = list(samples)
-        self.points_w = np.vstack([samples[name] for name in self.class_names])
-        sizes = [len(samples[name]) for name in self.class_names]
-        self.offsets = np.concatenate([[0], np.cumsum(sizes)])
-
-
-def _project_like_official(camera: Camera, points_w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Project with the full model, rounding distorted normalised coordinates to float32 as the official code does."""
-    points_c = camera.world_to_camera(points_w)
-    in_front = points_c[:, 2] > 1e-3
-    depth = np.where(in_front, points_c[:, 2], 1.0)
-    xy_n = points_c[:, :2] / depth[:, None]
-    xy_d = distort_normalized(xy_n, camera.k1, camera.extra_distortion).astype(np.float32).astype(np.float64)
-    uv = camera.focal_px * xy_d + camera.principal_point
-    return uv, in_front
-
-
-def _border_point(inside_or_outside: np.ndarray, previous: np.ndarray, width: int, height: int):
-    """Intersection of the line through two image points with the image border lines.
-
-    Among the intersections with x = 0, x = W-1, y = 0, y = H-1 that fall inside
-    [0, W) x [0, H), the one nearest ``inside_or_outside`` (the current point) is
-    returned, first in that side order on ties; None if there is none.
-    """
-    ex, ey = inside_or_outside
-    px, py = previous
-    # line = (ex, ey, 1) x (px, py, 1)
-    la, lb, lc = ey - py, px - ex, ex * py - ey * px
-    best, best_distance = None, math.inf
-    for sa, sb, sc in ((1.0, 0.0, 0.0), (1.0, 0.0, -(width - 1.0)), (0.0, 1.0, 0.0), (0.0, 1.0, -(height - 1.0))):
-        ix = lb * sc - lc * sb
-        iy = lc * sa - la * sc
-        iz = la * sb - lb * sa
-        if iz == 0.0:
-            continue
-        ix, iy = ix / iz, iy / iz
-        if 0.0 <= ix < width and 0.0 <= iy < height:
-            distance = math.hypot(ix - ex, iy - ey)
-            if distance < best_distance:
-                best, best_distance = (ix, iy), distance
-    return best
-
-
-def project_template_polylines(
-    camera: Camera, width_px: int, height_px: int, sampling: TemplateSampling | None = None
-) -> dict[str, np.ndarray]:
-    """Projected polylines of every class visible in the image, as the official metric builds them.
-
-    Args:
-        camera: the camera; rescaled to (width_px, height_px) if it is at another resolution.
-        width_px, height_px: evaluation resolution.
-        sampling: the template sampling (built once and reused for speed).
-
-    Returns:
-        class name -> (K, 2) pixels; classes whose polyline is empty are absent ("not projected").
-    """
-    sampling = sampling or TemplateSampling()
-    if camera.width_px != width_px or camera.height_px != height_px:
-        camera = camera.rescaled(width_px, height_px)
-    uv_all, front_all = _project_like_official(camera, sampling.points_w)
-    with np.errstate(invalid="ignore"):
-        inside_all = (uv_all[:, 0] >= 0) & (uv_all[:, 0] < width_px) & (uv_all[:, 1] >= 0) & (uv_all[:, 1] < height_px)
-    polylines: dict[str, np.ndarray] = {}
-    for index, name in enumerate(sampling.class_names):
-        start, stop = sampling.offsets[index], sampling.offsets[index + 1]
-        front = front_all[start:stop]
-        inside = inside_all[start:stop] & front
-        if not inside.any():
-            continue  # leaving/entering needs at least one point inside
-        uv = uv_all[start:stop][front]  # behind-camera points are skipped entirely
-        inside = inside[front]
-        if inside.all():
-            polylines[name] = uv.copy()
-            continue
-        out: list = []
-        # Indices where the inside state changes between consecutive valid points.
-        changes = np.flatnonzero(inside[1:] != inside[:-1]) + 1
-        position = 0
-        state = bool(inside[0])
-        for change in list(changes) + [len(uv)]:
-            if state:
-                if position > 0:  # entering from the previous (outside) point
-                    hit = _border_point(uv[position], uv[position - 1], width_px, height_px)
-                    if hit is not None:
-                        out.append(hit)
-                out.extend(map(tuple, uv[position:change]))
-                if change < len(uv):  # leaving: border point nearest the first outside point
-                    hit = _border_point(uv[change], uv[change - 1], width_px, height_px)
-                    if hit is not None:
-                        out.append(hit)
-            position = change
-            state = not state
-        polylines[name] = np.asarray(out, dtype=float)
-    return polylines
-
-
-def distances_to_polyline(points_px: np.ndarray, polyline_px: np.ndarray) -> np.ndarray:
-    """Euclidean distance of each point to a polyline (minimum over its segments).
-
-    Args:
-        points_px: (M, 2) pixels.
-        polyline_px: (K, 2) pixels, K >= 1 (a single point is a degenerate polyline).
-
-    Returns:
-        (M,) distances in pixels.
-    """
-    points = np.asarray(points_px, dtype=float)
-    poly = np.asarray(polyline_px, dtype=float)
-    if len(poly) == 1:
-        return np.hypot(*(points - poly[0]).T)
-    a = poly[:-1][None, :, :]  # (1, S, 2)
-    ab = (poly[1:] - poly[:-1])[None, :, :]
-    ap = points[:, None, :] - a  # (M, S, 2)
-    length2 = np.sum(ab * ab, axis=2)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.sum(ap * ab, axis=2) / length2
-    t = np.where(np.isfinite(t), np.clip(t, 0.0, 1.0), 0.0)
-    closest = a + t[:, :, None] * ab
-    return np.min(np.hypot(*(points[:, None, :] - closest).transpose(2, 0, 1)), axis=1)
+"""The metric's pixel thresholds tau (JaC@5, @10, @20)."""
 
 
 # --------------------------------------------------------------------------- one frame

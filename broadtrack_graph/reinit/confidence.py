@@ -25,8 +25,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.linefit import TemplateCurves
-from broadtrack_graph.detect.template_raster import project_template
+from broadtrack_graph.geometry.template import TemplateCurves, project_template
 
 DEFAULT_THRESHOLD = 0.5
 

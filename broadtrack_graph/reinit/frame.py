@@ -11,9 +11,8 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.metrics.soccernet import TemplateSampling
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.linefit import TemplateCurves
 from broadtrack_graph.reinit.lines import ReinitResult, reinit_from_keypoints, reinit_from_lines, score_labelled
 from broadtrack_graph.reinit.mask import reinit_from_mask
 

@@ -5,7 +5,8 @@ initial hypotheses quickly (milliseconds each). It is a small robust
 Levenberg-Marquardt over the tracker state ``[f, k1, pan, tilt, roll, Cx, Cy, Cz]``
 with point-to-curve residuals re-associated every iteration (ICP style):
 
-* every class element is sampled densely in 3D (:class:`TemplateCurves`);
+* every class element is sampled densely in 3D
+  (:class:`~broadtrack_graph.geometry.template.TemplateCurves`);
 * each labelled image point is associated with the closest point of its class's
   projected polyline; the residual is the signed distance along the polyline's
   normal there (point-to-tangent), so points slide freely along the marking;
@@ -25,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.pitch import Arc, PitchTemplate
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
+from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
 
 
 
@@ -46,44 +47,6 @@ class LineFitConfig:
     missing_class_penalty_px: float = 30.0  # residual of a point whose class is not in front of the camera
     min_focal_px_per_width: float = 0.3  # f / W lower bound (about 118 deg field of view)
     max_focal_px_per_width: float = 12.0  # f / W upper bound (about 5 deg)
-
-
-class TemplateCurves:
-    """Dense 3D samples of every pitch class, reused across fits.
-
-    Attributes:
-        samples_w: class name -> (L, 3) metres, consecutive samples along the marking.
-    """
-
-    def __init__(self, pitch: PitchTemplate | None = None, line_step_m: float = 2.0, circle_step_m: float = 0.5):
-        self.pitch = pitch or PitchTemplate()
-        self.samples_w: dict[str, np.ndarray] = {}
-        for name, element in self.pitch.elements.items():
-            step = circle_step_m if isinstance(element, Arc) else line_step_m
-            self.samples_w[name] = self.pitch.sample_uniform(step, classes=[name])[name]
-
-
-def closest_on_polyline(points_px: np.ndarray, poly_px: np.ndarray, valid_seg: np.ndarray):
-    """Closest segment of a polyline for each point.
-
-    Args:
-        points_px: (M, 2) pixels; poly_px: (L, 2) polyline; valid_seg: (L - 1,) bool, segments that may be used.
-
-    Returns:
-        segment index (M,), parameter t in [0, 1] along it (M,), distance in pixels (M,).
-    """
-    a = poly_px[:-1][valid_seg]
-    b = poly_px[1:][valid_seg]
-    index = np.flatnonzero(valid_seg)
-    d = b - a
-    length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-12)
-    rel = points_px[:, None, :] - a[None, :, :]
-    t = np.clip(np.einsum("mkj,kj->mk", rel, d) / length2, 0.0, 1.0)
-    closest = a[None] + t[..., None] * d[None]
-    dist2 = np.sum((points_px[:, None, :] - closest) ** 2, axis=2)
-    best = np.argmin(dist2, axis=1)
-    rows = np.arange(len(points_px))
-    return index[best], t[rows, best], np.sqrt(dist2[rows, best])
 
 
 @dataclass

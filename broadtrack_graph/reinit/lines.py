@@ -30,10 +30,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
-from broadtrack_graph.metrics.soccernet import distances_to_polyline, project_template_polylines, TemplateSampling
-from broadtrack_graph.reinit.linefit import (
-    LineFitConfig, TemplateCurves, fit_camera_to_lines,
+from broadtrack_graph.geometry.template import (
+    TemplateCurves, TemplateSampling, distances_to_polyline, project_template_polylines,
 )
+from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.geometry.state import project_state
 from broadtrack_graph.geometry.pitch import Arc, PitchTemplate, Segment
 

@@ -22,9 +22,8 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.linefit import (
-    LineFitConfig, TemplateCurves, closest_on_polyline, fit_camera_to_lines,
-)
+from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
+from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.geometry.pitch import Arc, PitchTemplate, Segment
 from broadtrack_graph.reinit.lines import (
     DEFAULT_TRIPOD_POSITIONS_W, LabelledScore, ReinitResult, facing_pan_rad,

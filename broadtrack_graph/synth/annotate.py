@@ -4,7 +4,7 @@ Annotations are made the way a human annotator makes them, but from the exact
 geometry:
 
 * a class is annotated when the official metric projects it into the image
-  (:func:`broadtrack_graph.metrics.soccernet.project_template_polylines`: at least one of its
+  (:func:`broadtrack_graph.geometry.template.project_template_polylines`: at least one of its
   0.9 m / 0.2 m samples in front of the camera and inside the image); a marking that
   only grazes a corner between two samples is left out, as the metric ignores it;
 * its points are taken on the visible parts only: inside the image, and where the
@@ -34,7 +34,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.metrics.soccernet import TemplateSampling, distances_to_polyline, project_template_polylines
+from broadtrack_graph.geometry.template import TemplateSampling, distances_to_polyline, project_template_polylines
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.synth.render import SURFACE_GOAL, SURFACE_GROUND, SURFACE_PLAYER, fixed_point
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM

@@ -62,9 +62,8 @@ from broadtrack_graph.io.run_folder import (
     TrackWriter,
 )
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
-from broadtrack_graph.metrics.soccernet import TemplateSampling
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence, plausible_position, reinitialise
-from broadtrack_graph.reinit.linefit import TemplateCurves
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.inputs import FrameInput
 

@@ -10,7 +10,7 @@ from broadtrack_graph.benchmarks.detections import noisy_keypoint_records, templ
 from broadtrack_graph.cli import main
 from broadtrack_graph.actions.detect import import_annotations
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.metrics.soccernet import project_template_polylines
+from broadtrack_graph.geometry.template import project_template_polylines
 from broadtrack_graph.io.annotations import write_annotation_file, write_gamestate_labels
 from broadtrack_graph.io.detections import read_detections
 from broadtrack_graph.io.run_folder import read_track

@@ -10,7 +10,7 @@ import pytest
 
 from broadtrack_graph import cli
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.metrics.soccernet import project_template_polylines
+from broadtrack_graph.geometry.template import project_template_polylines
 from broadtrack_graph.io.annotations import annotation_from_pixels, write_annotation_file
 from broadtrack_graph.io.cameras import write_camera_file
 from broadtrack_graph.io.run_folder import STATUS_NO_PITCH, TrackRecord, TrackWriter, read_track

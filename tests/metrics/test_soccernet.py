@@ -9,12 +9,8 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.commands.evaluate import evaluate_folders, load_cameras
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.metrics.soccernet import (
-    distances_to_polyline,
-    evaluate_cameras,
-    evaluate_frame,
-    project_template_polylines,
-)
+from broadtrack_graph.geometry.template import distances_to_polyline, project_template_polylines
+from broadtrack_graph.metrics.soccernet import evaluate_cameras, evaluate_frame
 from broadtrack_graph.io.annotations import AnnotationSet, read_annotations
 from broadtrack_graph.io.cameras import write_camera_file
 from broadtrack_graph.geometry.pitch import MIRRORED_CLASS, PitchTemplate
@@ -36,13 +32,6 @@ def perfect_annotation(camera, step=5):
         points = poly[:: max(1, len(poly) // step)]
         lines[name] = points / np.array([W - 1, H - 1])
     return lines
-
-
-def test_distance_to_polyline():
-    poly = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]])
-    d = distances_to_polyline(np.array([[5.0, 3.0], [-3.0, -4.0], [12.0, 5.0], [10.0, 10.0]]), poly)
-    np.testing.assert_allclose(d, [3.0, 5.0, 2.0, 0.0])
-    np.testing.assert_allclose(distances_to_polyline(np.array([[3.0, 4.0]]), np.array([[0.0, 0.0]])), [5.0])
 
 
 def test_perfect_camera_scores_one_and_mirror_is_used():
@@ -83,26 +72,8 @@ def test_strict_threshold_and_fp_fn_counting():
     assert s.fp[5.0] == 1 and s.tp[5.0] == n - 1
 
 
-def test_border_point_is_added_where_a_line_leaves_the_image():
-    camera = camera_main()
-    polylines = project_template_polylines(camera, W, H)
-    touching = 0
-    for poly in polylines.values():
-        on_border = (np.isclose(poly[:, 0], 0) | np.isclose(poly[:, 0], W - 1) | np.isclose(poly[:, 1], 0)
-                     | np.isclose(poly[:, 1], H - 1))
-        touching += int(on_border.any())
-        assert np.all((poly[:, 0] >= 0) & (poly[:, 0] < W) & (poly[:, 1] >= 0) & (poly[:, 1] < H))
-    assert touching >= 2
-    # An annotated point exactly at the image border is matched thanks to the border point.
-    name = next(n for n, p in polylines.items() if np.isclose(p[0, 0], 0) or np.isclose(p[-1, 0], 0))
-    poly = polylines[name]
-    end = poly[0] if np.isclose(poly[0, 0], 0) else poly[-1]
-    assert distances_to_polyline(end[None], poly)[0] == 0.0
-
-
 def test_empty_projection_counts_false_negatives():
     sky = Camera.from_degrees(1100.0, 0.0, 180.0, 100.0, 0.0, (0.0, 55.0, -14.0), W, H)  # looks away, above horizon
-    assert project_template_polylines(sky, W, H) == {}
     lines = {"Side line top": np.array([[0.1, 0.2], [0.5, 0.2]]), "Middle line": np.array([[0.5, 0.5]])}
     score = evaluate_frame(lines, sky, W, H, (5,))
     assert score.jac[5.0] == 0.0 and score.fn[5.0] == 2

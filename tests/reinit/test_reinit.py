@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.metrics.soccernet import TemplateSampling
-from broadtrack_graph.reinit.linefit import LineFitConfig, TemplateCurves, fit_camera_to_lines
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.lines import (
     camera_from_homography, camera_from_two_points, focal_from_ray_angle, homography_from_lines,
     reinit_from_keypoints, reinit_from_lines, score_labelled,

@@ -241,7 +241,7 @@ def test_cli_reports_a_bad_camera_folder(tmp_path, capsys):
 
 def test_k1_below_zero_never_annotates_folded_points():
     # With k1 < 0 the model folds points far off-axis back into the image; they must not be annotated.
-    from broadtrack_graph.metrics.soccernet import TemplateSampling, _project_like_official
+    from broadtrack_graph.geometry.template import TemplateSampling, _project_like_official
     from broadtrack_graph.geometry.pitch import PitchTemplate
 
     camera = Camera.from_degrees(450.0, -0.08, -60.0, 70.0, 0.0, [0.0, 55.0, -12.0], W, H)

@@ -1,0 +1,113 @@
+"""The tracker's 8-vector state: its names and order, its projection against Camera, the round trip."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
+from broadtrack_graph.geometry.state import (
+    ANGLES,
+    BEHIND_CAMERA_Z,
+    FOCAL,
+    K1,
+    PAN,
+    POSITION,
+    ROLL,
+    STATE_NAMES,
+    STATE_SIZE,
+    TILT,
+    project_state,
+    rotation_and_derivatives,
+    rotation_x,
+    rotation_z,
+)
+
+W, H = 960, 540
+
+
+def random_state(rng) -> np.ndarray:
+    """A broadcast-like camera: above the near touchline, looking at the pitch."""
+    return np.array([
+        rng.uniform(600.0, 3000.0),
+        rng.uniform(-0.2, 0.05),
+        math.radians(rng.uniform(-50.0, 50.0)),
+        math.radians(rng.uniform(60.0, 80.0)),
+        math.radians(rng.uniform(-2.0, 2.0)),
+        rng.uniform(-10.0, 10.0),
+        rng.uniform(45.0, 60.0),
+        rng.uniform(-20.0, -8.0),
+    ])
+
+
+def test_names_order_and_indices():
+    assert STATE_NAMES == ("f_px", "k1", "pan_rad", "tilt_rad", "roll_rad", "Cx_m", "Cy_m", "Cz_m")
+    assert STATE_SIZE == 8
+    assert [STATE_NAMES[i] for i in (FOCAL, K1, PAN, TILT, ROLL)] == ["f_px", "k1", "pan_rad", "tilt_rad", "roll_rad"]
+    assert STATE_NAMES[ANGLES] == ("pan_rad", "tilt_rad", "roll_rad")
+    assert STATE_NAMES[POSITION] == ("Cx_m", "Cy_m", "Cz_m")
+
+
+def test_camera_vector_round_trip_is_exact():
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        state = random_state(rng)
+        camera = Camera.from_vector(state, W, H)
+        assert camera.focal_px == state[FOCAL] and camera.k1 == state[K1]
+        assert (camera.pan_rad, camera.tilt_rad, camera.roll_rad) == tuple(state[ANGLES])
+        np.testing.assert_array_equal(camera.position_m, state[POSITION])
+        np.testing.assert_array_equal(camera.to_vector(), state)
+        again = Camera.from_vector(camera.to_vector(), W, H)
+        np.testing.assert_array_equal(again.R_cw, camera.R_cw)
+
+
+def test_project_state_agrees_with_camera_project_on_random_points():
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        state = random_state(rng)
+        camera = Camera.from_vector(state, W, H)
+        # Pitch points, raised points, and points behind the camera (beyond the touchline).
+        points = np.column_stack([rng.uniform(-60, 60, 200), rng.uniform(-40, 80, 200), rng.uniform(-3, 0, 200)])
+        uv, _, in_front = project_state(state, points, W, H, want_jacobian=False)
+        expected, front = camera.project(points)
+        np.testing.assert_array_equal(in_front, front)
+        assert (~in_front).any() and in_front.any()
+        np.testing.assert_allclose(uv[in_front], expected[in_front], rtol=1e-12, atol=1e-9)
+        assert np.all(np.isfinite(uv))  # behind the camera: finite dummies, no NaN
+        depth = camera.world_to_camera(points)[:, 2]
+        np.testing.assert_array_equal(in_front, depth > BEHIND_CAMERA_Z)
+
+
+def test_jacobian_is_zero_behind_the_camera_and_has_state_columns():
+    state = np.array([1000.0, -0.05, 0.1, math.radians(70.0), 0.0, 0.0, 55.0, -12.0])
+    points = np.array([[0.0, 0.0, 0.0], [0.0, 80.0, 0.0]])  # in front; behind (beyond the camera)
+    _, J, in_front = project_state(state, points, W, H)
+    assert in_front.tolist() == [True, False]
+    assert J.shape == (2, 2, STATE_SIZE) and not J[1].any()
+    # d uv / d f = (1 + k1 r^2) x_n = (uv - principal point) / f.
+    uv, _, _ = project_state(state, points[:1], W, H)
+    np.testing.assert_allclose(J[0, :, FOCAL], (uv[0] - [W / 2, H / 2]) / state[FOCAL], rtol=1e-12)
+
+
+def test_one_rotation_for_camera_and_state():
+    rng = np.random.default_rng(2)
+    for pan, tilt, roll in rng.uniform(-math.pi, math.pi, (20, 3)):
+        R, dR = rotation_and_derivatives(pan, tilt, roll)
+        np.testing.assert_array_equal(R, rotation_from_angles(pan, tilt, roll))
+        np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-15)
+        step = 1e-6
+        for i in range(3):
+            angles = np.array([pan, tilt, roll])
+            plus, minus = angles.copy(), angles.copy()
+            plus[i] += step
+            minus[i] -= step
+            numeric = (rotation_from_angles(*plus) - rotation_from_angles(*minus)) / (2 * step)
+            np.testing.assert_allclose(dR[i], numeric, atol=1e-9)
+
+
+def test_rotation_builders_by_hand():
+    # Rz(90 deg) turns x into y; Rx(90 deg) turns y into z.
+    np.testing.assert_allclose(rotation_z(math.pi / 2) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15)
+    np.testing.assert_allclose(rotation_x(math.pi / 2) @ [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], atol=1e-15)
+    np.testing.assert_array_equal(rotation_z(0.0), np.eye(3))
