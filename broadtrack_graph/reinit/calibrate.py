@@ -21,7 +21,8 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.metrics.soccernet import TemplateSampling
 from broadtrack_graph.reinit.linefit import TemplateCurves
-from broadtrack_graph.reinit.lines import ReinitConfig, ReinitResult, reinit_from_lines
+from broadtrack_graph.reinit.lines import ReinitConfig, reinit_from_lines
+from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.io.annotations import AnnotationSet, annotation_to_pixels
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
