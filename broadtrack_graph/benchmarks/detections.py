@@ -207,7 +207,7 @@ def run_files(args, info: dict, plot_dir: Path | None) -> dict:
 
 def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 2: keypoints only, smoothed track vs fitting each frame alone."""
-    from broadtrack_graph.reinit.lines import reinit_from_keypoints
+    from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
     from broadtrack_graph.synth.writer import read_camera_track, read_keypoints_file
     from broadtrack_graph.io.detections import read_detections
     from broadtrack_graph.io.jsonfile import read_json

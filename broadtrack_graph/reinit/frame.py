@@ -11,10 +11,14 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.geometry.template import TemplateSampling
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.lines import ReinitResult, reinit_from_keypoints, reinit_from_lines, score_labelled
+from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.lines import reinit_from_lines
 from broadtrack_graph.reinit.mask import reinit_from_mask
+from broadtrack_graph.reinit.scoring import ReinitResult, score_labelled
+
 
 def reinitialise(
     observations: FrameObservations,
@@ -24,11 +28,12 @@ def reinitialise(
     curves: TemplateCurves | None = None,
     sampling: TemplateSampling | None = None,
 ) -> ReinitResult:
-    """A camera for a frame without a trusted prediction (module docstring, step 2).
+    """A camera for a frame without a trusted prediction.
 
     Tries, by what the frame carries: labelled keypoints (two-point method in RANSAC),
     labelled lines (homography or global search), and the unlabelled marking map
-    (global search of pan, tilt and focal length at the candidate positions).
+    (line-pair and circle hypotheses at the candidate positions, scored and fitted).
+    Cameras under 1 m or over the pitch are dropped; the best score is kept.
     """
     W, H = observations.width_px, observations.height_px
     results = []
@@ -76,7 +81,11 @@ def frame_confidence(
     curves: TemplateCurves,
     sampling: TemplateSampling,
 ) -> float | None:
-    """Confidence in [0, 1] of a camera for a frame (module docstring, step 4)."""
+    """Confidence in [0, 1] of a camera for a frame.
+
+    By what the frame carries: the marking map (confidence.camera_confidence), else labelled lines
+    (mean of the per-class Jaccard and the inlier share at 5 px), else keypoints (share within 10 px).
+    """
     if detections is not None and detections.marking_mask is not None and detections.marking_mask.any():
         return camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
                                  player_mask=detections.player_mask)

@@ -6,6 +6,7 @@ from dataclasses import dataclass, replace
 
 from broadtrack_graph.detect.flow import FlowConfig
 from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD
 
 MODES = ("online", "fixed-lag", "batch")
 
@@ -16,7 +17,7 @@ class TrackingConfig:
 
     mode: str = "online"  # online | fixed-lag | batch (two-pass offline refinement)
     lag_frames: int = 25  # fixed-lag: future frames used before a frame is released
-    confidence_threshold: float = 0.5  # below: re-initialise and distrust flow from this frame
+    confidence_threshold: float = DEFAULT_THRESHOLD  # below: re-initialise and distrust flow from this frame
     lost_confidence: float = 0.2  # below this (after a failed re-initialisation): lost, search globally
     use_flow: bool = True  # optical-flow factor between consecutive frames
     use_tripod: bool = True  # tripod factor (known, fitted online, or estimated in batch)

@@ -1,0 +1,219 @@
+"""Structures of the detected marking map: straight markings (Hough lines) and ellipses (images of pitch circles).
+
+They describe the detection, not a camera; the weight-free re-initialisation puts pitch lines and
+circles on them. Pixel sizes are at ``line_work_width_px`` (960 px) so they do not change with
+the frame size. No I/O.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+
+@dataclass(frozen=True)
+class MarkingStructureConfig:
+    """Settings of :func:`marking_lines` and :func:`marking_ellipses` (pixels at ``line_work_width_px``)."""
+
+    line_work_width_px: int = 960  # the map is reduced to at most this width to find lines and ellipses
+    # Straight markings (marking_lines).
+    max_lines: int = 12  # at most this many straight markings, strongest first
+    line_min_support_px: float = 30.0  # a straight marking has at least this many map pixels
+    line_band_px: float = 1.5  # map pixels this close to a line belong to it
+    line_max_gap_px: float = 6.0  # a line's pixels split into runs at gaps longer than this ...
+    line_min_run_px: float = 10.0  # ... and runs with fewer pixels are specks, not part of it
+    # Ellipses (marking_ellipses).
+    max_ellipses: int = 2  # at most this many (0: none looked for)
+    ellipse_max_pieces: int = 20  # the largest connected map pieces, fitted in pairs ...
+    ellipse_min_piece_px: float = 12.0  # ... of at least this many pixels
+    ellipse_check_pixels: int = 1200  # support is counted on at most about this many map pixels
+    ellipse_band_px: float = 1.5  # map pixels this close to an ellipse support it ...
+    ellipse_min_support_px: float = 80.0  # ... and an ellipse needs this many
+    ellipse_max_ratio: float = 0.8  # minor / major axis at most (a ground circle seen from a broadcast camera)
+    ellipse_max_tilt_deg: float = 30.0  # major axis within this of the image horizontal (roll about 0)
+
+
+@dataclass(frozen=True)
+class ImageLine:
+    """A straight marking found in the marking map, in frame pixels.
+
+    normal: (2,) unit normal n; points p on the line satisfy n . p + offset_px = 0.
+    centre_px: (2,) middle of its support; direction: (2,) unit, along the line.
+    extent_px: (lo, hi) 10th and 90th percentiles of its support along ``direction`` from ``centre_px``.
+    support_px: number of map pixels on it, in frame pixels (about its visible length).
+    """
+
+    normal: np.ndarray
+    offset_px: float
+    centre_px: np.ndarray
+    direction: np.ndarray
+    extent_px: tuple[float, float]
+    support_px: float
+
+
+def _at_most_width(marking_mask: np.ndarray, width_px: int) -> np.ndarray:
+    """The bool map reduced (area-averaged, any marked pixel kept) to at most width_px wide."""
+    h, w = marking_mask.shape
+    if w <= width_px:
+        return marking_mask
+    h_new = max(1, int(round(h * width_px / w)))
+    return cv2.resize(marking_mask.astype(np.uint8) * 255, (width_px, h_new), interpolation=cv2.INTER_AREA) > 0
+
+
+def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig()
+                  ) -> list[ImageLine]:
+    """Straight markings of the map by a greedy Hough transform: take the strongest line, remove its pixels, repeat.
+
+    Removing each line's pixels before looking for the next keeps one long marking from
+    returning as many near-copies and lets short dashed lines through after long ones.
+
+    Args:
+        marking_mask: (h, w) bool map (any size of the frame's aspect ratio).
+        frame_width_px: the frame width the lines are returned in.
+
+    Returns:
+        Up to ``max_lines`` lines, strongest first.
+    """
+    marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
+    h, w = marking_mask.shape
+    unit = w / 960.0
+    min_support = max(10.0, config.line_min_support_px * unit)
+    ys, xs = np.nonzero(marking_mask)
+    if len(xs) < min_support:
+        return []
+    pix = np.column_stack([xs, ys]).astype(np.float32) - np.float32([w / 2.0, h / 2.0])
+    theta_bins = 180
+    thetas = np.arange(theta_bins) * (math.pi / theta_bins)
+    cs, sn = np.cos(thetas).astype(np.float32), np.sin(thetas).astype(np.float32)
+    r_max = int(math.ceil(math.hypot(w, h) / 2)) + 2
+    n_r = 2 * r_max + 1
+    offsets = (n_r * np.arange(theta_bins)).astype(np.int64)
+
+    def votes(points):
+        r = np.rint(points[:, :1] * cs + points[:, 1:] * sn).astype(np.int64) + r_max
+        acc = np.bincount((r + offsets).ravel(), minlength=n_r * theta_bins).astype(np.int32)
+        smooth = acc.copy()  # a 3-bin window across rho: lines a pixel off the bin centre still collect all votes
+        smooth[1:] += acc[:-1]
+        smooth[:-1] += acc[1:]
+        return smooth
+
+    acc = votes(pix)
+    alive = np.ones(len(pix), bool)
+    band = config.line_band_px * unit
+    scale = frame_width_px / w
+    lines: list[ImageLine] = []
+    for _ in range(3 * config.max_lines):
+        k = int(np.argmax(acc))
+        if acc[k] < min_support:
+            break
+        t_i, r_i = divmod(k, n_r)
+        normal = np.array([cs[t_i], sn[t_i]], float)
+        near = alive & (np.abs(pix @ normal - (r_i - r_max)) < 2.0 * unit)
+        centre = pix[near].mean(axis=0) if near.any() else normal * (r_i - r_max)
+        for _refit in range(2):  # total least squares on the band, twice
+            sel = pix[near]
+            if len(sel) < 5:
+                break
+            centre = sel.mean(axis=0)
+            _, _, vt = np.linalg.svd(sel - centre, full_matrices=False)
+            normal = vt[1]
+            near = near | (alive & (np.abs((pix - centre) @ normal) < band))
+        acc -= votes(pix[near])
+        alive &= ~near
+        direction = np.array([-normal[1], normal[0]])
+        # Pieces of the line: runs of pixels along it without gaps; specks (short runs) do not count.
+        along = np.sort((pix[near] - centre) @ direction)
+        breaks = np.nonzero(np.diff(along) > config.line_max_gap_px * unit)[0] + 1
+        runs = [run for run in np.split(along, breaks) if len(run) >= config.line_min_run_px * unit]
+        support = sum(len(run) for run in runs)
+        if support < min_support:
+            continue
+        lo, hi = np.percentile(np.concatenate(runs), [10.0, 90.0])  # stray runs at the ends do not count
+        centre_px = (centre + [w / 2.0, h / 2.0]) * scale
+        lines.append(ImageLine(normal, float(-normal @ centre_px), centre_px, direction,
+                               (float(lo * scale), float(hi * scale)), float(support * scale)))
+        if len(lines) >= config.max_lines:
+            break
+    return lines
+
+
+@dataclass(frozen=True)
+class ImageEllipse:
+    """An ellipse found in the marking map (frame pixels): centre_px (2,), semi-axes (a >= b), angle_rad of a
+    to the image x axis, and support_px: map pixels on it (in frame pixels)."""
+
+    centre_px: np.ndarray
+    semi_axes_px: tuple[float, float]
+    angle_rad: float
+    support_px: float
+
+    def distances_px(self, points_px: np.ndarray) -> np.ndarray:
+        """(N,) approximate distances (first order) of frame-pixel points (N, 2) to the ellipse."""
+        c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
+        d = np.asarray(points_px, float) - self.centre_px
+        x, y = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
+        a, b = self.semi_axes_px
+        return np.abs((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a**2, y / b**2), 1e-12)
+
+
+def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig()
+                     ) -> list[ImageEllipse]:
+    """Ellipses through pieces of the marking map: the image of a pitch circle (centre circle, penalty arcs).
+
+    Connected pieces of the map are fitted in pairs (and the long ones alone) with an ellipse;
+    an ellipse is kept when it is wide, about level (roll about 0), and many map pixels lie on
+    it; the best ``max_ellipses`` distinct ones are returned, most supported first.
+    """
+    marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
+    h, w = marking_mask.shape
+    unit = w / 960.0
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(marking_mask.astype(np.uint8), connectivity=8)
+    areas = stats[1:, cv2.CC_STAT_AREA]
+    pieces = [1 + k for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= config.ellipse_min_piece_px * unit]
+    if not pieces:
+        return []
+    ys, xs = np.nonzero(labels > 0)
+    pixels = np.column_stack([xs, ys]).astype(np.float32)
+    piece_pixels = {}
+    for label in pieces:
+        own = pixels[labels[ys, xs] == label]
+        piece_pixels[label] = own[np.linspace(0, len(own) - 1, min(len(own), 40)).astype(int)]
+    every = max(1, len(pixels) // config.ellipse_check_pixels)
+    pixels = pixels[::every]  # support is counted on at most about ellipse_check_pixels map pixels
+    trials = [(a,) for a in pieces if areas[a - 1] >= 60 * unit] + list(itertools.combinations(pieces, 2))
+    tol = config.ellipse_band_px * unit
+    found = []
+    for trial in trials:
+        sample = np.vstack([piece_pixels[label] for label in trial])
+        if len(sample) < 6:
+            continue
+        (cx, cy), (d1, d2), angle_deg = cv2.fitEllipse(sample)
+        a, b = max(d1, d2) / 2.0, min(d1, d2) / 2.0
+        if not (np.isfinite(a) and b > 1.0 and 0.03 * w < a < 3.0 * w and b / a <= config.ellipse_max_ratio):
+            continue
+        theta = math.radians(angle_deg) + (0.0 if d1 >= d2 else math.pi / 2)
+        if abs(math.sin(theta)) > math.sin(math.radians(config.ellipse_max_tilt_deg)):
+            continue
+        c, s = math.cos(theta), math.sin(theta)
+        x = (pixels[:, 0] - cx) * c + (pixels[:, 1] - cy) * s
+        y = -(pixels[:, 0] - cx) * s + (pixels[:, 1] - cy) * c
+        F = (x / a) ** 2 + (y / b) ** 2 - 1.0
+        grad = 2.0 * np.hypot(x / a**2, y / b**2)
+        support = int(np.sum(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
+        found.append((support, np.array([cx, cy]), (a, b), theta))
+    found.sort(key=lambda item: -item[0])
+    scale = frame_width_px / w
+    out: list[ImageEllipse] = []
+    for support, centre, (a, b), theta in found:
+        if support < config.ellipse_min_support_px * unit:
+            break
+        if any(np.linalg.norm(centre * scale - e.centre_px) < 0.1 * a * scale for e in out):
+            continue
+        out.append(ImageEllipse(centre * scale, (a * scale, b * scale), theta, support * scale))
+        if len(out) >= config.max_ellipses:
+            break
+    return out

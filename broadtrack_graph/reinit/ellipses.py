@@ -1,0 +1,106 @@
+"""Circle hypotheses: cameras (roll 0, focal point fixed) that put a pitch circle on an ellipse of the
+marking map, fitted to the ellipse's points. No I/O.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from broadtrack_graph.detect.marking_structures import ImageEllipse
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import Arc, PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
+from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer
+from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+
+
+def _pointing(direction_w: np.ndarray, ray_c: np.ndarray):
+    """Pan and tilt (radians) with roll 0 turning the world direction onto the camera ray (both (3,)); [] if none."""
+    w = direction_w / np.linalg.norm(direction_w)
+    c = ray_c / np.linalg.norm(ray_c)
+    h = math.hypot(w[0], w[1])
+    if h < 1e-9 or abs(c[0]) > h:
+        return []
+    phi, spread = math.atan2(w[1], w[0]), math.acos(c[0] / h)
+    out = []
+    for pan in (phi + spread, phi - spread):
+        m_y = -math.sin(pan) * w[0] + math.cos(pan) * w[1]
+        tilt = math.atan2(w[2], m_y) - math.atan2(c[2], c[1])
+        out.append((pan, math.remainder(tilt, 2 * math.pi)))
+    return out
+
+
+def ellipse_cameras(ellipses: list[ImageEllipse], position_w, frame_size, pitch: PitchTemplate,
+                    config: MaskSearchConfig = MaskSearchConfig()):
+    """Cameras (roll 0, focal point at position_w) putting a pitch circle on an image ellipse.
+
+    The circle's angular size from the focal point and the ellipse's major axis give f (to
+    within the stretch off the image centre, so a range of f around it is tried); the camera
+    is then turned (roll 0) so that the ray through the ellipse centre meets the circle centre.
+    These are rough (the ellipse centre is not the image of the circle centre): fit them to
+    the ellipse's pixels before use (:func:`reinit_from_mask` does).
+
+    Returns:
+        pans_rad, tilts_rad, focals_px: (K,) each; ellipse_index (K,) ints; circle_names: list of K names.
+    """
+    W, H = frame_size
+    C = np.asarray(position_w, float)
+    tilt_lo, tilt_hi = np.radians(config.tilt_range_deg)
+    circles = [(name, element) for name, element in pitch.elements.items() if isinstance(element, Arc)]
+    pans, tilts, focals, which, names = [], [], [], [], []
+    for index, ellipse in enumerate(ellipses):
+        u, v = ellipse.centre_px - [W / 2.0, H / 2.0]
+        for name, circle in circles:
+            direction = np.asarray(circle.centre_w, float) - C
+            distance = np.linalg.norm(direction)
+            if distance < 2 * circle.radius_m or direction[2] <= 0:
+                continue
+            focal = ellipse.semi_axes_px[0] / math.tan(math.asin(circle.radius_m / distance))
+            for f in focal * np.asarray(config.ellipse_focal_factors):
+                if not (config.line_focal_range_per_width[0] * W < f < config.line_focal_range_per_width[1] * W):
+                    continue
+                for pan, tilt in _pointing(direction, np.array([u, v, f])):
+                    if tilt_lo < tilt < tilt_hi:
+                        pans.append(pan), tilts.append(tilt), focals.append(f), which.append(index), names.append(name)
+    return np.array(pans), np.array(tilts), np.array(focals), np.array(which, int), names
+
+
+def circle_hypotheses(ellipses: list[ImageEllipse], points_px: np.ndarray, positions, frame_size, pitch,
+                       curves: TemplateCurves, scorer: MapScorer, config: MaskSearchConfig) -> list[Hypothesis]:
+    """Circle cameras: for each focal point, ellipse and circle the rough camera (:func:`ellipse_cameras`)
+    whose projected circle lies closest to the ellipse's points; the ``ellipse_fit_top_k`` closest are
+    fitted to those points (f, pan, tilt; the focal point, roll and k1 held) and scored."""
+    W, H = frame_size
+    band = 3.0 * config.structures.ellipse_band_px * W / 960.0
+    on_ellipse = []
+    for ellipse in ellipses:
+        on = points_px[ellipse.distances_px(points_px) < band]
+        on_ellipse.append(on[np.linspace(0, len(on) - 1, min(len(on), config.ellipse_fit_points)).astype(int)])
+    samples = pitch.sample_uniform(1.0)
+    closest: dict[tuple, tuple] = {}
+    for C in positions:
+        pans, tilts, focals, which, names = ellipse_cameras(ellipses, C, frame_size, pitch, config)
+        for k in range(len(pans)):
+            on = on_ellipse[which[k]]
+            if len(on) < 8:
+                continue
+            camera = Camera(focals[k], 0.0, pans[k], tilts[k], 0.0, np.asarray(C, float), W, H)
+            uv, front = camera.project(samples[names[k]])
+            if front.sum() < 3:
+                continue
+            gap = float(np.median(np.min(np.linalg.norm(on[:, None, :] - uv[front][None, :, :], axis=2), axis=1)))
+            key = (tuple(C), int(which[k]), names[k])
+            if key not in closest or gap < closest[key][0]:
+                closest[key] = (gap, camera)
+    fit_config = LineFitConfig(polish_power=0.0, iterations=10, cauchy_scale_px=config.structures.ellipse_band_px * W / 960.0)
+    out = []
+    for (C, which, name), (_, camera) in sorted(closest.items(), key=lambda item: item[1][0])[: config.ellipse_fit_top_k]:
+        camera = fit_camera_to_lines(camera, {name: on_ellipse[which]}, curves, fit_config, fixed=(1, 4, 5, 6, 7)).camera
+        cost = scorer.costs(C, [camera.pan_rad], [camera.tilt_rad], [camera.focal_px], config.score_hit_px,
+                            config.score_point_px)[0]
+        if np.isfinite(cost):
+            out.append(Hypothesis(np.asarray(C, float), camera.pan_rad, camera.tilt_rad, camera.focal_px, cost))
+    return out

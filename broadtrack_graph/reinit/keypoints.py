@@ -1,0 +1,177 @@
+"""Re-initialisation from labelled keypoints: the two-point method inside RANSAC over pairs, then refinement.
+
+The two-point method: with the focal point at the tripod and roll 0, the angle between the
+rays of two keypoints gives f, and rotating the two world rays onto the two camera rays
+gives pan and tilt. Each candidate focal point (default: the default tripods) is tried.
+
+Conventions: pitch frame in metres, origin at the centre spot, z down (a camera above the pitch
+has z < 0); pan 0 looks towards -y, positive pan turns towards +x. No I/O.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
+from broadtrack_graph.geometry.state import project_state
+from broadtrack_graph.reinit.positions import DEFAULT_TRIPOD_POSITIONS_W
+from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
+
+
+def focal_from_ray_angle(uv_px: np.ndarray, angle_rad: float, width_px: int, height_px: int) -> float | None:
+    """Focal length (pixels) at which the rays of two pixels make a given angle.
+
+    The angle between the rays ``(u - cx, v - cy, f)`` decreases monotonically with f, so it is
+    solved by bisection on log f. None when the angle cannot be reached.
+    """
+    d = np.asarray(uv_px, dtype=float) - [width_px / 2.0, height_px / 2.0]
+
+    def angle(f: float) -> float:
+        a = np.array([d[0, 0], d[0, 1], f])
+        b = np.array([d[1, 0], d[1, 1], f])
+        return math.acos(float(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
+
+    lo, hi = 0.05 * width_px, 50.0 * width_px
+    if not (angle(hi) <= angle_rad <= angle(lo)):
+        return None
+    for _ in range(60):
+        mid = math.sqrt(lo * hi)
+        if angle(mid) > angle_rad:
+            lo = mid
+        else:
+            hi = mid
+    return math.sqrt(lo * hi)
+
+
+def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int) -> Camera | None:
+    """The two-point method: focal point fixed at position_w, roll 0, k1 0.
+
+    Args:
+        uv_px: (2, 2) pixels of two pitch points; points_w: (2, 3) their positions (metres).
+        position_w: (3,) focal point (the tripod T).
+
+    Returns:
+        The camera, or None when the pair is degenerate or the angle cannot be matched.
+    """
+    uv_px = np.asarray(uv_px, dtype=float).reshape(2, 2)
+    rays_w = np.asarray(points_w, dtype=float).reshape(2, 3) - np.asarray(position_w, dtype=float)
+    norms = np.linalg.norm(rays_w, axis=1)
+    if np.any(norms < 1e-6) or np.linalg.norm(uv_px[0] - uv_px[1]) < 2.0:
+        return None
+    rays_w /= norms[:, None]
+    angle = math.acos(float(np.clip(rays_w[0] @ rays_w[1], -1, 1)))
+    focal = focal_from_ray_angle(uv_px, angle, width_px, height_px)
+    if focal is None:
+        return None
+    rays_c = np.column_stack([uv_px - [width_px / 2.0, height_px / 2.0], np.full(2, focal)])
+    rays_c /= np.linalg.norm(rays_c, axis=1, keepdims=True)
+    # Rotation aligning world rays onto camera rays (Kabsch with the two rays and their cross product).
+    a = np.vstack([rays_w, np.cross(rays_w[0], rays_w[1])])
+    b = np.vstack([rays_c, np.cross(rays_c[0], rays_c[1])])
+    u, _, vt = np.linalg.svd(b.T @ a)
+    R_cw = u @ np.diag([1, 1, np.sign(np.linalg.det(u @ vt))]) @ vt
+    pan, tilt, _ = angles_from_rotation(R_cw)
+    camera = Camera(focal, 0.0, pan, tilt, 0.0, np.asarray(position_w, float), width_px, height_px)
+    # A few fixed-point steps on pan/tilt with roll held at 0: align the mean ray.
+    for _ in range(3):
+        uv, front = camera.project(np.asarray(points_w, dtype=float).reshape(2, 3))
+        if not front.all():
+            return None
+        shift = (uv_px - uv).mean(axis=0) / focal
+        camera = camera.replace(pan_rad=camera.pan_rad + shift[0] / max(math.sin(camera.tilt_rad), 0.2),
+                                tilt_rad=camera.tilt_rad - shift[1])
+    return camera
+
+
+def reinit_from_keypoints(
+    uv_px: np.ndarray,
+    points_w: np.ndarray,
+    width_px: int,
+    height_px: int,
+    positions_w=None,
+    inlier_px: float = 10.0,
+    max_pairs: int = 60,
+    seed: int = 0,
+) -> ReinitResult:
+    """Camera from labelled keypoints: two-point method in RANSAC over pairs, then refinement.
+
+    For each candidate focal point (default: :data:`DEFAULT_TRIPOD_POSITIONS_W`), pairs of
+    keypoints give cameras (:func:`camera_from_two_points`); the one with most keypoints
+    within ``inlier_px`` wins, and f, pan, tilt, roll and the focal point are then refined
+    on its inliers (Cauchy-weighted Gauss-Newton on the reprojection error, weak priors).
+
+    Args:
+        uv_px: (N, 2) pixels; points_w: (N, 3) metres. N >= 2.
+
+    Returns:
+        ReinitResult (score.inlier_share = share of keypoints within inlier_px; jaccard unused = 0).
+    """
+    uv_px = np.asarray(uv_px, float).reshape(-1, 2)
+    points_w = np.asarray(points_w, float).reshape(-1, 3)
+    if len(uv_px) < 2:
+        return ReinitResult(None, None, "", "fewer than 2 keypoints")
+    positions = list(DEFAULT_TRIPOD_POSITIONS_W.values()) if positions_w is None else [tuple(p) for p in positions_w]
+    rng = np.random.default_rng(seed)
+    pairs = list(itertools.combinations(range(len(uv_px)), 2))
+    if len(pairs) > max_pairs:
+        pairs = [pairs[i] for i in rng.choice(len(pairs), max_pairs, replace=False)]
+    best = None
+    for position in positions:
+        for i, j in pairs:
+            camera = camera_from_two_points(uv_px[[i, j]], points_w[[i, j]], position, width_px, height_px)
+            if camera is None:
+                continue
+            uv, front = camera.project(points_w)
+            err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
+            inliers = err < inlier_px
+            key = (int(inliers.sum()), -float(np.sum(np.minimum(err, inlier_px))))
+            if best is None or key > best[0]:
+                best = (key, camera, inliers, position)
+    if best is None:
+        return ReinitResult(None, None, "", "no keypoint pair gave a camera", len(pairs))
+    _, camera, inliers, position = best
+    camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
+    uv, front = camera.project(points_w)
+    err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
+    share = float(np.mean(err < inlier_px))
+    score = LabelledScore(0.0, 0, 0, 0, share, float(np.mean(np.minimum(err, 100.0))))
+    return ReinitResult(camera, score, f"two-point at {tuple(round(v) for v in position)}", tried=len(pairs))
+
+
+def _refine_on_keypoints(camera: Camera, uv_px, points_w, position_w, iterations: int = 15,
+                         cauchy_px: float = 5.0, sigma_position_m: float = 5.0) -> Camera:
+    """Gauss-Newton on keypoint reprojection (free: f, pan, tilt, roll, C; k1 held), Cauchy weights, priors."""
+    if len(uv_px) < 3:
+        return camera
+    W, H = camera.width_px, camera.height_px
+    state = camera.to_vector()
+    free = np.array([0, 2, 3, 4, 5, 6, 7])
+    prior_sig = np.array([np.inf, np.inf, np.inf, np.inf, math.radians(1.0), sigma_position_m, sigma_position_m, sigma_position_m])
+    for _ in range(iterations):
+        uv, J_uv, front = project_state(state, points_w, W, H)
+        if not front.all():
+            break
+        r = (uv - uv_px).ravel()
+        J = J_uv.reshape(-1, 8)
+        w = 1.0 / (1.0 + (r / cauchy_px) ** 2)
+        prior_r = np.zeros(8)
+        prior_r[4] = state[4]
+        prior_r[5:8] = state[5:8] - position_w
+        pw = np.where(np.isfinite(prior_sig), 1.0 / prior_sig**2, 0.0)
+        A = (J * w[:, None]).T @ J + np.diag(pw)
+        g = (J * w[:, None]).T @ r + pw * prior_r
+        A, g = A[np.ix_(free, free)], g[free]
+        try:
+            delta = np.linalg.solve(A + 1e-6 * np.diag(np.diag(A)), -g)
+        except np.linalg.LinAlgError:
+            break
+        state[free] += delta
+        if np.max(np.abs(delta[1:4])) < 1e-8:
+            break
+    try:
+        return Camera.from_vector(state, W, H)
+    except ValueError:
+        return camera

@@ -1,0 +1,204 @@
+"""The map score of roll-0 camera hypotheses: -F_beta of the template found in the marking map (recall)
+and the marking points explained by the template (precision), and the choice of the best distinct ones. No I/O.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+
+
+def _distance_map(marking_mask: np.ndarray, work_width_px: int, cap_px: float, frame_width_px: int):
+    """Capped distance transform of the marking map at the working width, and working / frame pixel scale."""
+    H, W = marking_mask.shape
+    w = min(work_width_px, W)
+    h = max(1, int(round(H * w / W)))
+    small = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h), interpolation=cv2.INTER_AREA) > 0
+    dt = cv2.distanceTransform((~small).astype(np.uint8), cv2.DIST_L2, 3)
+    return np.minimum(dt, cap_px).astype(np.float32), w / frame_width_px
+
+
+@functools.lru_cache(maxsize=4)
+def _ground_template_map(dimensions, resolution_m: float = 0.1):
+    """Nearest painted ground marking of every cell of a grid over the pitch (and 8 m around it).
+
+    Returns:
+        nearest_xy_w: (h, w, 2) float32 metres, the nearest marking point of each cell;
+        origin_w: (2,) metres of cell (0, 0); resolution_m.
+    """
+    pitch = PitchTemplate(dimensions)
+    half_l, half_w = dimensions.length_m / 2 + 8.0, dimensions.width_m / 2 + 8.0
+    w, h = int(round(2 * half_l / resolution_m)) + 1, int(round(2 * half_w / resolution_m)) + 1
+    origin = np.array([-half_l, -half_w])
+    image = np.ones((h, w), np.uint8)
+    for name, points in pitch.sample_uniform(resolution_m / 2).items():
+        if pitch.is_on_ground(name):
+            cells = np.rint((points[:, :2] - origin) / resolution_m).astype(int)
+            image[cells[:, 1], cells[:, 0]] = 0
+    _, labels = cv2.distanceTransformWithLabels(image, cv2.DIST_L2, 5, labelType=cv2.DIST_LABEL_PIXEL)
+    rows, cols = np.nonzero(image == 0)  # labels number the zero cells in row-major order from 1
+    zero_xy = (np.column_stack([cols, rows]) * resolution_m + origin).astype(np.float32)
+    return zero_xy[labels - 1], origin, resolution_m
+
+
+class MapScorer:
+    """Scores roll-0 cameras against one marking map: cost = -F_beta(precision, recall) (lower is better).
+
+    recall: template length (working pixels, samples ``score_template_step_m`` apart) within
+    ``hit_px`` of a marking pixel, over the template length in the image (at least
+    ``score_min_template_px``); precision: share of the marking points whose ray meets the pitch
+    near a painted marking that projects back within ``point_px`` of the point. Pixel sizes at
+    ``score_work_width_px``; beta is ``score_beta``.
+    """
+
+    def __init__(self, marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size, pitch: PitchTemplate,
+                 config: MaskSearchConfig):
+        self.W, self.H = frame_size
+        self.config = config
+        self.dt, self.scale = _distance_map(marking_mask, config.score_work_width_px, config.score_cap_px, self.W)
+        ground = [n for n in pitch.elements if pitch.is_on_ground(n)]
+        self.samples_w = np.vstack(list(pitch.sample_uniform(config.score_template_step_m, classes=ground).values()))
+        points = np.asarray(marking_points_px, float).reshape(-1, 2)
+        if len(points) > config.score_max_points:
+            points = points[np.linspace(0, len(points) - 1, config.score_max_points).astype(int)]
+        self.points_c = points - [self.W / 2.0, self.H / 2.0]
+        self.nearest_xy, self.origin, self.resolution = _ground_template_map(pitch.dimensions)
+
+    def camera_cost(self, camera: Camera, hit_px: float, point_px: float) -> float:
+        """The cost of one full camera (any roll, k1, focal point) at the frame size."""
+        config, dt, scale = self.config, self.dt, self.scale
+        h, w = dt.shape
+        points_c = camera.world_to_camera(self.samples_w)
+        uv, front = camera.project(self.samples_w)
+        uv = uv * scale
+        inside = front & np.all(np.isfinite(uv), axis=1)
+        inside &= (uv[:, 0] >= 0) & (uv[:, 0] < w - 1) & (uv[:, 1] >= 0) & (uv[:, 1] < h - 1)
+        if inside.sum() < 8:
+            return math.inf
+        d = dt[uv[inside, 1].astype(np.int32), uv[inside, 0].astype(np.int32)]
+        length = camera.focal_px * scale * config.score_template_step_m / points_c[inside, 2]
+        recall = float(np.sum(length * (d <= hit_px)) / max(np.sum(length), config.score_min_template_px))
+        precision = 1.0
+        if len(self.points_c):
+            points_px = self.points_c + [self.W / 2.0, self.H / 2.0]
+            on_pitch, hits = camera.ground_intersection(points_px)
+            col = np.rint((on_pitch[:, 0] - self.origin[0]) / self.resolution)
+            row = np.rint((on_pitch[:, 1] - self.origin[1]) / self.resolution)
+            ok = hits & (col >= 0) & (col < self.nearest_xy.shape[1]) & (row >= 0) & (row < self.nearest_xy.shape[0])
+            near = np.zeros((len(points_px), 3))
+            near[ok, :2] = self.nearest_xy[row[ok].astype(int), col[ok].astype(int)]
+            back, front_back = camera.project(near)
+            ok &= front_back
+            dist = np.linalg.norm(np.where(ok[:, None], back - points_px, np.inf), axis=1)
+            precision = float(np.mean(ok & (dist < point_px / scale)))
+        b2 = config.score_beta ** 2
+        score = (1 + b2) * precision * recall / (b2 * precision + recall) if precision + recall > 0 else 0.0
+        return -score
+
+    def costs(self, position_w, pans, tilts, focals, hit_px: float, point_px: float, chunk: int = 128,
+              thin: int = 1) -> np.ndarray:
+        """(K,) costs of the cameras (pans, tilts: radians, focals: frame pixels; roll 0) at the focal point position_w.
+
+        thin: use every thin-th template sample and marking point (a quicker, coarser score).
+        inf when fewer than 8 template samples land in the image.
+        """
+        dt, scale, config = self.dt, self.scale, self.config
+        h, w = dt.shape
+        C = np.asarray(position_w, float)
+        rel = self.samples_w[::thin] - C
+        step_m = config.score_template_step_m * thin
+        pts = self.points_c[::thin]
+        tol2 = (point_px / scale) ** 2
+        b2 = config.score_beta ** 2
+        pans, tilts, focals = (np.asarray(v, float).ravel() for v in (pans, tilts, focals))
+        out = np.full(len(pans), np.inf)
+        for s in range(0, len(pans), chunk):
+            p, t, f = pans[s:s + chunk, None], tilts[s:s + chunk, None], focals[s:s + chunk, None]
+            cp, sp, ct, st = np.cos(p), np.sin(p), np.cos(t), np.sin(t)
+            # Template samples into the camera: Rx(tilt)^T Rz(pan)^T (X - C).
+            x1 = cp * rel[:, 0] + sp * rel[:, 1]
+            y1 = -sp * rel[:, 0] + cp * rel[:, 1]
+            yc = ct * y1 + st * rel[:, 2]
+            zc = -st * y1 + ct * rel[:, 2]
+            front = zc > 1e-3
+            inv = np.where(front, 1.0 / np.where(front, zc, 1.0), 0.0)
+            u = (f * scale) * x1 * inv + w / 2.0
+            v = (f * scale) * yc * inv + h / 2.0
+            inside = front & (u >= 0) & (u < w - 1) & (v >= 0) & (v < h - 1)
+            d = dt[np.where(inside, v, 0).astype(np.int32), np.where(inside, u, 0).astype(np.int32)]
+            length = np.where(inside, (f * scale) * step_m * inv, 0.0)
+            recall = np.sum(length * (d <= hit_px), axis=1) / np.maximum(np.sum(length, axis=1),
+                                                                         config.score_min_template_px)
+            if len(pts):
+                # Marking points out to the pitch (rays Rz(pan) Rx(tilt) (u, v, f)), to their nearest painted
+                # marking, and back into the image.
+                y_r = ct * pts[:, 1] - st * f
+                z_w = st * pts[:, 1] + ct * f
+                x_w = cp * pts[:, 0] - sp * y_r
+                y_w = sp * pts[:, 0] + cp * y_r
+                down = z_w > 1e-9
+                reach = np.where(down, -C[2] / np.where(down, z_w, 1.0), 0.0)
+                col = np.rint((C[0] + reach * x_w - self.origin[0]) / self.resolution).astype(np.int64)
+                row = np.rint((C[1] + reach * y_w - self.origin[1]) / self.resolution).astype(np.int64)
+                on_grid = down & (col >= 0) & (col < self.nearest_xy.shape[1]) & (row >= 0) & (row < self.nearest_xy.shape[0])
+                near = self.nearest_xy[np.where(on_grid, row, 0), np.where(on_grid, col, 0)]
+                rx, ry = near[..., 0] - C[0], near[..., 1] - C[1]
+                x1 = cp * rx + sp * ry
+                y1 = -sp * rx + cp * ry
+                yc = ct * y1 - st * C[2]
+                zc = -st * y1 - ct * C[2]
+                ok = on_grid & (zc > 1e-3)
+                zc = np.where(ok, zc, 1.0)
+                du = f * x1 / zc - pts[:, 0]
+                dv = f * yc / zc - pts[:, 1]
+                precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
+            else:
+                precision = np.ones_like(recall)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                score = np.where(precision + recall > 0, (1 + b2) * precision * recall / (b2 * precision + recall), 0.0)
+            cost = -score
+            cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
+            out[s:s + chunk] = cost
+        return out
+
+
+@dataclass
+class Hypothesis:
+    """A roll-0, k1-0 camera proposed from the marking map: focal point position_w (3,) metres, pan_rad and
+    tilt_rad (radians), focal_px (pixels), cost (-F_beta of :class:`MapScorer`, lower is better)."""
+
+    position_w: np.ndarray
+    pan_rad: float
+    tilt_rad: float
+    focal_px: float
+    cost: float
+
+
+def best_distinct(pans, tilts, focals, costs, count: int, radius_px: float, width_px: int) -> list[int]:
+    """Indices of up to ``count`` best (lowest cost) hypotheses, no two within radius_px (frame pixels) of each other."""
+    order = np.argsort(costs)
+    kept: list[int] = []
+    for k in order:
+        if not np.isfinite(costs[k]):
+            break
+        f = focals[k]
+        close = False
+        for m in kept:
+            shift = max(abs(pans[k] - pans[m]) * f, abs(tilts[k] - tilts[m]) * f,
+                        abs(math.log(f / focals[m])) * width_px / 2)
+            if shift < radius_px:
+                close = True
+                break
+        if not close:
+            kept.append(int(k))
+            if len(kept) >= count:
+                break
+    return kept
