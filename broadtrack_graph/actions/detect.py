@@ -6,10 +6,10 @@ ground truth can drive the tracker:
 * :func:`export_detections`: run the project's detector over frames and write one
   record per frame. The weight-free detector names the markings with the tracker's
   predicted camera, so the online tracker runs alongside it
-  (:class:`DetectionRecordingRun`, a :class:`~broadtrack_graph.track.pipeline.TrackingRun`
-  that records what each frame hands the solver). Each frame's marking map is written
-  as a PNG next to the file (the record's ``mask``), so the tracking side can compute
-  the confidence and re-initialise from the map.
+  (a :class:`~broadtrack_graph.track.frame_loop.TrackingRun` whose observer, a
+  :class:`DetectionRecorder`, records what each frame hands the solver). Each frame's
+  marking map is written as a PNG next to the file (the record's ``mask``), so the
+  tracking side can compute the confidence and re-initialise from the map.
 * :func:`import_annotations`: SoccerNet line annotations (a folder of per-image
   JSON files or a ``Labels-GameState.json``) become line detections.
 
@@ -38,7 +38,11 @@ from broadtrack_graph.track.inputs import frames_from_source
 from broadtrack_graph.io.jsonfile import read_json
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import FrameInput
-from broadtrack_graph.track.pipeline import RunResult, TrackingRun, run_loop
+from broadtrack_graph.detect.detector import Detections
+from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.track.frame_loop import TrackingRun
+from broadtrack_graph.track.passes import run_loop
+from broadtrack_graph.track.result import RunResult
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.actions.track import DetectorOptions, make_detector
 from broadtrack_graph.geometry.tripod import Tripod
@@ -81,53 +85,32 @@ class ExportSummary:
 # --------------------------------------------------------------------------- detector over frames
 
 
-class _RecordingDetector:
-    """Wraps a detector and keeps the last Detections it returned (re-detections after a re-init included)."""
+class DetectionRecorder:
+    """Writes each frame's detections to a detections file: the observer of an online TrackingRun.
 
-    def __init__(self, detector) -> None:
-        self.detector = detector
-        self.last = None
-
-    def detect(self, image_bgr, predicted=None):
-        self.last = self.detector.detect(image_bgr, predicted)
-        return self.last
-
-
-class DetectionRecordingRun(TrackingRun):
-    """An online TrackingRun that also writes each frame's detections to a detections file.
-
-    What is written for a frame is what the frame handed the solver (lines named with
-    the predicted or re-initialised camera, keypoints of a learned detector, player
-    boxes; flow is not part of the format). A frame that never reached the solver (no
-    pitch, failed re-initialisation) gets the detector's raw output (usually only the
-    marking map). A frame whose image is missing gets no record.
+    Passed as the run's ``on_frame_done``. What is written for a frame is what the frame
+    handed the solver (lines named with the predicted or re-initialised camera, keypoints
+    of a learned detector, player boxes; flow is not part of the format). A frame that
+    never reached the solver (no pitch, failed re-initialisation) gets the detector's raw
+    output (usually only the marking map). A frame whose image is missing gets no record.
 
     Args:
         writer: the open DetectionsWriter.
         mask_dir: folder for the mask PNGs, or None for no masks.
-        **kwargs: TrackingRun's arguments (``detector`` is required).
+
+    Attributes:
+        stats: frames seen, records / masks written, records with lines / keypoints.
     """
 
-    def __init__(self, writer: DetectionsWriter, mask_dir: Path | None, **kwargs) -> None:
-        super().__init__(**kwargs)
-        if self.detector is None:
-            raise ValueError("DetectionRecordingRun needs a detector")
-        self.detector = _RecordingDetector(self.detector)
+    def __init__(self, writer: DetectionsWriter, mask_dir: Path | None) -> None:
         self.det_writer = writer
         self.mask_dir = mask_dir
         self.stats = {"frames": 0, "records": 0, "frames_with_lines": 0, "frames_with_keypoints": 0, "masks": 0}
-        self._pushed = None
 
-    def on_solver_input(self, frame, observations, detections) -> None:
-        self._pushed = observations
-
-    def process(self, frame: FrameInput) -> None:
-        self._pushed = None
-        self.detector.last = None
-        super().process(frame)
+    def __call__(self, frame: FrameInput, handed: FrameObservations | None, detections: Detections | None) -> None:
+        """Record one processed frame (the :data:`~broadtrack_graph.track.frame_loop.FrameDone` observer)."""
         self.stats["frames"] += 1
-        detections = self.detector.last
-        observations = self._pushed
+        observations = handed
         if observations is None and detections is not None:
             observations = detections.to_observations(frame.frame_index)
         if observations is None:
@@ -202,13 +185,12 @@ def export_detections(
             except OSError as exc:
                 raise InputError(out_path, f"cannot write: {exc.strerror or exc}") from None
             with writer:
-                run = DetectionRecordingRun(writer, mask_dir, width_px=source.width_px, height_px=source.height_px,
-                                            out_dir=track_dir, config=config, detector=made_detector, tripod=tripod,
-                                            pitch=pitch, run_info=run_info,
-                                            reinit_positions=positions)
+                recorder = DetectionRecorder(writer, mask_dir)
+                run = TrackingRun(source.width_px, source.height_px, track_dir, config, made_detector, tripod, pitch,
+                                  run_info=run_info, reinit_positions=positions, on_frame_done=recorder)
                 run_loop(run, frames_from_source(source), progress, len(source), "detect")
-                result = run.finish({"detections_export": dict(run.stats)})
-        stats = run.stats
+                result = run.finish({"detections_export": dict(recorder.stats)})
+        stats = recorder.stats
         return ExportSummary(out_path, stats["frames"], stats["records"], stats["frames_with_lines"],
                              stats["frames_with_keypoints"], stats["masks"], mask_dir if stats["masks"] else None,
                              time.perf_counter() - started, None if temporary is not None else result)

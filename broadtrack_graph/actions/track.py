@@ -1,7 +1,7 @@
 """Track what the user gives: open the input, build the detector, run the pipeline.
 
 The library entry point behind ``broadtrack-graph track`` (and ``detect``):
-:func:`track_input` for a path, :func:`run_frames` (in :mod:`broadtrack_graph.track.pipeline`)
+:func:`track_input` for a path, :func:`run_frames` (in :mod:`broadtrack_graph.track.passes`)
 for frames already in memory.
 """
 
@@ -15,7 +15,8 @@ from broadtrack_graph.io.detections import read_detections
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.track.inputs import frames_from_detections, frames_from_source
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.pipeline import RunResult, run_frames
+from broadtrack_graph.track.passes import run_frames
+from broadtrack_graph.track.result import RunResult
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 

@@ -15,8 +15,8 @@ with ``--unique-frames`` >= ``--frames`` the clip is rendered in full and played
 Tracking reads JPEG frames, so its time never includes rendering.
 
 The tracked run. The clip is tracked online with the weight-free detector through the
-product's own loop (:class:`~broadtrack_graph.track.pipeline.TrackingRun` and
-:func:`~broadtrack_graph.track.pipeline.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
+product's own loop (:class:`~broadtrack_graph.track.frame_loop.TrackingRun` and
+:func:`~broadtrack_graph.track.passes.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
 builds them: frames prefetched and decoded in a background thread). Each call of
 ``TrackingRun.process`` is timed (wall clock and the main thread's CPU time: on a shared
 machine the CPU time is the steadier figure); the process RSS (``VmRSS`` of
@@ -229,7 +229,8 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
     """
     from broadtrack_graph.io.frames import open_frames
     from broadtrack_graph.track.inputs import frames_from_source
-    from broadtrack_graph.track.pipeline import TrackingRun, run_loop
+    from broadtrack_graph.track.frame_loop import TrackingRun
+    from broadtrack_graph.track.passes import run_loop
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.actions.track import DetectorOptions, make_detector
 

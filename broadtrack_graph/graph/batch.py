@@ -5,7 +5,7 @@ frames, and the tripod factor of every frame tied to ONE shared tripod variable
 ``[Tx, Ty, Tz, delta]`` that is re-estimated jointly with the trajectory (or held fixed).
 Long inputs are refined in overlapping chunks (``config.solver.batch_chunk_frames``):
 the tripod is estimated on the first chunk and then held fixed; never one LM over
-a whole match (DESIGN.md).
+a whole match (its linear system, time and memory would grow with every frame).
 """
 
 from __future__ import annotations

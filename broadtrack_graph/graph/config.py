@@ -47,7 +47,7 @@ class MotionSigmas:
     pan_rad_per_frame: float = math.radians(1.0)
     tilt_rad_per_frame: float = math.radians(0.5)
     roll_rad_per_frame: float = math.radians(0.1)
-    position_m_per_frame: float = 0.01  # random walk of the focal point (DESIGN.md: ~1 cm/frame)
+    position_m_per_frame: float = 0.01  # random walk of the focal point: ~1 cm/frame (it slides along the optical axis with zoom)
     smooth_zoom_rel: float = 0.002  # sigma of the second difference of log f
     smooth_angle_rad: float = math.radians(0.1)  # second difference of pan and tilt
     smooth_roll_rad: float = math.radians(0.02)

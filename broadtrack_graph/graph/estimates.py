@@ -20,7 +20,7 @@ class FrameEstimate:
         or None when not computed.
     active_factors: factor kind -> number of measurements used ("lines": points, "flow": matches,
         priors: 1).
-    reinitialised: set by the pipeline when the frame was re-initialised by the front end.
+    reinitialised: set by the tracking loop when the frame was re-initialised by the front end.
     reason: why camera is None (or a note), else None.
     """
 

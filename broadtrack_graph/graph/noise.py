@@ -1,7 +1,7 @@
 """Noise models and iSAM2 parameters, built in one place from the config.
 
 The measurement factors whiten their own residuals (per-point Cauchy inside the
-factor, DESIGN.md) so their GTSAM noise model is ``Unit``; see :mod:`factors.custom`.
+factor) so their GTSAM noise model is ``Unit``; see :mod:`factors.custom`.
 """
 
 from __future__ import annotations

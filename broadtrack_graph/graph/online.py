@@ -3,7 +3,7 @@
 Runs on GTSAM's ``IncrementalFixedLagSmoother`` (iSAM2 underneath) keeping a window
 of ``config.solver.window_frames`` frames: older camera states are marginalised, so
 the per-frame cost and memory stay flat over a whole match (plain iSAM2 over a
-growing graph slows without bound, DESIGN.md). Each frame starts from the previous
+growing graph slows without bound). Each frame starts from the previous
 estimate (random walk on the focal point, no constant-velocity guess).
 
 The tripod is held fixed here (estimate it with :class:`~broadtrack_graph.graph.batch.BatchRefiner`

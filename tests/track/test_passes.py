@@ -16,7 +16,7 @@ from broadtrack_graph.track.inputs import frames_from_source
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.io.tripod_file import read_tripod
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.pipeline import run_frames
+from broadtrack_graph.track.passes import run_frames
 from broadtrack_graph.actions.track import track_input
 
 FRAMES = 24

@@ -1,0 +1,393 @@
+"""The per-frame state machine of a tracking run: predict, detect, solve, check confidence, re-initialise.
+
+One loop serves every input: frames with a detector (weight-free or ONNX), a
+detections file alone, or a detections file with frames (flow on). Per frame:
+
+1. the detector finds the markings, named with the predicted camera (the previous
+   estimate, extrapolated: :mod:`broadtrack_graph.track.prediction`), and optical flow
+   links the frame to the previous one (only while the previous camera is trusted);
+2. lost (first frame, after a cut or a failed frame): the front end re-initialises
+   (keypoints, labelled lines, or a global search on the marking map, at the known
+   tripod or at the default camera positions) and the solver is re-anchored;
+3. the streaming solver (iSAM2 online, or the fixed-lag smoother) adds the frame;
+4. the confidence (Jaccard index of the marking map and the projected template, or
+   the agreement of labelled detections when there is no map) is checked: below the
+   threshold the frame is re-initialised and the next frame does not trust flow
+   from it;
+5. each finished frame is written at once (camera file + a flushed track line), in
+   frame order, so an interrupted run keeps every frame it finished.
+
+Without a known tripod, the online modes fit one on the confident opening frames
+(:mod:`broadtrack_graph.track.online_tripod`). Whole runs: :mod:`broadtrack_graph.track.passes`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from broadtrack_graph.detect.detector import Detections, PredictedCamera
+from broadtrack_graph.detect.flow import grid_flow, prepare
+from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.graph.estimates import FrameEstimate
+from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
+from broadtrack_graph.io.detections import read_mask_png
+from broadtrack_graph.io.run_folder import (
+    STATUS_FAILED,
+    STATUS_MISSING_FRAME,
+    STATUS_NO_DETECTIONS,
+    STATUS_NO_PITCH,
+    STATUS_REINITIALISED,
+    STATUS_TRACKED,
+    TrackRecord,
+    TrackWriter,
+)
+from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
+from broadtrack_graph.geometry.template import TemplateSampling
+from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.track.config import TrackingConfig, graph_config_for
+from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.online_tripod import OnlineTripod
+from broadtrack_graph.track.prediction import predicted_camera
+from broadtrack_graph.track.result import RunResult, std_fields
+
+FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
+"""Observer of a processed frame: (frame, what it handed the solver or None, its detections or None)."""
+
+
+def streaming_solver_for(config: TrackingConfig, graph: GraphConfig, width_px: int, height_px: int,
+                         pitch: PitchTemplate, tripod: Tripod | None) -> StreamingSolver:
+    """The streaming solver of a mode: fixed-lag for "fixed-lag", else online (batch's first pass is online)."""
+    if config.mode == "fixed-lag":
+        return FixedLagStreamingSolver(width_px, height_px, pitch, graph, tripod, lag=config.lag_frames)
+    return OnlineStreamingSolver(width_px, height_px, pitch, graph, tripod)
+
+
+@dataclass
+class _Pending:
+    """A frame waiting for its estimate (fixed-lag) before its record can be written."""
+
+    frame: FrameInput
+    status: str
+    reason: str | None = None
+    reinitialised: bool = False
+    detections: Detections | None = None
+    observations: FrameObservations | None = None
+    record: TrackRecord | None = None
+    override_camera: Camera | None = None
+    confidence: float | None = None  # of confidence_camera, computed when the frame was added
+    suppress_camera: bool = False  # the frame's estimate is not trusted: write no camera
+    confidence_camera: Camera | None = None
+
+
+class TrackingRun:
+    """One tracking run over a stream of :class:`FrameInput` (see the module docstring).
+
+    Args:
+        width_px, height_px: input resolution.
+        out_dir: run folder (cameras/, track.jsonl, summary.json, tripod.json).
+        config: tracking options.
+        detector: a FieldDetector for image input (None when every frame brings observations).
+        tripod: a known tripod (e.g. from an earlier run), or None.
+        pitch: the template.
+        graph_config: solver sigmas (default from :func:`graph_config_for`).
+        run_info: stored in summary.json.
+        keep_observations: keep every frame's observations (needed by the batch pass).
+        reinit_positions: candidate focal points (metres) for re-initialisation without a tripod.
+        mask_paths: frame index -> marking-mask PNG named by a detections file.
+        solver_factory: ``(config, graph_config, width_px, height_px, pitch, tripod) -> StreamingSolver``
+            (default :func:`streaming_solver_for`).
+        reinitialise: ``(observations, detections, pitch, positions, curves, sampling) -> ReinitResult``
+            (default :func:`broadtrack_graph.reinit.frame.reinitialise`).
+        confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
+            (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
+        on_frame_done: observer called after every processed frame (:data:`FrameDone`).
+    """
+
+    def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
+                 detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
+                 graph_config: GraphConfig | None = None, run_info: dict | None = None,
+                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
+                 solver_factory=streaming_solver_for, reinitialise=reinitialise, confidence=frame_confidence,
+                 on_frame_done: FrameDone | None = None) -> None:
+        self.W, self.H = int(width_px), int(height_px)
+        self.config = config
+        self.detector = detector
+        self.pitch = pitch or PitchTemplate()
+        self.graph_config = graph_config or graph_config_for(config)
+        self.curves = TemplateCurves(self.pitch, line_step_m=1.0, circle_step_m=0.5)
+        self.sampling = TemplateSampling(self.pitch)
+        self.known_tripod = tripod
+        self.reinit_positions = reinit_positions
+        self.mask_paths = mask_paths or {}
+        self.reinitialise = reinitialise
+        self.confidence = confidence
+        self.on_frame_done = on_frame_done
+        use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
+        self.solver: StreamingSolver = solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
+                                                      use_tripod_now)
+        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, tripod)
+        self.out_dir = Path(out_dir)
+        self.writer = TrackWriter(self.out_dir, self.W, self.H, also_960x540=config.write_960x540,
+                                  run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
+        self.keep_observations = keep_observations
+        self.kept: dict[int, FrameObservations] = {}
+        self._pending: deque[_Pending] = deque()
+        self._history: deque[Camera] = deque(maxlen=2)
+        self._last_std: np.ndarray | None = None
+        self._lost = True
+        self._prev_grey: np.ndarray | None = None
+        self._prev_keep_mask: np.ndarray | None = None
+        self.timings = {"detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
+                        "write_s": 0.0}
+
+    def _positions(self):
+        """Candidate focal points for re-initialisation: the tripod in use or known, else the defaults."""
+        tripod = self.solver.tripod or self.known_tripod
+        if tripod is not None:
+            return [tuple(tripod.T_w)]
+        return self.reinit_positions
+
+    # ----------------------------------------------------------------- one frame
+
+    def process(self, frame: FrameInput) -> None:
+        """Process one frame, write every record that became final, and tell the observer."""
+        handed, detections = self._process(frame)
+        if self.on_frame_done is not None:
+            self.on_frame_done(frame, handed, detections)
+
+    def _process(self, frame: FrameInput) -> tuple[FrameObservations | None, Detections | None]:
+        """Returns (the observations handed to the solver or None, the frame's detections or None)."""
+        if frame.image is None and frame.observations is None:
+            # The camera barely moves over one lost frame: keep the track, drop only the flow link.
+            self._emit_now(frame, STATUS_MISSING_FRAME, frame.problem or "frame could not be read")
+            self._prev_grey = None
+            return None, None
+        detections = None
+        grey = None
+        observations = frame.observations
+        if frame.image is not None:
+            if observations is None:
+                started = time.perf_counter()
+                predicted = None if self._lost else predicted_camera(self._history, self._last_std, self.W)
+                try:
+                    detections = self.detector.detect(frame.image, predicted)
+                except ValueError as exc:
+                    self._emit_now(frame, STATUS_FAILED, f"detector: {exc}")
+                    self._break_chain()
+                    return None, None
+                self.timings["detect_s"] += time.perf_counter() - started
+            started = time.perf_counter()
+            if self.config.use_flow:
+                grey = frame.flow_frame if frame.flow_frame is not None else prepare(frame.image, self.config.flow)
+            self.timings["flow_s"] += time.perf_counter() - started
+        if detections is None and frame.frame_index in self.mask_paths and observations is not None:
+            detections = self._file_mask_detections(frame.frame_index, observations)
+        flow = None
+        if grey is not None and self._prev_grey is not None and not self._lost and self._history:
+            started = time.perf_counter()
+            flow = grid_flow(self._prev_grey, grey, self.W, self.H, self._history[-1], self._prev_keep_mask,
+                             self.config.flow, (self.pitch.dimensions.length_m / 2, self.pitch.dimensions.width_m / 2))
+            self.timings["flow_s"] += time.perf_counter() - started
+        if detections is not None and frame.observations is None:
+            observations = detections.to_observations(frame.frame_index, flow)
+            keep = detections.field_mask
+            if keep is not None and detections.player_mask is not None:
+                keep = keep & ~detections.player_mask
+            self._prev_keep_mask = keep
+        elif flow is not None:
+            observations = replace(observations, flow=flow)
+        self._prev_grey = grey
+        if observations.width_px != self.W or observations.height_px != self.H:
+            observations = observations.rescaled(self.W, self.H)
+
+        if self._no_pitch(observations, detections):
+            if detections is None and not self._lost and self._history:
+                # A detections-file frame with (almost) nothing: tracked through on the motion prior.
+                return self._track(frame, observations, None, note="no detections; carried by the motion prior")
+            status = STATUS_NO_PITCH if detections is not None else STATUS_NO_DETECTIONS
+            reason = "no pitch in view" if detections is not None else "no detections for this frame"
+            self._emit_now(frame, status, reason)
+            self._break_chain()
+            return None, detections
+        return self._track(frame, observations, detections)
+
+    def _file_mask_detections(self, frame_index: int, observations: FrameObservations) -> Detections | None:
+        """A marking mask named by a detections file, as detections (for confidence and re-initialisation)."""
+        masks = read_mask_png(self.mask_paths[frame_index], self.W, self.H)
+        if masks is None:
+            return None
+        mask, field = masks
+        ys, xs = np.nonzero(mask)
+        keep = slice(None, None, max(1, len(xs) // 2000))
+        return Detections(self.W, self.H, lines_px=dict(observations.lines_px),
+                          marking_points_px=np.column_stack([xs[keep], ys[keep]]).astype(float),
+                          keypoints=observations.keypoints, marking_mask=mask, field_mask=field)
+
+    def _no_pitch(self, observations: FrameObservations, detections: Detections | None) -> bool:
+        if detections is not None:
+            grass = detections.field_mask.mean() if detections.field_mask is not None else 1.0
+            points = len(detections.marking_points_px) + sum(len(p) for p in detections.lines_px.values())
+            return grass < self.config.min_grass_share or points < self.config.min_marking_points
+        return observations.is_empty or (observations.line_point_count < 4 and not observations.keypoints)
+
+    def _track(self, frame: FrameInput, observations: FrameObservations, detections: Detections | None,
+               note: str | None = None) -> tuple[FrameObservations | None, Detections | None]:
+        """Solve one frame with something to see; returns (observations handed to the solver or None, detections)."""
+        reinitialised = False
+        guess = None
+        trust_previous = not self._lost
+        if self._lost:
+            started = time.perf_counter()
+            result = self.reinitialise(observations, detections, self.pitch, self._positions(), self.curves,
+                                       self.sampling)
+            self.timings["reinit_s"] += time.perf_counter() - started
+            if result.camera is None:
+                self._emit_now(frame, STATUS_NO_PITCH if detections is not None else STATUS_NO_DETECTIONS,
+                               f"re-initialisation failed: {result.reason}")
+                self._break_chain()
+                return None, detections
+            guess = result.camera if self.config.estimate_k1 else result.camera.replace(k1=0.0)
+            reinitialised = True
+            observations = replace(observations, flow=None)
+            if (self.detector is not None and frame.image is not None and detections is not None
+                    and detections.marking_mask is not None and not observations.lines_px):
+                # Name the markings with the re-initialised camera so the first frame has line factors.
+                redetected = self.detector.detect(frame.image, PredictedCamera(guess, 3.0))
+                observations = redetected.to_observations(frame.frame_index, None)
+                detections = redetected
+        started = time.perf_counter()
+        fallback = self._history[-1] if self._history else None
+        current, released = self.solver.push(observations, guess, trust_previous, fallback)
+        self.timings["solve_s"] += time.perf_counter() - started
+
+        entry = _Pending(frame, STATUS_REINITIALISED if reinitialised else STATUS_TRACKED, note, reinitialised,
+                         detections, observations)
+        self._pending.append(entry)
+        if self.keep_observations:
+            self.kept[frame.frame_index] = replace(observations, marking_mask=None)
+        self._check_confidence(entry, current, reinitialised)
+        for estimate in released:
+            self._resolve(estimate)
+        self._flush()
+        return observations, detections
+
+    def _check_confidence(self, entry: _Pending, current: FrameEstimate, reinitialised: bool) -> None:
+        """Score the frame's camera; re-initialise it when low; mark it lost or extend the chain."""
+        observations, detections = entry.observations, entry.detections
+        camera = current.camera
+        confidence = None
+        if camera is not None:
+            started = time.perf_counter()
+            confidence = self.confidence(camera, observations, detections, self.curves, self.sampling)
+            self.timings["confidence_s"] += time.perf_counter() - started
+        low = confidence is not None and confidence < self.config.confidence_threshold
+        lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
+        if camera is None or (low and not reinitialised):
+            # Re-initialise this frame; the next frame does not trust flow from the previous camera.
+            started = time.perf_counter()
+            result = self.reinitialise(observations, detections, self.pitch, self._positions(), self.curves,
+                                       self.sampling)
+            self.timings["reinit_s"] += time.perf_counter() - started
+            new_confidence = None
+            if result.camera is not None:
+                new_confidence = self.confidence(result.camera, observations, detections, self.curves, self.sampling)
+            if result.camera is not None and not self.config.estimate_k1:
+                result = replace(result, camera=result.camera.replace(k1=0.0))
+            if result.camera is not None and (confidence is None or (new_confidence or 0.0) > confidence):
+                self.solver.reset(result.camera)
+                entry.reinitialised = True
+                entry.status = STATUS_REINITIALISED
+                entry.override_camera = result.camera
+                camera, confidence = result.camera, new_confidence
+            elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
+                lost_now = True
+        entry.confidence, entry.confidence_camera = confidence, camera
+        if lost_now and camera is not None and confidence is not None:
+            entry.status = STATUS_FAILED
+            entry.reason = f"confidence {confidence:.2f} below {self.config.lost_confidence:.2f} and re-initialisation failed"
+            entry.override_camera = None
+            entry.suppress_camera = True
+        if lost_now or camera is None:
+            self._break_chain()
+        else:
+            self._history.append(camera)
+            self._last_std = current.std
+            self._lost = False
+        self.online_tripod.update(self.solver, None if (lost_now or entry.suppress_camera) else camera, confidence)
+
+    # ----------------------------------------------------------------- records
+
+    def _resolve(self, estimate: FrameEstimate) -> None:
+        """Build the record of the pending frame this released estimate belongs to."""
+        for entry in self._pending:
+            if entry.frame.frame_index == estimate.frame_index and entry.record is None:
+                camera = None if entry.suppress_camera else (entry.override_camera or estimate.camera)
+                status = entry.status if camera is not None else STATUS_FAILED
+                reason = entry.reason if (camera is not None or entry.suppress_camera) else (estimate.reason or "solver failed")
+                confidence = None
+                if camera is not None and entry.confidence_camera is not None and \
+                        np.allclose(camera.to_vector(), entry.confidence_camera.to_vector(), rtol=0, atol=1e-9):
+                    confidence = entry.confidence  # online: the camera scored when the frame was added
+                elif camera is not None:
+                    confidence = self.confidence(camera, entry.observations, entry.detections, self.curves,
+                                                 self.sampling)
+                active = tuple(sorted(k for k, v in (estimate.active_factors or {}).items() if v))
+                entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, camera,
+                                           std_fields(estimate) if camera is not None else {}, confidence,
+                                           entry.reinitialised, status, reason, active)
+                entry.detections = None
+                return
+
+    def _emit_now(self, frame: FrameInput, status: str, reason: str) -> None:
+        """A frame without an estimate: its record is final now (written after the frames before it)."""
+        entry = _Pending(frame, status, reason)
+        entry.record = TrackRecord(frame.frame_index, frame.frame_id, frame.time_s, None, {}, None, False, status, reason)
+        self._pending.append(entry)
+        self._flush()
+
+    def _break_chain(self) -> None:
+        """The next frame is not linked to the previous one (no flow, re-initialise)."""
+        self._lost = True
+        self._prev_grey = None
+        self._history.clear()
+
+    def _flush(self) -> None:
+        """Write the final records at the head of the queue (frame order)."""
+        started = time.perf_counter()
+        while self._pending and self._pending[0].record is not None:
+            record = self._pending.popleft().record
+            self.writer.write(record)  # records are read back from the file (RunResult.records)
+        self.timings["write_s"] += time.perf_counter() - started
+
+    def finish(self, extra_summary: dict | None = None) -> RunResult:
+        """Release the smoother's last frames, write the tripod and close the run."""
+        for estimate in self.solver.finish():
+            self._resolve(estimate)
+        for entry in self._pending:
+            if entry.record is None:
+                entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, None, {},
+                                           None, False, STATUS_FAILED, "no estimate released")
+        self._flush()
+        tripod = self.solver.tripod
+        extra = dict(extra_summary or {})
+        fit_info = self.online_tripod.info
+        if tripod is not None:
+            extra["tripod"] = {"T_w": list(map(float, tripod.T_w)), "delta_m": float(tripod.delta_m)}
+            write_tripod(self.out_dir / TRIPOD_FILE, tripod, fit_info)
+        if fit_info:
+            extra["tripod_fit"] = fit_info
+        extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
+        extra["solver_restarts"] = self.solver.rebuilds
+        summary = self.writer.close(extra)
+        return RunResult(self.out_dir, summary, None, tripod)

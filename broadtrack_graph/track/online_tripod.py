@@ -1,0 +1,103 @@
+"""The online tripod policy: a provisional tripod after a few confident frames, a fit after more.
+
+Online without a known tripod, the solver first tracks without the tripod term; this
+policy collects the confident cameras and sets the solver's tripod, then holds it fixed.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
+from broadtrack_graph.reinit.frame import plausible_position
+from broadtrack_graph.track.config import TrackingConfig
+
+log = logging.getLogger(__name__)
+
+
+class OnlineTripod:
+    """Fits the tripod on the confident opening frames of an online run, then holds it fixed.
+
+    Only frames at least ``tripod_fit_min_confidence`` confident enter the fit. After
+    ``tripod_provisional_frames`` of them a provisional tripod (typical delta and lambda,
+    :func:`provisional_tripod`) holds the focal point in place; after
+    ``tripod_fit_frames`` the fit replaces it. A fit that explains fewer than
+    ``tripod_fit_min_inliers`` of its frames, or puts the tripod under 1 m or on the pitch,
+    is rejected: the older half of the frames is dropped and the fit is tried again once
+    enough new ones have come.
+
+    Args:
+        config: tracking options (the ``tripod_*`` fields, ``use_tripod``, ``mode``).
+        graph: solver settings (delta prior; lambda of the provisional tripod).
+        pitch: the template (where a tripod may not be).
+        known_tripod: a tripod given to the run; the policy then does nothing.
+
+    Attributes:
+        info: what the last provisional tripod or fit reported (written to the run summary
+            and ``tripod.json``), or None.
+        provisional: the solver's tripod is the provisional one (to be replaced by the fit).
+        cameras: the confident cameras collected so far.
+    """
+
+    def __init__(self, config: TrackingConfig, graph: GraphConfig, pitch: PitchTemplate,
+                 known_tripod: Tripod | None) -> None:
+        self.config = config
+        self.graph = graph
+        self.pitch = pitch
+        self.known_tripod = known_tripod
+        self.cameras: list[Camera] = []
+        self.provisional = False
+        self.info: dict | None = None
+
+    def update(self, solver, camera: Camera | None, confidence: float | None) -> None:
+        """Add one frame's camera (None: not trusted) and set ``solver.tripod`` when due.
+
+        Args:
+            solver: holds the tripod in use (a :class:`~broadtrack_graph.graph.streaming.StreamingSolver`
+                or anything with a settable ``tripod``).
+            camera: the frame's camera, or None when the frame is not trusted.
+            confidence: its confidence in [0, 1], or None.
+        """
+        if not self.config.use_tripod or self.known_tripod is not None or self.config.mode == "batch":
+            return
+        if solver.tripod is not None and not self.provisional:
+            return
+        if camera is None or confidence is None or confidence < self.config.tripod_fit_min_confidence:
+            return
+        self.cameras.append(camera)
+        settings = self.graph.solver
+        if (solver.tripod is None and self.config.tripod_provisional_frames
+                and len(self.cameras) >= self.config.tripod_provisional_frames):
+            provisional = provisional_tripod(self.cameras, settings.tripod_delta_prior_m or 0.2,
+                                             self.graph.measurements.tripod_lambda_mean_m)
+            if provisional is not None and plausible_position(provisional.T_w, self.pitch):
+                solver.tripod = provisional
+                self.provisional = True
+                self.info = {"provisional": True, "frames": len(self.cameras),
+                             "reason": "typical delta and lambda; replaced once enough frames are fitted"}
+                log.info("provisional tripod from %d frames: T=%s", len(self.cameras),
+                         np.round(provisional.T_w, 2).tolist())
+        if len(self.cameras) < self.config.tripod_fit_frames:
+            return
+        tripod, info = fit_tripod_for_run(self.cameras, settings)
+        if tripod is not None and (info.get("inlier_ratio", 0.0) < self.config.tripod_fit_min_inliers
+                                   or not plausible_position(tripod.T_w, self.pitch)):
+            info["rejected"] = (f"inlier ratio {info.get('inlier_ratio', 0.0):.2f}, T {np.round(tripod.T_w, 2).tolist()}: "
+                                f"not a consistent tripod")
+            log.info("online tripod fit rejected: %s", info["rejected"])
+            tripod = None
+        self.info = info
+        if tripod is not None:
+            solver.tripod = tripod
+            self.provisional = False
+            log.info("tripod fitted on %d frames: T=%s delta=%.3f m", len(self.cameras),
+                     np.round(tripod.T_w, 2).tolist(), tripod.delta_m)
+            self.cameras = []
+        else:
+            self.cameras = self.cameras[len(self.cameras) // 2:]

@@ -1,0 +1,224 @@
+"""The per-frame state machine (broadtrack_graph.track.frame_loop) with fakes: a scripted solver,
+re-initialisation and confidence (no GTSAM, no images to detect on). Records are read back
+from the run folder."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from broadtrack_graph.detect.detector import Detections
+from broadtrack_graph.detect.observations import FlowMatches, FrameObservations
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.graph.estimates import FrameEstimate
+from broadtrack_graph.io.run_folder import read_track
+from broadtrack_graph.reinit.scoring import ReinitResult
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.frame_loop import TrackingRun
+from broadtrack_graph.track.inputs import FrameInput
+
+W, H = 1920, 1080
+LINES = {"Middle line": np.array([[900.0, 100.0 + 50 * i] for i in range(6)])}
+
+
+def camera(pan_rad: float) -> Camera:
+    return Camera(2000.0, 0.0, pan_rad, 1.3, 0.0, (0.0, 55.0, -12.0), W, H)
+
+
+def solved(i: int) -> Camera:
+    """What the fake solver estimates for frame i (without a guess)."""
+    return camera(0.01 * i)
+
+
+def reinit_camera(i: int) -> Camera:
+    """What the fake re-initialisation finds for frame i."""
+    return camera(-0.01 * i)
+
+
+class FakeSolver:
+    """A streaming solver that releases frame t after frame t + lag (lag 0: at once).
+
+    Returns the guess, else ``solved(i)``; ``lost`` frames get no camera. With ``smooth``,
+    released cameras differ from the current ones (as a smoother's do).
+    """
+
+    def __init__(self, lag: int = 0, lost=(), smooth: bool = False) -> None:
+        self.lag, self.lost, self.smooth = lag, set(lost), smooth
+        self.pushed, self.resets, self.held = [], [], []
+        self.tripod = None
+        self.rebuilds = 0
+
+    def push(self, observations, guess, trust_previous, fallback=None):
+        i = observations.frame_index
+        self.pushed.append((i, guess is not None, trust_previous, observations.flow is not None))
+        current = FrameEstimate(i, None if i in self.lost else (guess or solved(i)), reason="scripted loss")
+        self.held.append(current)
+        released = []
+        while len(self.held) > self.lag:
+            released.append(self._released(self.held.pop(0)))
+        return current, released
+
+    def _released(self, estimate):
+        if self.smooth and estimate.camera is not None:
+            return FrameEstimate(estimate.frame_index, estimate.camera.replace(roll_rad=0.001))
+        return estimate
+
+    def reset(self, camera):
+        self.resets.append(camera)
+
+    def finish(self):
+        out = [self._released(e) for e in self.held]
+        self.held = []
+        return out
+
+
+class Scripted:
+    """Fake re-initialisation and confidence, scripted per frame."""
+
+    def __init__(self, fail=(), confidence=None, reinit_confidence=None) -> None:
+        self.fail = set(fail)
+        self.scores = confidence or {}
+        self.reinit_scores = reinit_confidence or {}
+        self.reinit_calls = []
+
+    def reinitialise(self, observations, detections, pitch, positions, curves, sampling):
+        i = observations.frame_index
+        self.reinit_calls.append(i)
+        if i in self.fail:
+            return ReinitResult(None, None, "", "scripted failure")
+        return ReinitResult(reinit_camera(i), None, "lines")
+
+    def confidence(self, camera, observations, detections, curves, sampling):
+        i = observations.frame_index
+        if camera.roll_rad == 0.001:
+            return 0.7  # a smoothed camera
+        if np.isclose(camera.pan_rad, reinit_camera(i).pan_rad) and i:
+            return self.reinit_scores.get(i, 0.9)
+        return self.scores.get(i, 0.9)
+
+
+def frame(i: int, observations: bool = True, image=None) -> FrameInput:
+    flow = FlowMatches(np.zeros((10, 2)), np.zeros((10, 2)))
+    obs = FrameObservations(i, W, H, lines_px=dict(LINES), flow=flow) if observations else None
+    return FrameInput(i, f"{i + 1:06d}", i / 25.0, image=image, observations=obs)
+
+
+def run_of(tmp_path, solver, script, config=TrackingConfig(), **kwargs) -> TrackingRun:
+    return TrackingRun(W, H, tmp_path / "run", config, solver_factory=lambda *args: solver,
+                       reinitialise=script.reinitialise, confidence=script.confidence, **kwargs)
+
+
+def statuses(tmp_path):
+    return [(r.frame_index, r.status, r.reason) for r in read_track(tmp_path / "run").records]
+
+
+def test_the_state_machine_frame_by_frame(tmp_path):
+    solver = FakeSolver(lost={6})
+    script = Scripted(fail={6, 7}, confidence={2: 0.3, 9: 0.1}, reinit_confidence={2: 0.8, 9: 0.05})
+    run = run_of(tmp_path, solver, script)
+    for i in range(11):
+        run.process(frame(i, observations=i != 4))
+    result = run.finish()
+    assert statuses(tmp_path) == [
+        (0, "reinitialised", None),  # first frame: lost, re-initialised
+        (1, "tracked", None),
+        (2, "reinitialised", None),  # confidence 0.3 < 0.5: re-initialised (0.8)
+        (3, "tracked", None),
+        (4, "missing-frame", "frame could not be read"),
+        (5, "tracked", None),  # the track survives one missing frame
+        (6, "failed", "scripted loss"),  # no camera and re-initialisation failed
+        (7, "no-detections", "re-initialisation failed: scripted failure"),
+        (8, "reinitialised", None),
+        (9, "failed", "confidence 0.10 below 0.20 and re-initialisation failed"),
+        (10, "reinitialised", None),
+    ]
+    # (frame, with a guess, linked to the previous frame, with flow): a re-initialised frame is a
+    # fresh start without flow; frame 7 never reached the solver.
+    assert solver.pushed == [(0, True, False, False), (1, False, True, True), (2, False, True, True),
+                             (3, False, True, True), (5, False, True, True), (6, False, True, True),
+                             (8, True, False, False), (9, False, True, True), (10, True, False, False)]
+    assert script.reinit_calls == [0, 2, 6, 7, 8, 9, 10]
+    assert [c.to_vector().tolist() for c in solver.resets] == [reinit_camera(2).to_vector().tolist()]
+    records = {r.frame_index: r for r in read_track(tmp_path / "run").records}
+    assert records[2].camera.pan_rad == pytest.approx(reinit_camera(2).pan_rad, abs=1e-9)
+    assert records[2].confidence == pytest.approx(0.8) and records[2].reinitialised
+    assert records[3].camera.pan_rad == pytest.approx(solved(3).pan_rad, abs=1e-9)
+    assert records[9].camera is None and records[9].confidence is None
+    assert result.summary["status_counts"]["failed"] == 2 and result.summary["solver_restarts"] == 0
+
+
+def test_fixed_lag_records_are_written_in_frame_order_as_frames_are_released(tmp_path):
+    solver = FakeSolver(lag=2, smooth=True)
+    run = run_of(tmp_path, solver, Scripted())
+    track_lines = []
+    for i in range(6):
+        run.process(frame(i, observations=i != 3))
+        track_lines.append(len((tmp_path / "run" / "track.jsonl").read_text().splitlines()))
+    # Frame 3 (missing) is final at once but waits for frames 1 and 2.
+    assert track_lines == [0, 0, 1, 1, 2, 4]
+    run.finish()
+    records = read_track(tmp_path / "run").records
+    assert [(r.frame_index, r.status) for r in records] == [
+        (0, "reinitialised"), (1, "tracked"), (2, "tracked"), (3, "missing-frame"), (4, "tracked"), (5, "tracked")]
+    # A released camera other than the one scored when the frame was added is scored again.
+    assert all(r.confidence == 0.7 for r in records if r.camera is not None)
+    assert all(r.camera.roll_rad == pytest.approx(0.001) for r in records if r.camera is not None)
+
+
+def test_a_frame_never_released_is_failed_at_the_end(tmp_path):
+    solver = FakeSolver(lag=2)
+    solver.finish = lambda: []
+    run = run_of(tmp_path, solver, Scripted())
+    for i in range(3):
+        run.process(frame(i))
+    run.finish()
+    assert statuses(tmp_path) == [(0, "reinitialised", None), (1, "failed", "no estimate released"),
+                                  (2, "failed", "no estimate released")]
+
+
+class FakeDetector:
+    """Returns scripted detections per call; records the predicted camera it was given."""
+
+    def __init__(self, empty=(), broken=()) -> None:
+        self.empty, self.broken = set(empty), set(broken)
+        self.predicted = []
+
+    def detect(self, image, predicted=None):
+        i = int(image[0, 0, 0])
+        self.predicted.append((i, predicted))
+        if i in self.broken:
+            raise ValueError("image is not BGR")
+        points = np.zeros((0, 2)) if i in self.empty else np.zeros((20, 2))
+        lines = {} if i in self.empty else dict(LINES)
+        return Detections(W, H, lines_px=lines, marking_points_px=points)
+
+
+def test_detector_frames_prediction_no_pitch_and_the_observer(tmp_path):
+    detector = FakeDetector(empty={2}, broken={5})
+    script = Scripted(fail={3})
+    done = []
+    run = run_of(tmp_path, FakeSolver(), script, TrackingConfig(use_flow=False), detector=detector,
+                 on_frame_done=lambda f, handed, detections: done.append((f.frame_index, handed, detections)))
+    for i in range(7):
+        run.process(frame(i, observations=False, image=np.full((4, 4, 3), i, np.uint8)))
+    run.finish()
+    assert statuses(tmp_path) == [
+        (0, "reinitialised", None), (1, "tracked", None),
+        (2, "no-pitch", "no pitch in view"),
+        (3, "no-pitch", "re-initialisation failed: scripted failure"),
+        (4, "reinitialised", None),
+        (5, "failed", "detector: image is not BGR"),
+        (6, "reinitialised", None),
+    ]
+    # A prediction only while the previous frame is trusted (the chain is broken at 2, 3 and 5).
+    predicted = {i: p for i, p in detector.predicted}
+    assert [i for i, p in predicted.items() if p is not None] == [1, 2, 5]
+    assert predicted[1].camera.pan_rad == pytest.approx(reinit_camera(0).pan_rad)
+    assert predicted[1].uncertainty_px == 3.0
+    # The observer sees every frame: what it handed the solver and its detections.
+    assert [i for i, _, _ in done] == list(range(7))
+    handed = {i: h for i, h, _ in done}
+    assert [i for i, h in handed.items() if h is not None] == [0, 1, 4, 6]
+    assert handed[1].lines_px.keys() == LINES.keys() and handed[1].flow is None
+    detections = {i: d for i, _, d in done}
+    assert detections[5] is None and detections[2] is not None and detections[3] is not None
