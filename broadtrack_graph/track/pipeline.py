@@ -51,7 +51,7 @@ from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
 from broadtrack_graph.io.detections import read_mask_png
 from broadtrack_graph.io.prefetch import prefetch
-from broadtrack_graph.io.run_folder import (
+from broadtrack_graph.io.track_record import (
     STATUS_FAILED,
     STATUS_MISSING_FRAME,
     STATUS_NO_DETECTIONS,
@@ -59,8 +59,8 @@ from broadtrack_graph.io.run_folder import (
     STATUS_REINITIALISED,
     STATUS_TRACKED,
     TrackRecord,
-    TrackWriter,
 )
+from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
 from broadtrack_graph.metrics.soccernet import TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence, plausible_position, reinitialise
