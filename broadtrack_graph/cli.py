@@ -1,8 +1,9 @@
 """The ``broadtrack-graph`` command line: a thin parser per subcommand.
 
 Each subcommand lives in ``broadtrack_graph/commands/<name>.py`` and exposes
-``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``; the
-library functions they call are usable without the command line.
+``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int``: it parses
+its arguments and calls one action (``broadtrack_graph/actions/``: paths and options in,
+files out), which is usable without the command line.
 """
 
 from __future__ import annotations

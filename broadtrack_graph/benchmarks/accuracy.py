@@ -50,6 +50,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from broadtrack_graph.io.run_folder import RunFolder
+from broadtrack_graph.track.config import TrackingConfig
+
 HELP = "tracking accuracy on rendered clips: JaC@5/10, MRE, completeness per preset and mode; flow/tripod/k1 ablation"
 
 log = logging.getLogger(__name__)
@@ -99,7 +102,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="clip seed (default 0)")
     parser.add_argument("--width", type=int, default=1920)
     parser.add_argument("--height", type=int, default=1080)
-    parser.add_argument("--lag", type=int, default=25, help="fixed-lag smoother lag in frames (default 25)")
+    parser.add_argument("--lag", type=int, default=TrackingConfig.lag_frames,
+                        help=f"fixed-lag smoother lag in frames (default {TrackingConfig.lag_frames})")
     parser.add_argument("--out", type=Path, default=Path("bench-accuracy"),
                         help="folder for clips/, runs/ and compare/ (default ./bench-accuracy); rendered clips found "
                              "there are reused")
@@ -146,7 +150,7 @@ def ensure_clip(clips_dir: Path, preset: str, frames: int, width_px: int, height
 def _config_matches(run_dir: Path, config) -> bool:
     from dataclasses import asdict
 
-    summary_path = run_dir / "summary.json"
+    summary_path = RunFolder(run_dir).summary_path
     if not summary_path.is_file():
         return False
     try:
@@ -172,7 +176,7 @@ def track_clip(clip: Path, run_dir: Path, config, reuse: bool = False, progress:
     from broadtrack_graph.actions.track import DetectorOptions, track_input
 
     if reuse and _config_matches(run_dir, config):
-        summary = json.loads((run_dir / "summary.json").read_text(encoding="utf-8"))
+        summary = json.loads(RunFolder(run_dir).summary_path.read_text(encoding="utf-8"))
         return {"wall_s": None, "reused": True, "summary": summary, "error": None,
                 "frames_written": summary.get("frames_written")}
     started = time.perf_counter()
@@ -180,9 +184,7 @@ def track_clip(clip: Path, run_dir: Path, config, reuse: bool = False, progress:
         result = track_input(clip, run_dir, config, DetectorOptions("weightfree"), progress=progress)
     except Exception as exc:  # noqa: BLE001 -- a crashing run is reported, the other runs go on
         message = next((line.strip() for line in str(exc).splitlines() if line.strip()), "")
-        track_file = run_dir / "track.jsonl"
-        written = sum(1 for line in track_file.read_text(encoding="utf-8").splitlines() if line.strip()) \
-            if track_file.is_file() else 0
+        written = RunFolder(run_dir).count_track_lines()
         log.error("%s: tracking raised %s: %s (after %d frames)", run_dir, type(exc).__name__, message, written)
         return {"wall_s": round(time.perf_counter() - started, 2), "reused": False, "summary": {},
                 "error": f"{type(exc).__name__}: {message}", "frames_written": written}
@@ -200,9 +202,9 @@ def tripod_error(run_dir: Path, truth_path: Path) -> dict | None:
         {"T_w", "delta_m", "T_error_m" |T - T_true|, "T_error_xy_m" horizontal part,
          "T_error_z_m" signed height error, "delta_error_m" signed}.
     """
-    from broadtrack_graph.io.tripod_file import TRIPOD_FILE, read_tripod
+    from broadtrack_graph.io.tripod_file import read_tripod
 
-    fitted_path = run_dir / TRIPOD_FILE
+    fitted_path = RunFolder(run_dir).tripod_path
     if not fitted_path.is_file() or not truth_path.is_file():
         return None
     fitted, truth = read_tripod(fitted_path), read_tripod(truth_path)
@@ -221,9 +223,9 @@ def stage_timings(summary: dict) -> dict:
     """Per-stage seconds of a run (``timings_s``); for a batch run, those of its first pass."""
     timings = summary.get("timings_s")
     pass1 = summary.get("pass1")
-    if timings is None and pass1 and (Path(pass1) / "summary.json").is_file():
+    if timings is None and pass1 and RunFolder(pass1).has_summary():
         try:
-            timings = json.loads((Path(pass1) / "summary.json").read_text(encoding="utf-8")).get("timings_s")
+            timings = json.loads(RunFolder(pass1).summary_path.read_text(encoding="utf-8")).get("timings_s")
         except (OSError, json.JSONDecodeError):
             timings = None
     return dict(timings or {})
@@ -278,11 +280,11 @@ def compare_group(clip: Path, runs: dict[str, Path], out_dir: Path) -> dict:
     Runs without any written frame (crashed at once) are left out; their name maps to None
     in ``report["runs"]``.
     """
-    from broadtrack_graph.metrics.compare import compare_runs
+    from broadtrack_graph.actions.compare import compare_runs
 
     truth = json.loads((clip / "tripod.json").read_text(encoding="utf-8")) if (clip / "tripod.json").is_file() else None
     empty = [name for name, path in runs.items()
-             if not (path / "track.jsonl").is_file() or not (path / "track.jsonl").read_text(encoding="utf-8").strip()]
+             if not RunFolder(path).has_track() or not RunFolder(path).track_path.read_text(encoding="utf-8").strip()]
     runs = {name: path for name, path in runs.items() if name not in empty}
     if not runs:
         return {"runs": dict.fromkeys(empty)}
@@ -311,7 +313,6 @@ def prepare_suite(args) -> tuple[bool, Path]:
 
 
 def run(args) -> dict:
-    from broadtrack_graph.track.config import TrackingConfig
 
     progress, out = prepare_suite(args)
     ablation = parse_ablation(args.ablation or [], args.seed)  # a bad --ablation fails before any tracking

@@ -36,6 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
+from broadtrack_graph.track.config import TrackingConfig
+
 HELP = "tracking from detections files: detect -> file -> track, and keypoints-only smoothing vs per-frame fits"
 
 log = logging.getLogger(__name__)
@@ -51,7 +53,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--width", type=int, default=1920, help="clip width when rendering (default 1920)")
     parser.add_argument("--height", type=int, default=1080, help="clip height when rendering (default 1080)")
     parser.add_argument("--experiments", nargs="+", choices=("files", "keypoints"), default=["files", "keypoints"])
-    parser.add_argument("--lag", type=int, default=25, help="fixed-lag smoother lag (default 25)")
+    parser.add_argument("--lag", type=int, default=TrackingConfig.lag_frames,
+                        help=f"fixed-lag smoother lag in frames (default {TrackingConfig.lag_frames})")
     parser.add_argument("--no-direct-fixed-lag", action="store_true",
                         help="files: skip the fixed-lag run on the frames directly (the slowest run)")
     parser.add_argument("--kp-noise-px", type=float, default=5.0, help="keypoints: noise sigma per axis, px (default 5)")
@@ -163,7 +166,6 @@ def run_files(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 1: detect -> file -> track (file alone, file + frames, frames directly)."""
     from broadtrack_graph.actions.detect import export_detections, import_annotations
     from broadtrack_graph.io.annotations import read_annotations
-    from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.actions.track import track_input
 
     W, H = int(info["width_px"]), int(info["height_px"])

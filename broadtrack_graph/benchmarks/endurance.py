@@ -495,12 +495,14 @@ def kill_track_run(clip: Path, run_dir: Path, kill_after_lines: int, timeout_s: 
         {"command", "killed" (False when it ended first), "returncode", "lines_when_killed",
          "seconds", "log"}.
     """
+    from broadtrack_graph.io.run_folder import RunFolder
+
     if run_dir.exists():
         shutil.rmtree(run_dir)  # an earlier run's track.jsonl must not be counted
     run_dir.parent.mkdir(parents=True, exist_ok=True)
     log_path = run_dir.parent / f"{run_dir.name}.log"
     command = [sys.executable, "-m", "broadtrack_graph.cli", "track", str(clip), "--out", str(run_dir), "--no-progress"]
-    track_path = run_dir / "track.jsonl"
+    track_path = RunFolder(run_dir).track_path
     state: dict = {}
     started = time.perf_counter()
     killed = False
@@ -541,12 +543,12 @@ def check_interrupted_run(run_dir: Path, reference_records=None) -> dict:
         ``all_readable`` / ``counts_agree`` / ``ok``.
     """
     from broadtrack_graph.errors import InputError
-    from broadtrack_graph.io.cameras import list_camera_files, read_camera_file
-    from broadtrack_graph.io.jsonfile import read_json
-    from broadtrack_graph.io.run_folder import CAMERA_DIR, SUMMARY_FILE, read_track
+    from broadtrack_graph.io.cameras import read_camera_file
+    from broadtrack_graph.io.run_folder import RunFolder, read_track
 
     out: dict = {"run": str(run_dir)}
-    files = list_camera_files(run_dir / CAMERA_DIR) if (run_dir / CAMERA_DIR).is_dir() else {}
+    folder = RunFolder(run_dir)
+    files = folder.camera_files()
     cameras, unreadable = {}, {}
     for frame_id, path in files.items():
         try:
@@ -563,7 +565,7 @@ def check_interrupted_run(run_dir: Path, reference_records=None) -> dict:
         track, track_error = None, str(exc)
     out["track_error"] = track_error
     try:
-        summary = read_json(run_dir / SUMMARY_FILE)
+        summary = folder.read_summary()
         out["summary_readable"] = True
         out["summary_complete"] = bool(summary.get("complete"))
         out["summary_frames_written"] = summary.get("frames_written")

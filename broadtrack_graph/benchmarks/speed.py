@@ -22,6 +22,8 @@ from pathlib import Path
 
 import cv2
 
+from broadtrack_graph.track.config import TrackingConfig
+
 HELP = "fps of the whole tracking pipeline and of each stage (detect, flow, solve, confidence, reinit, write)"
 
 log = logging.getLogger(__name__)
@@ -39,7 +41,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--width", type=int, default=1920)
     parser.add_argument("--height", type=int, default=1080)
     parser.add_argument("--seed", type=int, default=0, help="clip seed (default 0)")
-    parser.add_argument("--lag", type=int, default=25, help="fixed-lag smoother lag in frames (default 25)")
+    parser.add_argument("--lag", type=int, default=TrackingConfig.lag_frames,
+                        help=f"fixed-lag smoother lag in frames (default {TrackingConfig.lag_frames})")
     parser.add_argument("--threads", type=int, default=1, help="OpenCV threads (default 1)")
     parser.add_argument("--out", type=Path, default=Path("bench-speed"),
                         help="folder for clips/ and runs/ (default ./bench-speed); a rendered clip found there is reused")
@@ -76,7 +79,6 @@ def stage_figures(timings_s: dict, frames: int, wall_s: float) -> dict:
 
 def run(args) -> dict:
     from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite, stage_timings
-    from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.actions.track import DetectorOptions, track_input
 
     progress, out = prepare_suite(args)

@@ -4,12 +4,9 @@ from __future__ import annotations
 
 import importlib
 import json
-import platform
-import sys
-import time
 from pathlib import Path
 
-from broadtrack_graph.io.jsonfile import write_json_atomic
+from broadtrack_graph.actions.bench import run_benchmark
 
 HELP = "run a benchmark suite and print / write its JSON report"
 
@@ -36,16 +33,6 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    started = time.time()
-    report = args._suite_run(args)
-    report = {
-        "suite": args.suite,
-        "machine": {"python": sys.version.split()[0], "platform": platform.platform(), "processor": platform.processor()},
-        "wall_time_s": round(time.time() - started, 3),
-        **report,
-    }
-    text = json.dumps(report, indent=2, default=str)
-    print(text)
-    if args.json is not None:
-        write_json_atomic(args.json, report, indent=2)
+    report = run_benchmark(args.suite, lambda: args._suite_run(args), args.json)
+    print(json.dumps(report, indent=2, default=str))
     return 0

@@ -24,7 +24,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from broadtrack_graph.metrics.compare import compare_runs
+    from broadtrack_graph.actions.compare import compare_runs
 
     report = compare_runs(args.runs, args.names, args.annotations, args.ground_truth, args.out,
                           args.tripod_position, tuple(args.eval_size) if args.eval_size else None)

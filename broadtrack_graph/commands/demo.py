@@ -11,10 +11,13 @@ HELP = "render the embedded synthetic clip, track it online and smoothed, evalua
 
 def add_arguments(parser) -> None:
     parser.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
-    parser.add_argument("--frames", type=int, default=DemoSettings.frames, help="clip length (default 250)")
-    parser.add_argument("--width", type=int, default=DemoSettings.width_px, help="frame width (default 1920)")
-    parser.add_argument("--height", type=int, default=DemoSettings.height_px, help="frame height (default 1080)")
-    parser.add_argument("--seed", type=int, default=0, help="clip seed (default 0)")
+    parser.add_argument("--frames", type=int, default=DemoSettings.frames,
+                        help=f"clip length (default {DemoSettings.frames})")
+    parser.add_argument("--width", type=int, default=DemoSettings.width_px,
+                        help=f"frame width (default {DemoSettings.width_px})")
+    parser.add_argument("--height", type=int, default=DemoSettings.height_px,
+                        help=f"frame height (default {DemoSettings.height_px})")
+    parser.add_argument("--seed", type=int, default=DemoSettings.seed, help=f"clip seed (default {DemoSettings.seed})")
     parser.add_argument("--no-overlay", action="store_true", help="skip the overlay video")
     parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
 

@@ -4,6 +4,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from broadtrack_graph.commands.tracking_options import (
+    add_tracking_arguments,
+    config_from_args,
+    detector_options,
+    tripod_from_args,
+)
 from broadtrack_graph.errors import InputError
 
 HELP = "write a detections file (JSON lines) from frames with the project's detector, or from SoccerNet annotations"
@@ -24,8 +30,6 @@ def add_arguments(parser) -> None:
     parser.add_argument("--track-out", type=Path, default=None,
                         help="keep the run folder of the online tracker that names the markings")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
-    from broadtrack_graph.commands.track import add_tracking_arguments
-
     add_tracking_arguments(parser)
 
 
@@ -39,12 +43,11 @@ def run(args) -> int:
         print(f"imported {summary.records} annotated frames into {summary.path}"
               + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else ""))
         return 0
-    from broadtrack_graph.commands.track import config_from_args, detector_options, tripod_from_args
-
-    if args.mode != "online":
+    config = config_from_args(args)
+    if config.mode != "online":
         raise InputError(None, "detect names the markings with the online tracker; --mode must be online")
     tripod, position = tripod_from_args(args)
-    summary = export_detections(args.input, args.out, config_from_args(args), detector_options(args), tripod=tripod,
+    summary = export_detections(args.input, args.out, config, detector_options(args), tripod=tripod,
                                 tripod_position=position, start=args.start, end=args.end,
                                 write_masks=not args.no_masks, track_dir=args.track_out, progress=not args.no_progress)
     print(f"wrote {summary.records} of {summary.frames} frames to {summary.path} in {summary.seconds:.1f} s "

@@ -14,20 +14,17 @@ Figures per run (all computed over the frames that have a camera):
 * Error against ground-truth cameras when given: RMS of pan / tilt / roll errors
   (deg), mean absolute relative focal error (%), RMS position error (m).
 
-:func:`compare_runs` reads the runs and writes compare.json, compare.md and the plots.
+Numbers only: :func:`broadtrack_graph.actions.compare.compare_runs` reads the runs and writes
+the report (:mod:`broadtrack_graph.products.compare_report`).
 """
 
 from __future__ import annotations
 
 import logging
-import math
-from pathlib import Path
 
 import numpy as np
 
-from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.jsonfile import write_json_atomic
-from broadtrack_graph.io.run_folder import Track, read_track
+from broadtrack_graph.io.run_folder import Track
 
 logger = logging.getLogger(__name__)
 
@@ -182,134 +179,29 @@ def metric_summary(annotations, track: Track, width_px: int, height_px: int, tau
     }
 
 
-# --------------------------------------------------------------------------- table
+# --------------------------------------------------------------------------- several tracks
 
 
-def _fmt(value, digits: int = 3, scale: float = 1.0, suffix: str = "") -> str:
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "-"
-    return f"{value * scale:.{digits}f}{suffix}"
-
-
-def comparison_rows(report: dict) -> list[tuple[str, list[str]]]:
-    """(row label, one cell per run) for the comparison table."""
-    runs = report["runs"]
-    rows: list[tuple[str, list[str]]] = []
-
-    def row(label, getter):
-        cells = []
-        for stats in runs.values():
-            try:
-                cells.append(getter(stats))
-            except (KeyError, TypeError):
-                cells.append("-")
-        rows.append((label, cells))
-
-    row("frames / with camera", lambda s: f"{s['frames']} / {s['frames_with_camera']}")
-    row("re-initialisations", lambda s: str(s["reinitialisations"]))
-    row("mean confidence", lambda s: _fmt(s["mean_confidence"]))
-    if any(s.get("metrics") for s in runs.values()):
-        for tau in report.get("taus", COMPARE_TAUS):
-            key = f"{tau:g}"
-            row(f"JaC@{key} (%)", lambda s, k=key: _fmt(s["metrics"]["jac"][k], 2, 100))
-        row("completeness (%)", lambda s: _fmt(s["metrics"]["completeness"], 2, 100))
-        row(f"final score@{report.get('taus', COMPARE_TAUS)[0]:g} (%)",
-            lambda s: _fmt(s["metrics"]["final_score"][f"{report.get('taus', COMPARE_TAUS)[0]:g}"], 2, 100))
-        row("MRE (px)", lambda s: _fmt(s["metrics"]["mre_px"], 2))
-        row("MedRE (px)", lambda s: _fmt(s["metrics"]["medre_px"], 2))
-        row("annotated frames matched", lambda s: f"{s['metrics']['frames_matched']} / {s['metrics']['frames_annotated']}")
-    for name, unit, digits in (("pan_deg", "deg", 4), ("tilt_deg", "deg", 4), ("focal_px", "px", 2)):
-        label = name.split("_")[0]
-        row(f"{label} jitter RMS d1 ({unit}/frame)", lambda s, n=name, d=digits: _fmt(s["jitter"][n]["rms_d1"], d))
-        row(f"{label} jitter RMS d2 ({unit}/frame^2)", lambda s, n=name, d=digits: _fmt(s["jitter"][n]["rms_d2"], d))
-    for axis, index in (("x", 0), ("y", 1), ("z", 2)):
-        row(f"C std {axis} (m)", lambda s, i=index: _fmt(s["focal_point"]["std_m"][i], 3))
-    for axis, index in (("x", 0), ("y", 1), ("z", 2)):
-        row(f"C extent {axis} (m)", lambda s, i=index: _fmt(s["focal_point"]["extent_m"][i], 3))
-    row("C RMS to mean (m)", lambda s: _fmt(s["focal_point"]["rms_to_mean_m"], 3))
-    if any(s.get("ground_truth_error") for s in runs.values()):
-        row("GT pan error RMS (deg)", lambda s: _fmt(s["ground_truth_error"]["pan_rms_deg"], 4))
-        row("GT tilt error RMS (deg)", lambda s: _fmt(s["ground_truth_error"]["tilt_rms_deg"], 4))
-        row("GT roll error RMS (deg)", lambda s: _fmt(s["ground_truth_error"]["roll_rms_deg"], 4))
-        row("GT focal error mean |rel| (%)", lambda s: _fmt(s["ground_truth_error"]["focal_mean_abs_rel_pct"], 3))
-        row("GT position error RMS (m)", lambda s: _fmt(s["ground_truth_error"]["position_rms_m"], 3))
-    return rows
-
-
-def format_table(report: dict) -> str:
-    """The comparison as a Markdown table (one column per run)."""
-    names = list(report["runs"])
-    rows = comparison_rows(report)
-    label_w = max(len("metric"), *(len(label) for label, _ in rows))
-    col_w = [max(len(name), *(len(cells[i]) for _, cells in rows)) for i, name in enumerate(names)]
-    lines = [
-        "| " + "metric".ljust(label_w) + " | " + " | ".join(n.rjust(w) for n, w in zip(names, col_w)) + " |",
-        "|-" + "-" * label_w + "-|" + "|".join("-" * (w + 1) + ":" for w in col_w) + "|",
-    ]
-    for label, cells in rows:
-        lines.append("| " + label.ljust(label_w) + " | " + " | ".join(c.rjust(w) for c, w in zip(cells, col_w)) + " |")
-    return "\n".join(lines)
-
-
-# --------------------------------------------------------------------------- the whole comparison
-
-
-def _tripod_from_summary(track: Track):
+def tripod_from_summary(track: Track):
+    """(3,) tripod point T_w of a run's summary.json (``"tripod": {"T_w": [x, y, z]}``), or None."""
     tripod = track.summary.get("tripod") if isinstance(track.summary, dict) else None
     if isinstance(tripod, dict) and isinstance(tripod.get("T_w"), list) and len(tripod["T_w"]) == 3:
         return np.asarray(tripod["T_w"], dtype=float)
     return None
 
 
-def compare_runs(
-    run_dirs: list[str | Path],
-    names: list[str] | None = None,
-    annotations_path: str | Path | None = None,
-    ground_truth_dir: str | Path | None = None,
-    out_dir: str | Path | None = None,
-    tripod_T_w=None,
-    eval_size_px: tuple[int, int] | None = None,
-    taus=COMPARE_TAUS,
-) -> dict:
-    """Compare runs and, with ``out_dir``, write compare.json, compare.md, series.png and focal_points.png.
+def compare_tracks(tracks: dict[str, Track], truth: Track | None = None, annotations=None,
+                   eval_size_px: tuple[int, int] | None = None, taus=COMPARE_TAUS) -> dict:
+    """The figures of several tracks: {"runs": name -> figures, "taus": [...]}.
 
     Args:
-        run_dirs: run folders (track.jsonl) or folders of camera files, at least one.
-        names: a display name per run (default: the folder names, made unique).
-        annotations_path: SoccerNet annotations (folder of NNNNN.json, a
-            Labels-GameState.json or its folder) for the metric table.
-        ground_truth_dir: a folder of ground-truth camera files (or a run) for
-            parameter errors and the dashed line in the plots.
-        out_dir: where to write the report and plots (None: nothing written).
-        tripod_T_w: (3,) tripod point for the focal point plot (default: the first
-            run whose summary.json has ``"tripod": {"T_w": [x, y, z], ...}``).
-        eval_size_px: (W, H) evaluation resolution (default: the annotations' image
-            size when the file states it, else each run's own resolution).
+        tracks: name -> track.
+        truth: ground-truth cameras for parameter errors, or None.
+        annotations: an AnnotationSet for the SoccerNet metric, or None.
+        eval_size_px: (W, H) evaluation resolution (default: the annotations' image size
+            when the file states it, else each track's own resolution).
         taus: metric thresholds, pixels.
-
-    Returns:
-        The report (as written to compare.json): "runs" name -> figures, "taus",
-        "definitions", "files".
-
-    Raises:
-        InputError: a run, the annotations or the ground truth cannot be read.
     """
-    if not run_dirs:
-        raise InputError(None, "compare needs at least one run folder")
-    names = list(names) if names else _default_names(run_dirs)
-    if len(names) != len(run_dirs):
-        raise InputError(None, f"--names gives {len(names)} names for {len(run_dirs)} runs")
-    if len(set(names)) != len(names):
-        raise InputError(None, f"run names must differ, got {names}")
-    tracks = {name: read_track(path) for name, path in zip(names, run_dirs)}
-    truth = read_track(ground_truth_dir) if ground_truth_dir is not None else None
-    annotations = None
-    if annotations_path is not None:
-        from broadtrack_graph.io.annotations import read_annotations
-
-        annotations = read_annotations(annotations_path)
-        if not annotations.frames:
-            raise InputError(annotations_path, "no usable annotation")
     report: dict = {"runs": {}, "taus": [float(t) for t in taus]}
     for name, track in tracks.items():
         stats = track_statistics(track)
@@ -319,69 +211,20 @@ def compare_runs(
         if truth is not None:
             stats["ground_truth_error"] = ground_truth_errors(track, truth)
         report["runs"][name] = stats
-    report["annotations"] = None if annotations_path is None else str(annotations_path)
-    report["ground_truth"] = None if ground_truth_dir is None else str(ground_truth_dir)
-    if tripod_T_w is None:
-        tripod_T_w = next((t for t in map(_tripod_from_summary, tracks.values()) if t is not None), None)
-    report["tripod_T_w"] = None if tripod_T_w is None else [float(v) for v in np.asarray(tripod_T_w).reshape(3)]
-    report["definitions"] = {
-        "jitter rms_d1": "RMS over consecutive frames of x[t] - x[t-1] (deg or px per frame)",
-        "jitter rms_d2": "RMS over consecutive frames of x[t+1] - 2 x[t] + x[t-1] (deg or px per frame^2)",
-        "focal_point std_m": "population standard deviation of C per axis (metres)",
-        "focal_point extent_m": "max - min of C per axis (metres)",
-        "JaC@tau": "SoccerNet accuracy at tau px: mean per-frame Jaccard over annotated frames with a camera",
-        "MRE/MedRE": "mean / median distance of annotated points to their projected class, at the first tau",
-    }
-    report["table_markdown"] = format_table(report)
-    if out_dir is not None:
-        report["files"] = write_comparison(report, tracks, truth, out_dir)
     return report
+
+
+DEFINITIONS = {
+    "jitter rms_d1": "RMS over consecutive frames of x[t] - x[t-1] (deg or px per frame)",
+    "jitter rms_d2": "RMS over consecutive frames of x[t+1] - 2 x[t] + x[t-1] (deg or px per frame^2)",
+    "focal_point std_m": "population standard deviation of C per axis (metres)",
+    "focal_point extent_m": "max - min of C per axis (metres)",
+    "JaC@tau": "SoccerNet accuracy at tau px: mean per-frame Jaccard over annotated frames with a camera",
+    "MRE/MedRE": "mean / median distance of annotated points to their projected class, at the first tau",
+}
+"""What the comparison's figures mean (stored in compare.json and listed under the table)."""
 
 
 def _annotation_size(annotations) -> tuple[int, int] | None:
     sizes = set(annotations.image_sizes.values())
     return next(iter(sizes)) if len(sizes) == 1 else None
-
-
-def _default_names(run_dirs) -> list[str]:
-    names = []
-    for path in run_dirs:
-        base = Path(path).resolve().name or str(path)
-        name, k = base, 2
-        while name in names:
-            name, k = f"{base}-{k}", k + 1
-        names.append(name)
-    return names
-
-
-def write_comparison(report: dict, tracks: dict[str, Track], truth: Track | None, out_dir: str | Path) -> dict:
-    """Write compare.json, compare.md, series.png, focal_points.png into out_dir; returns their paths."""
-    from broadtrack_graph.products.plots import plot_focal_points, plot_track_series
-
-    out_dir = Path(out_dir)
-    try:
-        out_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(out_dir, f"cannot create output folder: {exc.strerror or exc}") from None
-    files = {
-        "json": str(out_dir / "compare.json"),
-        "markdown": str(out_dir / "compare.md"),
-        "series_png": str(out_dir / "series.png"),
-        "focal_points_png": str(out_dir / "focal_points.png"),
-    }
-    title = " vs ".join(tracks)
-    plot_track_series(tracks, files["series_png"], ground_truth=truth, title=f"{title}: camera parameters over time")
-    plot_focal_points(tracks, files["focal_points_png"], report.get("tripod_T_w"), truth, title=f"{title}: focal points")
-    lines = [f"# Comparison: {title}", ""]
-    for name, stats in report["runs"].items():
-        lines.append(f"- **{name}**: `{stats['path']}` ({stats['resolution'][0]}x{stats['resolution'][1]})")
-    if report.get("annotations"):
-        lines.append(f"- annotations: `{report['annotations']}`")
-    if report.get("ground_truth"):
-        lines.append(f"- ground truth cameras: `{report['ground_truth']}`")
-    lines += ["", report["table_markdown"], "", "Definitions:", ""]
-    lines += [f"- {key}: {text}" for key, text in report["definitions"].items()]
-    lines += ["", "![parameters over time](series.png)", "", "![focal points](focal_points.png)", ""]
-    Path(files["markdown"]).write_text("\n".join(lines), encoding="utf-8")
-    write_json_atomic(files["json"], {**report, "files": files}, indent=2)
-    return files

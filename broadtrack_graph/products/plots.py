@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from broadtrack_graph.io.run_folder import Track  # noqa: E402
+from broadtrack_graph.io.run_folder import Track
 
 GROUND_TRUTH_NAME = "ground truth"
 

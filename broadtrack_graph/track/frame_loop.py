@@ -41,16 +41,8 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
 from broadtrack_graph.io.detections import read_mask_png
-from broadtrack_graph.io.run_folder import (
-    STATUS_FAILED,
-    STATUS_MISSING_FRAME,
-    STATUS_NO_DETECTIONS,
-    STATUS_NO_PITCH,
-    STATUS_REINITIALISED,
-    STATUS_TRACKED,
-    TrackRecord,
-    TrackWriter,
-)
+from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_MISSING_FRAME, STATUS_NO_DETECTIONS, STATUS_NO_PITCH, STATUS_REINITIALISED, STATUS_TRACKED, TrackRecord
+from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
 from broadtrack_graph.geometry.template import TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise

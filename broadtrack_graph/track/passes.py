@@ -25,7 +25,8 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate, Track
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
-from broadtrack_graph.io.run_folder import TrackRecord, TrackWriter
+from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
 from broadtrack_graph.geometry.template import TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence

@@ -1,27 +1,20 @@
-"""TrackWriter / read_track: round trips, interrupted runs, camera folders, records."""
+"""RunFolder and read_track: the layout, cameras, summary, tripod, records read back, camera folders."""
 
 from __future__ import annotations
 
 import json
-import math
-import signal
-import subprocess
-import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.cameras import read_camera_file, write_camera_file
-from broadtrack_graph.io.run_folder import (
-    STATUS_NO_PITCH,
-    STATUS_REINITIALISED,
-    TrackRecord,
-    TrackWriter,
-    read_track,
-    std_from_covariance,
-)
+from broadtrack_graph.io.run_folder import RunFolder, read_track
+from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
+from broadtrack_graph.io.track_writer import TrackWriter
 
 W, H = 1920, 1080
 
@@ -30,138 +23,85 @@ def camera(t: int) -> Camera:
     return Camera.from_degrees(2000 + 10 * t, -0.03 + 0.001 * t, 5 + 0.5 * t, 75 - 0.1 * t, 0.2, (0.5 * t, 55, -15), W, H)
 
 
-def records() -> list[TrackRecord]:
-    std = {"pan_std_deg": 0.02, "tilt_std_deg": 0.01, "roll_std_deg": 0.005, "focal_std_px": 3.5, "k1_std": 0.002,
-           "position_std_m": np.array([0.1, 0.2, 0.3])}
-    return [
-        TrackRecord(0, "000001", 0.0, camera(0), std, 0.91, False, active_factors=("lines", "tripod")),
-        TrackRecord(1, "000002", 0.04, camera(1), {"pan_std_deg": 0.03}, 0.88, False),
-        TrackRecord(2, "000003", 0.08, None, confidence=None, status=STATUS_NO_PITCH, reason="no marking detected"),
-        TrackRecord(3, "000004", 0.12, camera(3), std, 0.62, True, status=STATUS_REINITIALISED),
-        TrackRecord(4, "000005", 0.16, camera(4), {}, None, False, active_factors=("lines", "flow")),
-    ]
-
-
 def assert_same_camera(a: Camera, b: Camera, tol: float = 1e-9):
     assert (a.width_px, a.height_px) == (b.width_px, b.height_px)
     assert np.allclose(a.to_vector(), b.to_vector(), atol=tol, rtol=0)
 
 
-def test_round_trip(tmp_path):
-    written = records()
-    with TrackWriter(tmp_path / "run", W, H, also_960x540=True, run_info={"mode": "online"}) as writer:
+def test_layout(tmp_path):
+    run = RunFolder(tmp_path / "run")
+    assert run.track_path == tmp_path / "run" / "track.jsonl"
+    assert run.summary_path == tmp_path / "run" / "summary.json"
+    assert run.tripod_path == tmp_path / "run" / "tripod.json"
+    assert run.camera_path("000042") == tmp_path / "run" / "cameras" / "camera_000042.json"
+    assert run.camera_path(7, at_960x540=True) == tmp_path / "run" / "cameras_960x540" / "camera_00007.json"
+    assert run.pass1().path == tmp_path / "run" / "pass1"
+    assert run.pass1().track_path == tmp_path / "run" / "pass1" / "track.jsonl"
+    assert not (run.has_track() or run.has_summary() or run.has_tripod())
+    assert run.camera_files() == {} and run.count_track_lines() == 0 and run.recorded_detections() is None
+
+
+def test_cameras_written_and_listed(tmp_path):
+    run = RunFolder(tmp_path)
+    run.create(also_960x540=True)
+    relative = run.write_camera("000003", camera(3), also_960x540=True)
+    assert relative == "cameras/camera_000003.json"
+    assert_same_camera(read_camera_file(tmp_path / relative), camera(3))
+    assert_same_camera(read_camera_file(run.camera_path("000003", at_960x540=True)), camera(3).rescaled(960, 540))
+    assert run.camera_files() == {"000003": run.camera_path("000003")}
+    assert run.remove_camera_files() == 2 and run.camera_files() == {}
+
+
+def test_create_fails_with_one_line_error(tmp_path):
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InputError, match="cannot create output folder"):
+        RunFolder(tmp_path / "file" / "run").create()
+
+
+def test_records_round_trip_and_summary_reread(tmp_path):
+    written = [TrackRecord(0, "000001", 0.0, camera(0), {"pan_std_deg": 0.5}, 0.9),
+               TrackRecord(1, "000002", 0.04, None, status=STATUS_NO_PITCH, reason="no marking"),
+               TrackRecord(2, "000003", 0.08, camera(2), {}, 0.7, True)]
+    info = {"input": "clip.mp4", "detections": "det/detections.jsonl"}
+    with TrackWriter(tmp_path, W, H, run_info=info) as writer:
         for record in written:
             writer.write(record)
-        postfix = writer.progress_postfix()
-        assert postfix["conf"] == "-" and postfix["status"] == "tracked" and float(postfix["fps"]) > 0
-    track = read_track(tmp_path / "run")
-    assert (track.width_px, track.height_px, track.skipped_lines) == (W, H, 0)
-    assert [r.frame_id for r in track.records] == [r.frame_id for r in written]
-    for got, want in zip(track.records, written):
-        assert (got.frame_index, got.status, got.reinitialised, got.reason) == (
-            want.frame_index, want.status, want.reinitialised, want.reason)
-        assert got.time_s == pytest.approx(want.time_s)
-        assert got.confidence == want.confidence
-        assert got.active_factors == want.active_factors
-        assert set(got.std) == set(want.std)
-        for key, value in want.std.items():
-            assert np.allclose(got.std[key], value)
-        if want.camera is None:
-            assert got.camera is None
-        else:
-            assert_same_camera(got.camera, want.camera)
-    # Camera files: only frames with a camera, at both resolutions.
-    names = sorted(p.name for p in (tmp_path / "run" / "cameras").iterdir())
-    assert names == ["camera_000001.json", "camera_000002.json", "camera_000004.json", "camera_000005.json"]
-    full = read_camera_file(tmp_path / "run" / "cameras" / "camera_000004.json")
-    assert_same_camera(full, written[3].camera)
-    small = read_camera_file(tmp_path / "run" / "cameras_960x540" / "camera_000004.json")
-    assert (small.width_px, small.height_px) == (960, 540)
-    assert small.focal_px == pytest.approx(written[3].camera.focal_px / 2)
-    assert small.k1 == pytest.approx(written[3].camera.k1)
-    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
-    assert summary["complete"] is True
-    assert summary["frames_written"] == 5 and summary["frames_with_camera"] == 4
-    assert summary["status_counts"]["no-pitch"] == 1 and summary["reinitialisations"] == 1
-    assert summary["mean_confidence"] == pytest.approx((0.91 + 0.88 + 0.62) / 3)
-    assert summary["run"] == {"mode": "online"}
-    assert track.cameras["000003"] is None
-    assert np.isnan(track.states()[2]).all() and track.states()[0, 2] == pytest.approx(5.0)
-
-
-def test_camera_rescaled_to_writer_resolution(tmp_path):
-    with TrackWriter(tmp_path, W, H) as writer:
-        writer.write(TrackRecord(0, "000001", 0.0, camera(0).rescaled(960, 540)))
-    track = read_track(tmp_path)
-    assert_same_camera(track.records[0].camera, camera(0), tol=1e-9)
-    half = read_track(tmp_path, 960, 540)
-    assert half.records[0].camera.focal_px == pytest.approx(1000.0)
+    run = RunFolder(tmp_path)
+    assert run.count_track_lines() == 3
+    summary = run.read_summary()
+    assert summary["complete"] is True and summary["frames_written"] == 3 and summary["frames_with_camera"] == 2
+    assert summary["run"] == info and summary["mean_confidence"] == pytest.approx(0.8)
+    assert run.recorded_detections() == Path("det/detections.jsonl")
+    track = run.read_track()
+    assert [r.frame_id for r in track.records] == ["000001", "000002", "000003"]
+    assert track.records[1].camera is None and track.records[1].reason == "no marking"
+    assert_same_camera(track.records[2].camera, camera(2))
+    assert track.records[0].std == {"pan_std_deg": 0.5} and track.summary == summary
+    # A rewritten summary is what the next reader sees.
+    run.write_summary({**summary, "note": "checked"})
+    assert json.loads(run.summary_path.read_text())["note"] == "checked"
+    assert read_track(run.track_path).summary["note"] == "checked"  # the track.jsonl path works too
+    half = run.read_track(960)
     assert (half.width_px, half.height_px) == (960, 540)
+    assert_same_camera(half.records[0].camera, camera(0).rescaled(960, 540))
 
 
-def test_truncated_last_line_is_skipped_bad_middle_line_is_an_error(tmp_path):
-    writer = TrackWriter(tmp_path, W, H, summary_every=2)
-    for record in records()[:4]:
-        writer.write(record)
-    # An interrupted run: no close(), and half of a fifth line.
-    line = json.dumps(records()[4].to_json())
-    with open(tmp_path / "track.jsonl", "a") as handle:
-        handle.write(line[: len(line) // 2])
-    track = read_track(tmp_path)
-    assert [r.frame_id for r in track.records] == ["000001", "000002", "000003", "000004"]
-    assert track.skipped_lines == 1
-    assert track.summary["complete"] is False and track.summary["frames_written"] == 4
-    # The same damage in the middle of the file is not an interrupted run.
-    lines = (tmp_path / "track.jsonl").read_text().split("\n")
-    lines[1] = lines[1][:20]
-    (tmp_path / "track.jsonl").write_text("\n".join(lines))
-    with pytest.raises(InputError, match="line 2"):
-        read_track(tmp_path)
+def test_tripod_round_trip(tmp_path):
+    run = RunFolder(tmp_path)
+    run.write_tripod(Tripod((1.5, 56.0, -12.25), 0.2), {"frames": 150, "inlier_ratio": 0.9, "skip": {"a": 1}})
+    assert run.has_tripod()
+    tripod = run.read_tripod()
+    assert tuple(tripod.T_w) == (1.5, 56.0, -12.25) and tripod.delta_m == 0.2
+    assert json.loads(run.tripod_path.read_text())["fit"] == {"frames": 150, "inlier_ratio": 0.9}
 
 
-KILL_SCRIPT = """
-import os, signal, sys
-from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.io.run_folder import TrackRecord, TrackWriter
-writer = TrackWriter(sys.argv[1], 1920, 1080, also_960x540=True)
-for t in range(40):
-    cam = Camera.from_degrees(2000 + t, 0.0, t * 0.1, 75, 0, (0, 55, -15), 1920, 1080)
-    writer.write(TrackRecord(t, f"{t + 1:06d}", t / 25, cam, confidence=0.9))
-    if t == 24:
-        os.kill(os.getpid(), signal.SIGKILL)
-"""
-
-
-def test_killed_run_leaves_every_written_frame_readable(tmp_path):
-    out = tmp_path / "run"
-    result = subprocess.run([sys.executable, "-c", KILL_SCRIPT, str(out)], capture_output=True, timeout=60)
-    assert result.returncode == -signal.SIGKILL
-    track = read_track(out)
-    assert len(track) == 25 and track.skipped_lines == 0
-    assert track.records[-1].camera.focal_px == pytest.approx(2024)
-    assert len(list((out / "cameras").glob("camera_*.json"))) == 25
-    assert len(list((out / "cameras_960x540").glob("camera_*.json"))) == 25
-    assert not [p for p in out.rglob(".*") if p.is_file()]  # no half-written temporary files
-
-
-def test_new_run_replaces_old_files(tmp_path):
-    with TrackWriter(tmp_path, W, H) as writer:
-        for record in records():
-            writer.write(record)
-    with TrackWriter(tmp_path, W, H) as writer:
-        writer.write(records()[1])
-    assert sorted(p.name for p in (tmp_path / "cameras").iterdir()) == ["camera_000002.json"]
-    assert len(read_track(tmp_path)) == 1
-
-
-def test_exception_inside_writer_keeps_frames_and_marks_summary(tmp_path):
-    with pytest.raises(RuntimeError):
-        with TrackWriter(tmp_path, W, H) as writer:
-            writer.write(records()[0])
-            raise RuntimeError("solver exploded")
-    track = read_track(tmp_path)
-    assert len(track) == 1
-    assert track.summary["complete"] is False and "solver exploded" in track.summary["error"]
+def test_summary_errors_name_the_file(tmp_path):
+    run = RunFolder(tmp_path)
+    with pytest.raises(InputError, match="summary.json: file not found"):
+        run.read_summary()
+    run.summary_path.write_text("{")
+    with pytest.raises(InputError, match="summary.json: malformed JSON"):
+        run.read_summary()
 
 
 def test_read_camera_folder(tmp_path):
@@ -181,29 +121,3 @@ def test_read_track_errors(tmp_path):
         read_track(tmp_path / "nope")
     with pytest.raises(InputError, match="neither track.jsonl nor camera"):
         read_track(tmp_path)
-
-
-def test_record_validation():
-    with pytest.raises(ValueError, match="status 'tracked' with camera=None"):
-        TrackRecord(0, "1", 0.0, None)
-    with pytest.raises(ValueError, match="status 'no-pitch' with camera=set"):
-        TrackRecord(0, "1", 0.0, camera(0), status=STATUS_NO_PITCH)
-    with pytest.raises(ValueError, match="unknown status"):
-        TrackRecord(0, "1", 0.0, None, status="lost")
-    with pytest.raises(ValueError, match="unknown std keys"):
-        TrackRecord(0, "1", 0.0, camera(0), std={"pan_sigma": 1.0})
-
-
-def test_std_from_covariance():
-    variances = np.array([4.0, 1e-6, math.radians(0.1) ** 2, math.radians(0.2) ** 2, math.radians(0.3) ** 2, 0.01, 0.04, 0.09])
-    covariance = np.diag(variances)
-    covariance[0, 2] = covariance[2, 0] = 1e-5  # off-diagonal terms do not matter
-    std = std_from_covariance(covariance)
-    assert std["focal_std_px"] == pytest.approx(2.0)
-    assert std["k1_std"] == pytest.approx(1e-3)
-    assert (std["pan_std_deg"], std["tilt_std_deg"], std["roll_std_deg"]) == pytest.approx((0.1, 0.2, 0.3))
-    assert np.allclose(std["position_std_m"], [0.1, 0.2, 0.3])
-    TrackRecord(0, "1", 0.0, camera(0), std=std)  # accepted as a record's std
-    with pytest.raises(ValueError, match=r"expected \(8, 8\)"):
-        std_from_covariance(np.eye(6))
-

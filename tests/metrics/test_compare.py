@@ -13,14 +13,11 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.template import project_template_polylines
 from broadtrack_graph.io.annotations import annotation_from_pixels, write_annotation_file
 from broadtrack_graph.io.cameras import write_camera_file
-from broadtrack_graph.io.run_folder import STATUS_NO_PITCH, TrackRecord, TrackWriter, read_track
-from broadtrack_graph.metrics.compare import (
-    compare_runs,
-    focal_point_spread,
-    format_table,
-    ground_truth_errors,
-    jitter,
-)
+from broadtrack_graph.io.run_folder import read_track
+from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
+from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.actions.compare import compare_runs
+from broadtrack_graph.metrics.compare import focal_point_spread, ground_truth_errors, jitter
 from broadtrack_graph.products.plots import plot_focal_points, plot_track_series
 
 W, H = 960, 540
@@ -182,13 +179,3 @@ def test_compare_command(tmp_path, capsys):
     assert code == 2 and "2 names for 1 runs" in capsys.readouterr().err
     code = cli.main(["compare", str(tmp_path / "nope")])
     assert code == 2 and "run folder not found" in capsys.readouterr().err
-
-
-def test_format_table_columns():
-    report = {"runs": {"a": {"frames": 3, "frames_with_camera": 2, "reinitialisations": 0, "mean_confidence": None,
-                             "jitter": {k: {"rms_d1": 1.0, "rms_d2": None} for k in ("pan_deg", "tilt_deg", "focal_px")},
-                             "focal_point": {"std_m": [1, 2, 3], "extent_m": [4, 5, 6], "rms_to_mean_m": 7.0}}}}
-    table = format_table(report)
-    lines = table.split("\n")
-    assert len({len(line) for line in lines}) == 1  # aligned
-    assert "| frames / with camera" in table and "3 / 2" in table and "| C extent z (m)" in table

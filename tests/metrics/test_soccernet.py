@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.commands.evaluate import evaluate_folders, load_cameras
+from broadtrack_graph.actions.evaluate import evaluate_folders, load_cameras
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.template import distances_to_polyline, project_template_polylines
 from broadtrack_graph.metrics.soccernet import evaluate_cameras, evaluate_frame

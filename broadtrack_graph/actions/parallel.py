@@ -1,0 +1,100 @@
+"""Map one job over many items (clips, frames, pieces): a process pool, or a plain loop for one job.
+
+:func:`map_jobs` is the one place where work is spread over processes; its signature names
+no engine (a distributed engine can replace the body). Results come back in input order.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import pickle
+from collections.abc import Callable, Iterable
+from concurrent.futures import ProcessPoolExecutor
+
+POOL_CHUNK_ITEMS = 4
+"""Items a pool worker takes at a time (fewer round trips; the order of results is unaffected)."""
+
+
+class JobError(RuntimeError):
+    """A job failed on one item; the message names the item, ``__cause__`` is the worker's exception.
+
+    index: position of the item in the input; item: the item itself.
+    """
+
+    def __init__(self, label: str, index: int, item, cause: BaseException) -> None:
+        self.index, self.item = index, item
+        shown = repr(item)
+        shown = shown if len(shown) <= 80 else shown[:77] + "..."
+        super().__init__(f"{label or 'job'}: item {index} {shown} failed: {type(cause).__name__}: {cause}")
+
+
+def map_jobs(
+    function: Callable,
+    items: Iterable,
+    jobs: int = 1,
+    initializer: Callable | None = None,
+    initargs: tuple = (),
+    label: str = "",
+    progress: bool = False,
+    on_result: Callable | None = None,
+) -> list:
+    """``[function(item) for item in items]``, over ``jobs`` worker processes when jobs > 1.
+
+    Args:
+        function: a module-level function of one item (picklable for jobs > 1).
+        items: the items; each is handed to ``function`` as is.
+        jobs: worker processes; 1 runs everything in this process (more than the machine's
+            cores are not started).
+        initializer, initargs: run once per worker before its first item (state the workers
+            share, e.g. a calibrator built once); with jobs = 1 once in this process.
+        label: name of the job, for the progress bar and errors.
+        progress: show a tqdm bar.
+        on_result: called with each result in input order as soon as it is there (e.g.
+            writing a file per item while later items still run).
+
+    Returns:
+        The results, in the order of ``items``.
+
+    Raises:
+        JobError: ``function`` raised on an item (the message names the item and its index).
+    """
+    from tqdm import tqdm
+
+    items = list(items)
+    jobs = max(1, min(int(jobs), os.cpu_count() or 1))
+    results = []
+    bar = tqdm(total=len(items), desc=label or None, unit="item", disable=not progress)
+
+    def collect(outcomes) -> None:
+        for index, (item, (ok, value)) in enumerate(zip(items, outcomes)):
+            if not ok:
+                raise JobError(label, index, item, value) from value
+            bar.update(1)
+            if on_result is not None:
+                on_result(value)
+            results.append(value)
+
+    try:
+        if jobs == 1:
+            if initializer is not None:
+                initializer(*initargs)
+            collect(_guarded(function, item) for item in items)
+        else:
+            with ProcessPoolExecutor(jobs, initializer=initializer, initargs=initargs) as pool:
+                collect(pool.map(functools.partial(_guarded, function), items, chunksize=POOL_CHUNK_ITEMS))
+    finally:
+        bar.close()
+    return results
+
+
+def _guarded(function: Callable, item) -> tuple[bool, object]:
+    """(True, result) or (False, the exception), so that a failure is tied to its own item."""
+    try:
+        return True, function(item)
+    except Exception as exc:  # noqa: BLE001 -- handed to the caller as a JobError naming the item
+        try:
+            pickle.dumps(exc)
+        except Exception:  # noqa: BLE001 -- an exception that cannot cross processes
+            exc = RuntimeError(f"{type(exc).__name__}: {exc}")
+        return False, exc

@@ -1,0 +1,82 @@
+"""Tracking options shared by ``track`` and ``detect``: the flags, and the TrackingConfig they give.
+
+Defaults are :class:`~broadtrack_graph.track.config.TrackingConfig`'s. ``--config FILE``
+(TOML, :mod:`broadtrack_graph.io.config_file`) sets any TrackingConfig field, the flow
+settings as a ``[flow]`` table; flags given on the command line override the file.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from broadtrack_graph.actions.track import DetectorOptions
+from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.io.config_file import read_config_file
+from broadtrack_graph.io.tripod_file import read_tripod
+from broadtrack_graph.track.config import MODES, TrackingConfig
+
+_DEFAULT = TrackingConfig()
+_DETECTOR = DetectorOptions()
+
+
+def add_tracking_arguments(parser) -> None:
+    """Options shared by track and detect (config-backed flags default to None: "not given")."""
+    parser.add_argument("--config", type=Path, default=None,
+                        help="TOML file of tracking options (TrackingConfig fields, [flow] table); flags given here override it")
+    parser.add_argument("--mode", choices=MODES, default=None,
+                        help=f"online (iSAM2), fixed-lag, or batch (default {_DEFAULT.mode})")
+    parser.add_argument("--lag", type=int, default=None,
+                        help=f"fixed-lag: frames of future used (default {_DEFAULT.lag_frames})")
+    tripod = parser.add_mutually_exclusive_group()
+    tripod.add_argument("--tripod", type=Path, help="tripod.json of an earlier run of this camera")
+    tripod.add_argument("--tripod-position", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                        help="known pan/tilt centre in metres (SoccerNet frame, z down); delta is fitted")
+    parser.add_argument("--detector", choices=("weightfree", "onnx"), default=_DETECTOR.kind,
+                        help=f"field detector (default {_DETECTOR.kind})")
+    parser.add_argument("--segmentation-model", type=Path, help="ONNX line-segmentation model (with its .json contract)")
+    parser.add_argument("--keypoint-model", type=Path, help="ONNX keypoint-heatmap model (with its .json contract)")
+    parser.add_argument("--start", type=int, default=None, help="first frame index (0-based, inclusive)")
+    parser.add_argument("--end", type=int, default=None, help="last frame index (exclusive)")
+    parser.add_argument("--no-flow", action="store_true", help="switch the optical-flow factor off")
+    parser.add_argument("--no-tripod", action="store_true", help="switch the tripod factor off")
+    parser.add_argument("--no-k1", action="store_true", help="hold radial distortion k1 at 0")
+    parser.add_argument("--confidence-threshold", type=float, default=None,
+                        help=f"re-initialise below this (default {_DEFAULT.confidence_threshold:g})")
+    parser.add_argument("--batch-tripod", choices=("fixed", "joint"), default=None,
+                        help="batch: hold the first pass's tripod fixed in the refinement or re-estimate it jointly "
+                             f"(default {_DEFAULT.batch_tripod})")
+
+
+def config_from_args(args) -> TrackingConfig:
+    """The TrackingConfig of ``--config`` (or the defaults) with the flags given explicitly on top.
+
+    Raises:
+        InputError: a bad config file, or a value TrackingConfig rejects (e.g. ``--lag 0``).
+    """
+    overrides = {}
+    for flag, field in (("mode", "mode"), ("lag", "lag_frames"), ("confidence_threshold", "confidence_threshold"),
+                        ("batch_tripod", "batch_tripod")):
+        if getattr(args, flag, None) is not None:
+            overrides[field] = getattr(args, flag)
+    for flag, field in (("no_flow", "use_flow"), ("no_tripod", "use_tripod"), ("no_k1", "estimate_k1")):
+        if getattr(args, flag, False):
+            overrides[field] = False
+    if getattr(args, "write_960x540", False):
+        overrides["write_960x540"] = True
+    return read_config_file(getattr(args, "config", None), TrackingConfig, overrides)
+
+
+def tripod_from_args(args) -> tuple[Tripod | None, tuple | None]:
+    """(known tripod from --tripod FILE, known position only from --tripod-position)."""
+    if args.tripod is not None:
+        return read_tripod(args.tripod), None
+    if args.tripod_position is not None:
+        return None, tuple(args.tripod_position)
+    return None, None
+
+
+def detector_options(args) -> DetectorOptions:
+    if args.detector == "onnx" and args.segmentation_model is None and args.keypoint_model is None:
+        raise InputError(None, "--detector onnx needs --segmentation-model and/or --keypoint-model")
+    return DetectorOptions(args.detector, args.segmentation_model, args.keypoint_model)

@@ -1,0 +1,161 @@
+"""Writing a run folder frame by frame: camera files, flushed ``track.jsonl`` lines, ``summary.json``.
+
+The folder's layout is :class:`~broadtrack_graph.io.run_folder.RunFolder`'s; each line is a
+:class:`~broadtrack_graph.io.track_record.TrackRecord`.
+"""
+
+from __future__ import annotations
+
+import collections
+import json
+import logging
+import math
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+
+from broadtrack_graph.io.run_folder import CAMERA_DIR, CAMERA_DIR_960, RunFolder, TRACK_FILE
+from broadtrack_graph.io.track_record import STATUSES, STATUSES_WITH_CAMERA, TrackRecord
+
+logger = logging.getLogger(__name__)
+
+
+class TrackWriter:
+    """Writes a run folder frame by frame (layout: :mod:`broadtrack_graph.io.run_folder`).
+
+    Args:
+        out_dir: run folder (created). Files of an earlier run in it (track.jsonl,
+            summary.json, camera_*.json in its camera folders) are replaced.
+        width_px, height_px: input resolution; records' cameras must be at it.
+        also_960x540: also write cameras_960x540/ (the calibration benchmark's resolution).
+        run_info: plain data stored in summary.json under "run" (input, mode, options).
+        summary_every: rewrite summary.json every this many frames.
+
+    Use as a context manager, or call :meth:`close` at the end; a run that is not
+    closed leaves ``"complete": false`` in its last summary.
+    """
+
+    def __init__(
+        self,
+        out_dir: str | Path,
+        width_px: int,
+        height_px: int,
+        also_960x540: bool = False,
+        run_info: dict | None = None,
+        summary_every: int = 100,
+    ) -> None:
+        if width_px <= 0 or height_px <= 0:
+            raise ValueError(f"image size must be positive, got {width_px}x{height_px}")
+        self.folder = RunFolder(out_dir)
+        self.out_dir = self.folder.path
+        self.width_px, self.height_px = int(width_px), int(height_px)
+        self.also_960x540 = also_960x540
+        self.run_info = dict(run_info or {})
+        self.summary_every = max(1, int(summary_every))
+        self.folder.create(also_960x540)
+        removed = self.folder.remove_camera_files()
+        if removed:
+            logger.info("%s: removed %d camera files of an earlier run", self.out_dir, removed)
+        self._track = open(self.folder.track_path, "w", encoding="utf-8")
+        self._started_wall = time.time()
+        self._started_utc = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        self._status_counts = {status: 0 for status in STATUSES}
+        self._frames = 0
+        self._reinitialisations = 0
+        self._confidence_sum = 0.0
+        self._confidence_count = 0
+        self._last_frame_index: int | None = None
+        self._recent_write_times: collections.deque = collections.deque(maxlen=26)
+        self._last_record: TrackRecord | None = None
+        self.closed = False
+        self._write_summary(complete=False)
+
+    # ----------------------------------------------------------------- per frame
+
+    def write(self, record: TrackRecord) -> None:
+        """Write one finished frame: its camera file(s), then its track line (flushed)."""
+        if self.closed:
+            raise RuntimeError("TrackWriter is closed")
+        camera_file = None
+        if record.camera is not None:
+            camera = record.camera
+            if (camera.width_px, camera.height_px) != (self.width_px, self.height_px):
+                camera = camera.rescaled(self.width_px, self.height_px)
+            camera_file = self.folder.write_camera(record.frame_id, camera, self.also_960x540)
+            record = TrackRecord(**{**record.__dict__, "camera": camera})
+        self._track.write(json.dumps(record.to_json(camera_file), allow_nan=False) + "\n")
+        self._track.flush()
+        self._frames += 1
+        self._status_counts[record.status] += 1
+        self._reinitialisations += int(record.reinitialised)
+        if record.confidence is not None and math.isfinite(record.confidence):
+            self._confidence_sum += record.confidence
+            self._confidence_count += 1
+        self._last_frame_index = record.frame_index
+        self._last_record = record
+        self._recent_write_times.append(time.perf_counter())
+        if self._frames % self.summary_every == 0:
+            self._write_summary(complete=False)
+
+    def progress_postfix(self) -> dict[str, str]:
+        """Fields for a tqdm bar (``bar.set_postfix(writer.progress_postfix(), refresh=False)``):
+        current fps over the last 25 frames, the last frame's confidence and status."""
+        times = self._recent_write_times
+        fps = (len(times) - 1) / (times[-1] - times[0]) if len(times) > 1 and times[-1] > times[0] else None
+        record = self._last_record
+        return {
+            "fps": "-" if fps is None else f"{fps:.1f}",
+            "conf": "-" if record is None or record.confidence is None else f"{record.confidence:.2f}",
+            "status": "-" if record is None else record.status,
+        }
+
+    # ----------------------------------------------------------------- summary
+
+    def summary(self, complete: bool, extra: dict | None = None) -> dict:
+        """The summary.json object for the frames written so far."""
+        elapsed = time.time() - self._started_wall
+        with_camera = sum(self._status_counts[s] for s in STATUSES_WITH_CAMERA)
+        return {
+            "complete": bool(complete),
+            "started_utc": self._started_utc,
+            "updated_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "width_px": self.width_px,
+            "height_px": self.height_px,
+            "frames_written": self._frames,
+            "frames_with_camera": with_camera,
+            "completeness": with_camera / self._frames if self._frames else None,
+            "status_counts": dict(self._status_counts),
+            "reinitialisations": self._reinitialisations,
+            "mean_confidence": self._confidence_sum / self._confidence_count if self._confidence_count else None,
+            "last_frame_index": self._last_frame_index,
+            "elapsed_s": round(elapsed, 3),
+            "fps": round(self._frames / elapsed, 3) if elapsed > 0 else None,
+            "files": {"track": TRACK_FILE, "cameras": CAMERA_DIR, "cameras_960x540": CAMERA_DIR_960 if self.also_960x540 else None},
+            "run": self.run_info,
+            **(extra or {}),
+        }
+
+    def _write_summary(self, complete: bool, extra: dict | None = None) -> dict:
+        summary = self.summary(complete, extra)
+        self.folder.write_summary(summary)
+        return summary
+
+    def close(self, extra_summary: dict | None = None) -> dict:
+        """Close track.jsonl and write the final summary (``"complete": true``); returns it."""
+        if self.closed:
+            return self.folder.read_summary()
+        self._track.close()
+        self.closed = True
+        return self._write_summary(complete=True, extra=extra_summary)
+
+    def __enter__(self) -> "TrackWriter":
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            # Keep what was written; the summary says the run did not finish.
+            self._track.close()
+            self.closed = True
+            self._write_summary(complete=False, extra={"error": f"{exc_type.__name__}: {exc}"[:300]})

@@ -1,0 +1,19 @@
+"""``bench`` -> the bench action: the suite's report wrapped with machine and wall time, printed and written."""
+
+from __future__ import annotations
+
+import json
+
+import broadtrack_graph.benchmarks.render as render_suite
+from broadtrack_graph.cli import main
+
+
+def test_suite_report_is_printed_and_written(monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(render_suite, "run", lambda args: {"frames": args.frames, "value": 1.5})
+    path = tmp_path / "bench.json"
+    assert main(["bench", "render", "--frames", "3", "--json", str(path)]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    written = json.loads(path.read_text())
+    assert printed == written
+    assert written["suite"] == "render" and written["frames"] == 3 and written["value"] == 1.5
+    assert set(written["machine"]) == {"python", "platform", "processor"} and written["wall_time_s"] >= 0

@@ -1,0 +1,31 @@
+"""``evaluate`` arguments -> the evaluate action; the printed table; bad values exit 2."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import broadtrack_graph.commands.evaluate as evaluate_command
+from broadtrack_graph.cli import main
+from broadtrack_graph.metrics.soccernet import DEFAULT_TAUS
+
+REPORT = {"frames": 4, "frames_with_camera": 3, "errors": {"00002": "camera_00002.json: empty file"},
+          "taus": {"5": {"final_score": 0.5, "completeness": 0.75, "accuracy": 0.6, "precision": 0.7, "recall": 0.8,
+                         "mre_px": 1.234, "medre_px": None}}}
+
+
+def test_arguments_reach_the_action(monkeypatch, capsys):
+    seen = []
+    monkeypatch.setattr(evaluate_command, "evaluate_folders", lambda *a, **k: seen.append((a, k)) or REPORT)
+    assert main(["evaluate", "--annotations", "ann", "--cameras", "cams", "--json", "r.json", "--no-progress"]) == 0
+    assert seen == [((Path("ann"), Path("cams"), 960, 540, list(DEFAULT_TAUS)), {"progress": False, "json_path": Path("r.json")})]
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "warning: camera_00002.json: empty file"
+    assert out[1] == "frames 4  with camera 3  resolution 960x540"
+    assert out[3].split() == ["5", "0.5000", "0.7500", "0.6000", "0.7000", "0.8000", "1.23", "-"]
+    assert out[4] == "report written to r.json"
+
+
+def test_bad_resolution_exits_2_with_one_line(tmp_path, capsys):
+    assert main(["evaluate", "--annotations", str(tmp_path), "--cameras", str(tmp_path), "--width", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err == "broadtrack-graph evaluate: error: evaluation resolution must be at least 2x2, got 1x540\n"

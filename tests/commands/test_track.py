@@ -1,0 +1,84 @@
+"""``track`` arguments -> the track action: config from defaults, a TOML file and flags; bad values exit 2."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import broadtrack_graph.commands.track as track_command
+from broadtrack_graph.actions.track import DetectorOptions
+from broadtrack_graph.cli import main
+from broadtrack_graph.detect.flow import FlowConfig
+from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.io.tripod_file import write_tripod
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.result import RunResult
+
+
+@pytest.fixture
+def calls(monkeypatch):
+    seen = []
+
+    def fake_track_input(frames, out_dir, config, detector, **kwargs):
+        seen.append({"frames": frames, "out": out_dir, "config": config, "detector": detector, **kwargs})
+        return RunResult(Path(out_dir), {"frames_written": 3, "fps": 2.0, "status_counts": {"tracked": 3}}, [], None)
+
+    monkeypatch.setattr(track_command, "track_input", fake_track_input)
+    return seen
+
+
+def test_defaults_are_the_config_defaults(calls, capsys):
+    assert main(["track", "clip.mp4", "--out", "run", "--no-progress"]) == 0
+    call = calls[0]
+    assert call["config"] == TrackingConfig() and call["detector"] == DetectorOptions()
+    assert (call["frames"], call["out"], call["tripod"], call["tripod_position"]) == (Path("clip.mp4"), Path("run"), None, None)
+    assert (call["detections_path"], call["start"], call["end"], call["progress"]) == (None, None, None, False)
+    assert "tracked 3 frames into run (2.0 fps)" in capsys.readouterr().out
+
+
+def test_flags_give_the_config(calls, tmp_path):
+    write_tripod(tmp_path / "tripod.json", Tripod((1.0, 55.0, -12.0), 0.25))
+    assert main(["track", "--detections", "d.jsonl", "--frames", "clip", "--out", "run", "--mode", "fixed-lag",
+                 "--lag", "12", "--no-flow", "--no-k1", "--confidence-threshold", "0.4", "--write-960x540",
+                 "--tripod", str(tmp_path / "tripod.json"), "--start", "5", "--end", "9"]) == 0
+    call = calls[0]
+    assert call["config"] == TrackingConfig(mode="fixed-lag", lag_frames=12, use_flow=False, estimate_k1=False,
+                                            confidence_threshold=0.4, write_960x540=True)
+    assert call["frames"] == Path("clip") and call["detections_path"] == Path("d.jsonl")
+    assert tuple(call["tripod"].T_w) == (1.0, 55.0, -12.0) and call["tripod"].delta_m == 0.25
+    assert (call["start"], call["end"]) == (5, 9)
+    assert main(["track", "clip", "--out", "run", "--tripod-position", "0", "50", "-10"]) == 0
+    assert calls[1]["tripod"] is None and calls[1]["tripod_position"] == (0.0, 50.0, -10.0)
+
+
+def test_config_file_and_flags_given_override_it(calls, tmp_path):
+    config = tmp_path / "tracking.toml"
+    config.write_text('mode = "batch"\nlag_frames = 40\nuse_tripod = false\nbatch_tripod = "joint"\n'
+                      "[flow]\ngrid_step_px = 20\n", encoding="utf-8")
+    assert main(["track", "clip", "--out", "run", "--config", str(config)]) == 0
+    assert calls[0]["config"] == TrackingConfig(mode="batch", lag_frames=40, use_tripod=False, batch_tripod="joint",
+                                                flow=FlowConfig(grid_step_px=20))
+    assert main(["track", "clip", "--out", "run", "--config", str(config), "--lag", "7", "--mode", "online"]) == 0
+    assert calls[1]["config"] == TrackingConfig(mode="online", lag_frames=7, use_tripod=False, batch_tripod="joint",
+                                                flow=FlowConfig(grid_step_px=20))
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--lag", "0"], "lag_frames must be >= 1, got 0"),
+    (["--detector", "onnx"], "--detector onnx needs --segmentation-model and/or --keypoint-model"),
+    (["--config", "missing.toml"], "missing.toml: config file not found"),
+])
+def test_bad_value_exits_2_with_one_line(calls, capsys, argv, message):
+    assert main(["track", "clip", "--out", "run", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("broadtrack-graph track: error: ") and message in err
+    assert not calls
+
+
+def test_unknown_key_in_config_file_exits_2(calls, capsys, tmp_path):
+    (tmp_path / "bad.toml").write_text("lag = 3\n", encoding="utf-8")
+    assert main(["track", "clip", "--out", "run", "--config", str(tmp_path / "bad.toml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "bad.toml: unknown key 'lag'" in err and not calls
+    assert main(["track", "--out", "run"]) == 2 and "give an INPUT" in capsys.readouterr().err
