@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.geometry.camera import undistort_normalized
-from factors.custom import custom_factor
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
+from factors.custom import custom_factor
 from factors.robust import cauchy_rows
 
 INVALID_RESIDUAL_SIGMAS = 10.0

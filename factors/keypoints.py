@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from factors.custom import custom_factor
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
+from factors.custom import custom_factor
 from factors.robust import cauchy_rows
 
 INVALID_RESIDUAL_SIGMAS = 10.0

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
-from factors.custom import custom_factor
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_and_derivatives
+from factors.custom import custom_factor
 from factors.robust import cauchy_rows
 
 INVALID_RESIDUAL_SIGMAS = 10.0

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from factors.custom import custom_factor
 from broadtrack_graph.geometry.state import STATE_SIZE
+from factors.custom import custom_factor
 
 SMOOTH_INDICES = (0, 2, 3, 4)
 """State entries constrained by the smoothness factor (f through log f, pan, tilt, roll)."""

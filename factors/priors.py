@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from factors.custom import custom_factor
 from broadtrack_graph.geometry.state import STATE_SIZE
+from factors.custom import custom_factor
 
 
 def range_residuals(state, f_range_px, k1_range, edge_sigma_rel, edge_sigma_k1, k1_mean, k1_sigma, want_jacobian=True):

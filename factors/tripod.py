@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from factors.custom import custom_factor
 from broadtrack_graph.geometry.state import STATE_SIZE, rotation_and_derivatives
+from factors.custom import custom_factor
 
 TRIPOD_SIZE = 4
 MIN_AXIS_DISTANCE_M = 1e-6

@@ -14,12 +14,12 @@ import logging
 from dataclasses import dataclass
 from pathlib import Path
 
-from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.actions.compare import compare_runs
+from broadtrack_graph.actions.track import DetectorOptions, track_input
 from broadtrack_graph.products.compare_report import format_table
 from broadtrack_graph.products.overlay import write_overlay
+from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.actions.track import DetectorOptions, track_input
 
 log = logging.getLogger(__name__)
 

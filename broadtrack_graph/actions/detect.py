@@ -30,22 +30,21 @@ from pathlib import Path
 
 import numpy as np
 
+from broadtrack_graph.actions.track import DetectorOptions, make_detector
+from broadtrack_graph.detect.detector import Detections
+from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.annotations import GAMESTATE_FILE, read_annotations
 from broadtrack_graph.io.detections import DetectionsWriter, write_mask_png
 from broadtrack_graph.io.frames import open_frames
-from broadtrack_graph.track.inputs import frames_from_source
 from broadtrack_graph.io.jsonfile import read_json
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.inputs import FrameInput
-from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.track.frame_loop import TrackingRun
+from broadtrack_graph.track.inputs import FrameInput, frames_from_source
 from broadtrack_graph.track.passes import run_loop
 from broadtrack_graph.track.result import RunResult
-from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
-from broadtrack_graph.actions.track import DetectorOptions, make_detector
-from broadtrack_graph.geometry.tripod import Tripod
 
 log = logging.getLogger(__name__)
 

@@ -11,14 +11,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.detections import read_detections
-from broadtrack_graph.io.frames import open_frames
-from broadtrack_graph.track.inputs import frames_from_detections, frames_from_source
-from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.passes import run_frames
-from broadtrack_graph.track.result import RunResult
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.io.detections import read_detections
+from broadtrack_graph.io.frames import open_frames
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.inputs import frames_from_detections, frames_from_source
+from broadtrack_graph.track.passes import run_frames
+from broadtrack_graph.track.result import RunResult
 
 
 @dataclass(frozen=True)

@@ -165,8 +165,8 @@ def _jitters(states_by_name: dict[str, np.ndarray], frames: np.ndarray) -> dict:
 def run_files(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 1: detect -> file -> track (file alone, file + frames, frames directly)."""
     from broadtrack_graph.actions.detect import export_detections, import_annotations
-    from broadtrack_graph.io.annotations import read_annotations
     from broadtrack_graph.actions.track import track_input
+    from broadtrack_graph.io.annotations import read_annotations
 
     W, H = int(info["width_px"]), int(info["height_px"])
     annotations = read_annotations(args.clip / "annotations")
@@ -209,13 +209,13 @@ def run_files(args, info: dict, plot_dir: Path | None) -> dict:
 
 def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 2: keypoints only, smoothed track vs fitting each frame alone."""
-    from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
-    from broadtrack_graph.synth.writer import read_camera_track, read_keypoints_file
+    from broadtrack_graph.actions.track import track_input
+    from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.io.detections import read_detections
     from broadtrack_graph.io.jsonfile import read_json
+    from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
+    from broadtrack_graph.synth.writer import read_camera_track, read_keypoints_file
     from broadtrack_graph.track.config import TrackingConfig
-    from broadtrack_graph.geometry.pitch import PitchTemplate
-    from broadtrack_graph.actions.track import track_input
 
     W, H = int(info["width_px"]), int(info["height_px"])
     pitch = PitchTemplate()

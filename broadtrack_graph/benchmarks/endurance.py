@@ -227,12 +227,12 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
     Returns:
         (RunResult, FrameClock).
     """
-    from broadtrack_graph.io.frames import open_frames
-    from broadtrack_graph.track.inputs import frames_from_source
-    from broadtrack_graph.track.frame_loop import TrackingRun
-    from broadtrack_graph.track.passes import run_loop
-    from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.actions.track import DetectorOptions, make_detector
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.io.frames import open_frames
+    from broadtrack_graph.track.frame_loop import TrackingRun
+    from broadtrack_graph.track.inputs import frames_from_source
+    from broadtrack_graph.track.passes import run_loop
 
     pitch = PitchTemplate()
     with open_frames(clip) as source:
@@ -283,9 +283,9 @@ def ground_truth_scores(records, segment: Path, unique_frames: int, width_px: in
         "pan_error_deg": float or None, "focal_error_rel": float or None}.
     """
     from broadtrack_graph.geometry.template import TemplateSampling
-    from broadtrack_graph.metrics.soccernet import evaluate_frame
     from broadtrack_graph.io.annotations import read_annotations
     from broadtrack_graph.io.cameras import read_camera_file
+    from broadtrack_graph.metrics.soccernet import evaluate_frame
 
     if every <= 0:
         return {}

@@ -46,14 +46,13 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     from tqdm import tqdm
 
-    from broadtrack_graph.geometry.template import distances_to_polyline
-    from broadtrack_graph.reinit.confidence import camera_confidence
     from broadtrack_graph.detect.detector import PredictedCamera
     from broadtrack_graph.detect.flow import grid_flow, prepare
-    from broadtrack_graph.geometry.template import TemplateCurves
-    from broadtrack_graph.reinit.mask import reinit_from_mask
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
+    from broadtrack_graph.reinit.confidence import camera_confidence
+    from broadtrack_graph.reinit.mask import reinit_from_mask
     from broadtrack_graph.synth.clip import render_clip
 
     cv2.setNumThreads(1)

@@ -22,13 +22,13 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig, MeasurementSigmas, SolverSettings
+from broadtrack_graph.graph.estimates import Track
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.simulate import SimulationSettings, reprojection_error_px, simulate_frames
-from broadtrack_graph.graph.estimates import Track
-from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.motion import generate_camera_track
 
 HELP = "graph solvers: accuracy / smoothness of online, fixed-lag and batch, or online speed and memory"

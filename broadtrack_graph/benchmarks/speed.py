@@ -32,8 +32,8 @@ STAGES = ("detect_s", "flow_s", "solve_s", "confidence_s", "reinit_s", "write_s"
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.track.config import MODES
     from broadtrack_graph.synth.motion import PRESETS
+    from broadtrack_graph.track.config import MODES
 
     parser.add_argument("--preset", default="main", choices=sorted(PRESETS), help="synthetic preset (default main)")
     parser.add_argument("--frames", type=int, default=200, help="frames of the clip (default 200)")
@@ -78,8 +78,8 @@ def stage_figures(timings_s: dict, frames: int, wall_s: float) -> dict:
 
 
 def run(args) -> dict:
-    from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite, stage_timings
     from broadtrack_graph.actions.track import DetectorOptions, track_input
+    from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite, stage_timings
 
     progress, out = prepare_suite(args)
     started = time.perf_counter()

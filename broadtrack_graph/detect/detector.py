@@ -17,8 +17,8 @@ from typing import Protocol
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.detect.observations import FlowMatches, FrameObservations, KeypointObservations
+from broadtrack_graph.geometry.camera import Camera
 
 
 @dataclass(frozen=True)

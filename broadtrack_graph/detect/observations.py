@@ -6,7 +6,7 @@ principal point at the centre. No images, no I/O: the graph is testable without 
 
 from __future__ import annotations
 
-from dataclasses import replace, dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 

@@ -38,8 +38,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
-from broadtrack_graph.geometry.template import TemplateCurves, project_template
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, project_template
 
 REFERENCE_WIDTH_PX = 960
 """Working width of the detector; every pixel setting of :class:`WeightFreeConfig` is at this width."""

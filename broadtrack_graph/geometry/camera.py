@@ -33,9 +33,17 @@ import numpy as np
 
 from broadtrack_graph.geometry.shapes import check_points
 from broadtrack_graph.geometry.state import (
-    BEHIND_CAMERA_Z, FOCAL, K1, PAN, POSITION, ROLL, STATE_SIZE, TILT, rotation_x, rotation_z,
+    BEHIND_CAMERA_Z,
+    FOCAL,
+    K1,
+    PAN,
+    POSITION,
+    ROLL,
+    STATE_SIZE,
+    TILT,
+    rotation_x,
+    rotation_z,
 )
-
 
 # --------------------------------------------------------------------------- rotations
 

@@ -16,16 +16,16 @@ import gtsam
 import numpy as np
 from tqdm import tqdm
 
-from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.graph.builder import GraphBuilder, graph_of
-from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.noise import lm_params
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
-from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
-from broadtrack_graph.graph.keys import camera_key, tripod_key
 from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.graph.builder import GraphBuilder, graph_of
+from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.keys import camera_key, tripod_key
+from broadtrack_graph.graph.noise import lm_params
+from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from factors.priors import make_anchor_factor
 
 logger = logging.getLogger(__name__)

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 from collections import deque
 
-from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.online import OnlineTracker
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
 from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.online import OnlineTracker
 
 
 class FixedLagSmoother:

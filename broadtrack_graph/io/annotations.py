@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 from broadtrack_graph.geometry.pitch import ALL_ANNOTATION_CLASSES
+from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 
 GAMESTATE_FILE = "Labels-GameState.json"
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 
 CAMERA_FILE_PATTERN = re.compile(r"^camera_(\d+)\.json$")

@@ -14,7 +14,7 @@ import time
 from datetime import datetime, timezone
 from pathlib import Path
 
-from broadtrack_graph.io.run_folder import CAMERA_DIR, CAMERA_DIR_960, RunFolder, TRACK_FILE
+from broadtrack_graph.io.run_folder import CAMERA_DIR, CAMERA_DIR_960, TRACK_FILE, RunFolder
 from broadtrack_graph.io.track_record import STATUSES, STATUSES_WITH_CAMERA, TrackRecord
 
 logger = logging.getLogger(__name__)

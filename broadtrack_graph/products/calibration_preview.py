@@ -20,8 +20,8 @@ def draw_calibration(lines_norm: dict[str, np.ndarray], camera: Camera | None, w
     """
     import cv2
 
-    from broadtrack_graph.metrics.soccernet import evaluate_frame
     from broadtrack_graph.detect.template_raster import template_mask
+    from broadtrack_graph.metrics.soccernet import evaluate_frame
 
     canvas = np.full((height_px, width_px, 3), 35, np.uint8)
     text = title

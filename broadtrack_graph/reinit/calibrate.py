@@ -17,12 +17,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.template import TemplateSampling
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.io.annotations import annotation_to_pixels
 from broadtrack_graph.reinit.lines import ReinitConfig, reinit_from_lines
 from broadtrack_graph.reinit.scoring import ReinitResult
-from broadtrack_graph.io.annotations import annotation_to_pixels
-from broadtrack_graph.geometry.pitch import PitchTemplate
 
 log = logging.getLogger(__name__)
 

@@ -11,10 +11,9 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateSampling
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
-from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.lines import reinit_from_lines
 from broadtrack_graph.reinit.mask import reinit_from_mask
 from broadtrack_graph.reinit.scoring import ReinitResult, score_labelled

@@ -30,7 +30,6 @@ from broadtrack_graph.geometry.state import STATE_SIZE, project_state
 from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
 
 
-
 @dataclass(frozen=True)
 class LineFitConfig:
     """Settings of :func:`fit_camera_to_lines`."""

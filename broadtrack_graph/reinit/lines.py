@@ -19,8 +19,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
 from broadtrack_graph.geometry.pitch import Arc, PitchTemplate, Segment
-from broadtrack_graph.geometry.template import TemplateSampling
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.positions import (
     candidate_positions,

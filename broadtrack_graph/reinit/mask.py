@@ -22,10 +22,10 @@ import numpy as np
 from broadtrack_graph.detect.marking_structures import marking_ellipses, marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
 from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.ellipses import circle_hypotheses
 from broadtrack_graph.reinit.line_pairs import line_pair_hypotheses, pitch_lines
-from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer, best_distinct
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig, RefineSchedule

@@ -34,8 +34,8 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.template import TemplateSampling, distances_to_polyline, project_template_polylines
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
+from broadtrack_graph.geometry.template import TemplateSampling, distances_to_polyline, project_template_polylines
 from broadtrack_graph.synth.render import SURFACE_GOAL, SURFACE_GROUND, SURFACE_PLAYER, fixed_point
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM
 

@@ -36,17 +36,24 @@ from broadtrack_graph.detect.flow import grid_flow, prepare
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
 from broadtrack_graph.io.detections import read_mask_png
-from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_MISSING_FRAME, STATUS_NO_DETECTIONS, STATUS_NO_PITCH, STATUS_REINITIALISED, STATUS_TRACKED, TrackRecord
+from broadtrack_graph.io.run_folder import RunFolder
+from broadtrack_graph.io.track_record import (
+    STATUS_FAILED,
+    STATUS_MISSING_FRAME,
+    STATUS_NO_DETECTIONS,
+    STATUS_NO_PITCH,
+    STATUS_REINITIALISED,
+    STATUS_TRACKED,
+    TrackRecord,
+)
 from broadtrack_graph.io.track_writer import TrackWriter
-from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
-from broadtrack_graph.geometry.template import TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
-from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.online_tripod import OnlineTripod
@@ -376,7 +383,7 @@ class TrackingRun:
         fit_info = self.online_tripod.info
         if tripod is not None:
             extra["tripod"] = {"T_w": list(map(float, tripod.T_w)), "delta_m": float(tripod.delta_m)}
-            write_tripod(self.out_dir / TRIPOD_FILE, tripod, fit_info)
+            RunFolder(self.out_dir).write_tripod(tripod, fit_info)
         if fit_info:
             extra["tripod_fit"] = fit_info
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}

@@ -19,18 +19,17 @@ from tqdm import tqdm
 from broadtrack_graph.detect.flow import prepare
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate, Track
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
+from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.track_record import TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
-from broadtrack_graph.io.tripod_file import TRIPOD_FILE, write_tripod
-from broadtrack_graph.geometry.template import TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence
-from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
@@ -61,7 +60,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
         run_loop(run, frames, progress, total, config.mode)
         return run.finish()
     first = replace(config, mode="online")
-    run = TrackingRun(width_px, height_px, out_dir / "pass1", first, detector, tripod, pitch,
+    run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True,
                       reinit_positions=reinit_positions, mask_paths=mask_paths)
     run_loop(run, frames, progress, total, "pass 1 (online)")
@@ -125,7 +124,7 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
              "fps_two_passes": round(len(pass1.records) / max(pass1_s + elapsed, 1e-9), 3)}
     if fitted is not None:
         extra["tripod"] = {"T_w": list(map(float, fitted.T_w)), "delta_m": float(fitted.delta_m)}
-        write_tripod(Path(out_dir) / TRIPOD_FILE, fitted, refiner.last_info.get("tripod_fit"))
+        RunFolder(out_dir).write_tripod(fitted, refiner.last_info.get("tripod_fit"))
     summary = writer.close(extra)
     return RunResult(Path(out_dir), summary, records, fitted)
 

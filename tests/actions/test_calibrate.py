@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+from calibration_frames import H, W, annotation, cameras
 
 from broadtrack_graph.actions.calibrate import calibrate_annotation_set
 from broadtrack_graph.io.annotations import AnnotationSet, read_annotations
 from broadtrack_graph.metrics.soccernet import evaluate_frame
-from calibration_frames import H, W, annotation, cameras
 
 
 def test_calibrate_annotation_set_scores_every_synthetic_frame(tmp_path):

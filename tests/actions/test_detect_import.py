@@ -6,18 +6,18 @@ import json
 import numpy as np
 import pytest
 
+from broadtrack_graph.actions.detect import import_annotations
+from broadtrack_graph.actions.track import track_input
 from broadtrack_graph.benchmarks.detections import noisy_keypoint_records, template_errors_px
 from broadtrack_graph.cli import main
-from broadtrack_graph.actions.detect import import_annotations
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import project_template_polylines
 from broadtrack_graph.io.annotations import write_annotation_file, write_gamestate_labels
 from broadtrack_graph.io.detections import read_detections
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.motion import generate_camera_track
-from broadtrack_graph.actions.track import track_input
+from broadtrack_graph.track.config import TrackingConfig
 
 W, H = 960, 540
 

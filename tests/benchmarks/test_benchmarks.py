@@ -14,8 +14,8 @@ import pytest
 from broadtrack_graph.benchmarks.accuracy import clip_folder_name, tripod_error
 from broadtrack_graph.benchmarks.speed import STAGES, stage_figures
 from broadtrack_graph.cli import main
-from broadtrack_graph.io.tripod_file import write_tripod
 from broadtrack_graph.geometry.tripod import Tripod
+from broadtrack_graph.io.tripod_file import write_tripod
 
 FRAMES = 3
 

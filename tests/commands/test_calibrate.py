@@ -6,11 +6,11 @@ import json
 
 import cv2
 import numpy as np
+from calibration_frames import H, W, annotation, cameras
 
 from broadtrack_graph.cli import main
 from broadtrack_graph.io.annotations import write_annotation_file
 from broadtrack_graph.io.cameras import read_camera_file
-from calibration_frames import H, W, annotation, cameras
 
 
 def test_calibrate_command_writes_camera_files(tmp_path, capsys):

@@ -11,8 +11,8 @@ import pytest
 onnx = pytest.importorskip("onnx")
 from onnx import TensorProto, helper  # noqa: E402
 
-from broadtrack_graph.errors import InputError  # noqa: E402
 from broadtrack_graph.detect.onnx_detector import ModelContract, OnnxDetector, read_contract  # noqa: E402
+from broadtrack_graph.errors import InputError  # noqa: E402
 
 NET_W, NET_H = 64, 48
 

@@ -13,13 +13,16 @@ import cv2
 import numpy as np
 import pytest
 
+from broadtrack_graph.detect.weightfree import WeightFreeDetector, cell_means
+from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.template import (
-    TemplateCurves, distances_to_polyline, finite_runs, project_template,
+    TemplateCurves,
+    distances_to_polyline,
+    finite_runs,
+    project_template,
 )
 from broadtrack_graph.reinit.confidence import confidence_parts, needs_reinit
 from broadtrack_graph.reinit.mask import reinit_from_mask
-from broadtrack_graph.detect.weightfree import WeightFreeDetector, cell_means
-from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.synth.clip import render_clip
 
 PITCH = PitchTemplate()

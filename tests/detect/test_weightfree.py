@@ -5,15 +5,15 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
-from broadtrack_graph.reinit.confidence import camera_confidence, needs_reinit
 from broadtrack_graph.detect.detector import PredictedCamera, draw_detections
 from broadtrack_graph.detect.flow import FlowConfig, grid_flow, prepare
 from broadtrack_graph.detect.meanshift import mean_shift_thin
 from broadtrack_graph.detect.template_raster import template_mask
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
+from broadtrack_graph.reinit.confidence import camera_confidence, needs_reinit
 
 W, H = 640, 360
 PITCH = PitchTemplate()

@@ -9,12 +9,12 @@ import pytest
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.state import project_state
 from factors.flow import flow_residuals, make_flow_factor
 from factors.keypoints import keypoint_residuals, make_keypoint_factor
 from factors.lines import MarkingPolylines, line_residuals, make_line_factor
 from factors.motion import random_walk_residuals, smoothness_residuals
 from factors.priors import range_residuals
-from broadtrack_graph.geometry.state import project_state
 from factors.robust import cauchy_rows
 from factors.tripod import tripod_residual
 

@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
+from broadtrack_graph.detect.observations import FlowMatches, FrameObservations, KeypointObservations
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.builder import GraphBuilder
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate, Track
 from broadtrack_graph.graph.keys import camera_key, frame_of_key, tripod_key
-from broadtrack_graph.detect.observations import FlowMatches, FrameObservations, KeypointObservations
-from broadtrack_graph.geometry.pitch import PitchTemplate
 
 
 def test_config_from_dict_sets_values_and_rejects_unknown_keys():

@@ -8,13 +8,13 @@ import gtsam
 import numpy as np
 import pytest
 
-from broadtrack_graph.graph.builder import GraphBuilder, graph_of
-from broadtrack_graph.graph.keys import camera_key
-from broadtrack_graph.graph.config import GraphConfig, PriorSigmas
-from broadtrack_graph.graph.simulate import SimulationSettings, perturb_camera, reprojection_error_px, simulate_frames
-from broadtrack_graph.graph.single_frame import refine_single_frame
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.graph.builder import GraphBuilder, graph_of
+from broadtrack_graph.graph.config import GraphConfig, PriorSigmas
+from broadtrack_graph.graph.keys import camera_key
+from broadtrack_graph.graph.simulate import SimulationSettings, perturb_camera, reprojection_error_px, simulate_frames
+from broadtrack_graph.graph.single_frame import refine_single_frame
 from broadtrack_graph.synth.motion import generate_camera_track
 
 W, H = 960, 540
@@ -98,10 +98,10 @@ def test_real_soccernet_frames_refine_towards_their_annotation():
     if not (DATA / "annotations").is_dir() or not (DATA / "nbjw-cameras").is_dir():
         pytest.skip(f"real SoccerNet data not found at {DATA}")
     from broadtrack_graph.geometry.camera import ExtraDistortion
-    from broadtrack_graph.metrics.soccernet import evaluate_frame
+    from broadtrack_graph.geometry.pitch import MIRRORED_CLASS
     from broadtrack_graph.io.annotations import read_annotation_file
     from broadtrack_graph.io.cameras import read_camera_file
-    from broadtrack_graph.geometry.pitch import MIRRORED_CLASS
+    from broadtrack_graph.metrics.soccernet import evaluate_frame
 
     pitch = PitchTemplate()
     builder = GraphBuilder(W, H, pitch)

@@ -6,14 +6,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig, PriorSigmas
+from broadtrack_graph.graph.estimates import Track
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.simulate import SimulationSettings, reprojection_error_px, simulate_frames
-from broadtrack_graph.graph.estimates import Track
-from broadtrack_graph.detect.observations import FrameObservations
-from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.motion import generate_camera_track
 
 W, H = 960, 540

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
-from broadtrack_graph.graph.tripod_fit import fit_tripod
 from broadtrack_graph.geometry.tripod import Tripod, focal_point
+from broadtrack_graph.graph.tripod_fit import fit_tripod
 
 
 def cameras_on_tripod(tripod, count, tilt_range_deg, position_noise_m, seed, pan_range_deg=(-40, 40)):

@@ -10,8 +10,8 @@ import sys
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.io.cameras import read_camera_file
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.io.track_record import STATUS_NO_PITCH, STATUS_REINITIALISED, TrackRecord

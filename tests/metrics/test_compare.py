@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from broadtrack_graph import cli
+from broadtrack_graph.actions.compare import compare_runs
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.template import project_template_polylines
 from broadtrack_graph.io.annotations import annotation_from_pixels, write_annotation_file
@@ -16,7 +17,6 @@ from broadtrack_graph.io.cameras import write_camera_file
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
-from broadtrack_graph.actions.compare import compare_runs
 from broadtrack_graph.metrics.compare import focal_point_spread, ground_truth_errors, jitter
 from broadtrack_graph.products.plots import plot_focal_points, plot_track_series
 

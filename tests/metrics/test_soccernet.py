@@ -5,17 +5,16 @@ import sys
 
 import numpy as np
 import pytest
+from metric_reference import frame_jac
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.actions.evaluate import evaluate_folders, load_cameras
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import MIRRORED_CLASS, PitchTemplate
 from broadtrack_graph.geometry.template import distances_to_polyline, project_template_polylines
-from broadtrack_graph.metrics.soccernet import evaluate_cameras, evaluate_frame
 from broadtrack_graph.io.annotations import AnnotationSet, read_annotations
 from broadtrack_graph.io.cameras import write_camera_file
-from broadtrack_graph.geometry.pitch import MIRRORED_CLASS, PitchTemplate
-
-from metric_reference import frame_jac
+from broadtrack_graph.metrics.soccernet import evaluate_cameras, evaluate_frame
 
 W, H = 960, 540
 

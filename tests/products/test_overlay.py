@@ -10,6 +10,7 @@ import pytest
 
 from broadtrack_graph import cli
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.io.frames import VideoSource
 from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
@@ -20,7 +21,6 @@ from broadtrack_graph.products.overlay import (
     render_overlay_frame,
     write_overlay,
 )
-from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 
 W, H = 640, 360
 
@@ -170,9 +170,9 @@ def test_overlay_colour_follows_confidence(confidence):
 def test_drawing_matches_real_annotations_where_the_metric_says_so(sn_calibration_dir):
     """Real SoccerNet frames: where a published calibrator's camera scores JaC@5 = 1, the annotated
     points lie on the drawn lines."""
-    from broadtrack_graph.metrics.soccernet import evaluate_frame
     from broadtrack_graph.io.annotations import annotation_to_pixels, read_annotation_file
     from broadtrack_graph.io.cameras import read_camera_file
+    from broadtrack_graph.metrics.soccernet import evaluate_frame
 
     checked = 0
     for camera_path in sorted((sn_calibration_dir / "nbjw-cameras").glob("camera_*.json"))[:40]:

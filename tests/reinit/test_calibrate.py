@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
+from calibration_frames import H, W, annotation, cameras
 
 from broadtrack_graph.io.annotations import annotation_to_pixels
 from broadtrack_graph.metrics.soccernet import evaluate_frame
 from broadtrack_graph.reinit.calibrate import calibrate_item, calibrate_lines, init_worker
 from broadtrack_graph.reinit.lines import ReinitConfig
-from calibration_frames import H, W, annotation, cameras
 
 
 def test_one_frame_through_the_worker_and_directly():

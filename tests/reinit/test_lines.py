@@ -7,8 +7,7 @@ import pytest
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateSampling
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.lines import camera_from_homography, homography_from_lines, reinit_from_lines
 from broadtrack_graph.reinit.scoring import score_labelled
 

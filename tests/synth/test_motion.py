@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from broadtrack_graph.geometry.tripod import focal_point, tripod_residual, zoom_lambda
 from broadtrack_graph.synth.motion import (
     PRESETS,
     generate_camera_track,
@@ -14,7 +15,6 @@ from broadtrack_graph.synth.motion import (
     lambda_from_focal,
     pitch_coverage,
 )
-from broadtrack_graph.geometry.tripod import focal_point, tripod_residual, zoom_lambda
 
 
 @pytest.mark.parametrize("preset", sorted(PRESETS))

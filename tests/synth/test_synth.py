@@ -8,12 +8,12 @@ import cv2
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.cli import main as cli_main
-from broadtrack_graph.metrics.soccernet import evaluate_cameras
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import LINE_CLASSES
 from broadtrack_graph.io.annotations import AnnotationSet, read_annotations
 from broadtrack_graph.io.cameras import list_camera_files, read_camera_file, write_camera_file
-from broadtrack_graph.geometry.pitch import LINE_CLASSES
+from broadtrack_graph.metrics.soccernet import evaluate_cameras
 from broadtrack_graph.synth.clip import render_clip
 from broadtrack_graph.synth.motion import generate_camera_track
 from broadtrack_graph.synth.render import (
@@ -241,8 +241,8 @@ def test_cli_reports_a_bad_camera_folder(tmp_path, capsys):
 
 def test_k1_below_zero_never_annotates_folded_points():
     # With k1 < 0 the model folds points far off-axis back into the image; they must not be annotated.
-    from broadtrack_graph.geometry.template import TemplateSampling, _project_like_official
     from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateSampling, _project_like_official
 
     camera = Camera.from_degrees(450.0, -0.08, -60.0, 70.0, 0.0, [0.0, 55.0, -12.0], W, H)
     sampling = TemplateSampling()

@@ -6,18 +6,18 @@ import shutil
 import numpy as np
 import pytest
 
+from broadtrack_graph.actions.track import track_input
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.metrics.soccernet import evaluate_cameras
 from broadtrack_graph.io.annotations import read_annotations
-from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.io.detections import DetectionsWriter, annotations_to_observations
 from broadtrack_graph.io.frames import open_frames
-from broadtrack_graph.track.inputs import frames_from_source
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.io.tripod_file import read_tripod
+from broadtrack_graph.metrics.soccernet import evaluate_cameras
+from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.inputs import frames_from_source
 from broadtrack_graph.track.passes import run_frames
-from broadtrack_graph.actions.track import track_input
 
 FRAMES = 24
 
