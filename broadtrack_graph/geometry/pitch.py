@@ -65,13 +65,21 @@ CIRCLE_CLASSES: tuple[str, ...] = ("Circle central", "Circle left", "Circle righ
 
 
 def _mirror_name(name: str) -> str:
-    """Class seen through a point reflection about the centre spot (left<->right and top<->bottom)."""
+    """Class seen through the point reflection about the centre spot, (x, y) -> (-x, -y).
+
+    Lines and areas swap left<->right and top<->bottom together. A goal swaps ends but
+    its posts keep their names: the template names a post by its side as seen from
+    that goal's end of the pitch (the left goal's "post left" is at y = +3.66, the right
+    goal's "post left" at y = -3.66), so the reflection takes "Goal left post left" to
+    "Goal right post left" (the official SoccerNet mirror table agrees).
+    """
     if name in ("Middle line", "Circle central") or name in UNKNOWN_CLASSES:
         return name
-    swaps = {"left": "right", "right": "left", "top": "bottom", "bottom": "top"}
     if name.startswith("Goal"):
-        # "Goal left post right" -> "Goal right post left": side of goal and side of post both swap.
-        return " ".join(swaps.get(word, word) for word in name.split(" "))
+        words = name.split(" ")
+        words[1] = {"left": "right", "right": "left"}[words[1]]  # only the goal's end swaps
+        return " ".join(words)
+    swaps = {"left": "right", "right": "left", "top": "bottom", "bottom": "top"}
     return " ".join(swaps.get(word, word) for word in name.split(" "))
 
 

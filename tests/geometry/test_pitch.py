@@ -82,8 +82,26 @@ def test_dimensions_are_parameters():
 
 
 def test_mirror_map_is_an_involution_matching_soccernet():
-    assert MIRRORED_CLASS["Goal left post left"] == "Goal right post right"
+    assert MIRRORED_CLASS["Goal left post left"] == "Goal right post left"
+    assert MIRRORED_CLASS["Goal left post right"] == "Goal right post right"
+    assert MIRRORED_CLASS["Goal left crossbar"] == "Goal right crossbar"
     assert MIRRORED_CLASS["Big rect. left top"] == "Big rect. right bottom"
     assert MIRRORED_CLASS["Middle line"] == "Middle line" and MIRRORED_CLASS["Circle central"] == "Circle central"
     for name, mirrored in MIRRORED_CLASS.items():
         assert MIRRORED_CLASS[mirrored] == name
+
+
+@pytest.mark.parametrize("dimensions", [PitchDimensions(), PitchDimensions(length_m=100.0, width_m=64.0)])
+def test_mirror_map_matches_the_template_geometry(dimensions):
+    """Reflect every class's 3D points through the centre spot: they land on the mirrored class."""
+    pitch = PitchTemplate(dimensions)
+    samples = pitch.sample_uniform(0.5)
+    for name in LINE_CLASSES:
+        reflected = samples[name] * np.array([-1.0, -1.0, 1.0])
+        distances = {}
+        for other in LINE_CLASSES:
+            gaps = np.linalg.norm(reflected[:, None, :] - samples[other][None, :, :], axis=2).min(axis=1)
+            distances[other] = float(gaps.max())
+        landed = min(distances, key=distances.get)
+        assert distances[landed] < 0.26, (name, landed, distances[landed])
+        assert MIRRORED_CLASS[name] == landed, (name, MIRRORED_CLASS[name], landed)

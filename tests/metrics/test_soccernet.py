@@ -163,3 +163,23 @@ def test_real_annotations_vs_published_cameras(sn_calibration_dir):
     # Scores rise with tau and are proper fractions.
     finals = [report["taus"][t]["final_score"] for t in ("5", "10", "20")]
     assert 0.5 < finals[0] < finals[1] < finals[2] < 1.0
+
+
+# Figures of the official sn-calibration evaluation on these files (NBJW cameras, 960x540).
+OFFICIAL_FINAL_SCORES = {"5": 0.7368, "10": 0.8763, "20": 0.9122}
+OFFICIAL_JAC5_GOAL_FRAMES = {  # frames with goal posts, where the mirrored post names decide the score
+    "01766": 0.6154, "01904": 0.5556, "02456": 1.0, "02505": 0.6667, "02557": 0.7000, "02602": 0.6364, "02626": 1.0,
+}
+
+
+def test_real_scores_match_the_official_evaluation(sn_calibration_dir):
+    """Final scores at tau 5/10/20 and the goal-post frames agree with the official figures (4 decimals)."""
+    annotations = read_annotations(sn_calibration_dir / "annotations")
+    cameras, _ = load_cameras(sn_calibration_dir / "nbjw-cameras", annotations.frames, W, H)
+    report = evaluate_cameras(annotations, cameras, W, H, taus=(5, 10, 20))
+    for tau, expected in OFFICIAL_FINAL_SCORES.items():
+        assert round(report["taus"][tau]["final_score"], 4) == expected
+    accuracy_sum = sum(frame["jac"]["5"] for frame in report["per_frame"].values() if frame["jac"]["5"] is not None)
+    assert accuracy_sum == pytest.approx(1071.30, abs=0.005)
+    for frame_id, expected in OFFICIAL_JAC5_GOAL_FRAMES.items():
+        assert round(report["per_frame"][frame_id]["jac"]["5"], 4) == expected, frame_id
