@@ -29,10 +29,13 @@ def run(args) -> int:
     print()
     print(result["table"])
     print()
-    print(f"synthetic clip (frames, ground truth): {result['clip']}")
+    reused = " (reused: same preset, seed, size and length)" if result["clip_reused"] else ""
+    print(f"synthetic clip (frames, ground truth): {result['clip']}{reused}")
     for name, path in result["runs"].items():
         print(f"{name} run (cameras/, track.jsonl, summary.json): {path}")
     print(f"comparison (compare.md, compare.json, series.png, focal_points.png): {result['compare']}")
     if result["overlay"]:
         print(f"overlay video: {result['overlay']}")
+    print(f"disk use: {result['disk_mb']:.0f} MB in {args.out} (the clip: {result['clip_disk_mb']:.0f} MB, "
+          f"kept for the next demo run; delete the folder to free it)")
     return 0
