@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import undistort_normalized
+from broadtrack_graph.geometry.distortion import undistort_normalized
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
 from factors.custom import custom_factor
 from factors.robust import cauchy_rows

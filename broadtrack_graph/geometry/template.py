@@ -30,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera, distort_normalized
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.distortion import distort_normalized
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z
 

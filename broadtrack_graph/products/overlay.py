@@ -22,7 +22,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera, distort_normalized, undistort_normalized
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.distortion import distort_normalized, undistort_normalized
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 
 logger = logging.getLogger(__name__)

@@ -36,7 +36,7 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, distances_to_polyline, project_template_polylines
-from broadtrack_graph.synth.render import SURFACE_GOAL, SURFACE_GROUND, SURFACE_PLAYER, fixed_point
+from broadtrack_graph.synth.drawing import SURFACE_GOAL, SURFACE_GROUND, SURFACE_PLAYER, fixed_point
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM
 
 DENSE_SAMPLES = 3000  # samples per element when looking for its visible parts
@@ -83,7 +83,7 @@ class Annotator:
 
         Args:
             camera: the frame's camera at the image resolution.
-            labels: (H, W) surface labels of the rendered frame (render.SURFACE_*).
+            labels: (H, W) surface labels of the rendered frame (drawing.SURFACE_*).
             class_ids: (H, W) marking class id + 1 under each ground pixel (RenderedFrame.class_ids),
                 needed for the mask.
             want_mask: build the per-class mask.

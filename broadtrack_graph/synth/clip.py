@@ -44,7 +44,7 @@ class SyntheticFrame:
     keypoints_px: visible template keypoints, name -> (2,) pixels.
     mask: (H, W) uint8 line-class mask (LINE_CLASSES index + 1, 0 = none), or None.
     player_boxes_px: (M, 5) [player index, x0, y0, x1, y1] pixels.
-    labels: (H, W) uint8 surface labels (render.SURFACE_*).
+    labels: (H, W) uint8 surface labels (drawing.SURFACE_*).
     """
 
     index: int

@@ -1,9 +1,12 @@
 """Broadcast camera motion on a tripod: presets and camera tracks for synthetic clips.
 
-A camera operator on a fluid head follows play. The model (DESIGN.md, tripod):
+A camera operator on a fluid head follows play. The model (the tripod model of
+:mod:`broadtrack_graph.geometry.tripod`):
 
-* T_w and delta are fixed for the clip; the focal point slides along the optical axis
-  with zoom: ``C = T - delta r2 + lambda r3`` (exact for every generated frame).
+* The pan and tilt axes meet at a fixed point T_w and the optical axis passes at a fixed
+  offset delta from it, for the whole clip; the focal point slides along the optical axis
+  with zoom: ``C = T - delta r2 + lambda r3``, with r_i the columns of ``R_cw^T`` (r3 the
+  optical axis) and lambda the slide along it, metres (exact for every generated frame).
 * Play is a ball path on the pitch: dribbles (a few m/s), pauses and long passes
   (fast sweeps). The operator's aim point follows the ball through a critically damped
   second-order filter (the fluid head), so pan and tilt are smooth; small operator

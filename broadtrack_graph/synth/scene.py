@@ -1,6 +1,6 @@
 """The synthetic stadium: geometry of boards, stands, goals, and the players' motion.
 
-Pitch frame of DESIGN.md (metres, origin at the centre spot, x to the right goal,
+Pitch frame: SoccerNet's world frame (metres, origin at the centre spot, x to the right goal,
 +y to the near touchline, z DOWN). No I/O here.
 """
 

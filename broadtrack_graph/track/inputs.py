@@ -11,7 +11,7 @@ import numpy as np
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.detections import DetectionsFile
-from broadtrack_graph.io.frames import FrameSource
+from broadtrack_graph.io.frame_source import FrameSource
 
 log = logging.getLogger(__name__)
 

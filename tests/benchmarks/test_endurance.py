@@ -11,14 +11,9 @@ import json
 import os
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from broadtrack_graph.benchmarks.endurance import (
-    check_interrupted_run,
-    ensure_endurance_clip,
-    pingpong_index,
-)
+from broadtrack_graph.benchmarks.endurance_kill import check_interrupted_run
 from broadtrack_graph.cli import main
 
 FRAMES, UNIQUE, BLOCK = 60, 12, 20
@@ -33,32 +28,6 @@ def bench(tmp_path_factory) -> tuple[dict, Path]:
                  "--json", str(report_path), "--no-progress"])
     assert code == 0
     return json.loads(report_path.read_text()), out
-
-
-def test_pingpong_index_plays_the_segment_back_and_forth():
-    assert [pingpong_index(k, 4) for k in range(10)] == [0, 1, 2, 3, 2, 1, 0, 1, 2, 3]
-    assert [pingpong_index(k, 2) for k in range(5)] == [0, 1, 0, 1, 0]
-    assert pingpong_index(7, 1) == 0
-    # Consecutive frames are neighbours in the segment (a continuous camera path).
-    steps = np.abs(np.diff([pingpong_index(k, 37) for k in range(500)]))
-    assert set(steps.tolist()) == {1}
-    with pytest.raises(ValueError):
-        pingpong_index(0, 0)
-
-
-def test_endurance_clip_links_every_frame_to_its_segment_frame(tmp_path):
-    segment = tmp_path / "segment"
-    (segment / "img1").mkdir(parents=True)
-    for i in range(3):
-        (segment / "img1" / f"{i + 1:06d}.jpg").write_bytes(bytes([i]))
-    folder, built = ensure_endurance_clip(segment, tmp_path / "clip", 7, 3)
-    assert built
-    names = sorted(p.name for p in folder.glob("*.jpg"))
-    assert names == [f"{k + 1:06d}.jpg" for k in range(7)]
-    assert [(folder / n).read_bytes()[0] for n in names] == [0, 1, 2, 1, 0, 1, 2]
-    assert ensure_endurance_clip(segment, tmp_path / "clip", 7, 3) == (folder, False)
-    _, rebuilt = ensure_endurance_clip(segment, tmp_path / "clip", 5, 3)
-    assert rebuilt and len(list(folder.glob("*.jpg"))) == 5
 
 
 def test_blocks_cover_every_frame_with_sane_figures(bench):

@@ -4,14 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.camera import (
-    Camera,
-    ExtraDistortion,
-    angles_from_rotation,
-    distort_normalized,
-    rotation_from_angles,
-    undistort_normalized,
-)
+from broadtrack_graph.geometry.camera import Camera, angles_from_rotation, rotation_from_angles
 from broadtrack_graph.io.cameras import list_camera_files, read_camera_file, write_camera_file
 
 
@@ -74,20 +67,6 @@ def test_points_behind_camera_are_masked():
     uv, in_front = camera.project(np.vstack([behind, [0.0, 0.0, 0.0]]))
     assert not in_front[0] and in_front[1]
     assert np.isnan(uv[0]).all() and np.isfinite(uv[1]).all()
-
-
-def test_full_distortion_model_matches_formula():
-    extra = ExtraDistortion((0.01, -0.002, 0.03, 0.001, 0.0005), (0.001, -0.002), (0.0003, 0.0001, -0.0002, 0.0004))
-    xy = np.array([[0.1, -0.2], [0.3, 0.25]])
-    k1 = -0.1
-    out = distort_normalized(xy, k1, extra)
-    x, y = xy[1]
-    r2 = x * x + y * y
-    radial = (1 - 0.1 * r2 + 0.01 * r2**2 - 0.002 * r2**3) / (1 + 0.03 * r2 + 0.001 * r2**2 + 0.0005 * r2**3)
-    xd = x * radial + 2 * 0.001 * x * y + -0.002 * (r2 + 2 * x * x) + 0.0003 * r2 + 0.0001 * r2**2
-    yd = y * radial + 2 * -0.002 * x * y + 0.001 * (r2 + 2 * y * y) + -0.0002 * r2 + 0.0004 * r2**2
-    np.testing.assert_allclose(out[1], [xd, yd], rtol=1e-14)
-    np.testing.assert_allclose(undistort_normalized(out, k1, extra), xy, atol=1e-12)
 
 
 @pytest.mark.parametrize("k1", [-0.5, -0.2, 0.0, 0.2, 0.5])

@@ -97,7 +97,7 @@ def test_real_soccernet_frames_refine_towards_their_annotation():
     factors on real data, not an accuracy benchmark: the points fitted are the points scored)."""
     if not (DATA / "annotations").is_dir() or not (DATA / "nbjw-cameras").is_dir():
         pytest.skip(f"real SoccerNet data not found at {DATA}")
-    from broadtrack_graph.geometry.camera import ExtraDistortion
+    from broadtrack_graph.geometry.distortion import ExtraDistortion
     from broadtrack_graph.geometry.pitch import MIRRORED_CLASS
     from broadtrack_graph.io.annotations import read_annotation_file
     from broadtrack_graph.io.cameras import read_camera_file

@@ -11,9 +11,9 @@ import pytest
 from broadtrack_graph import cli
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
-from broadtrack_graph.io.frames import VideoSource
 from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.io.video import VideoSource
 from broadtrack_graph.products.overlay import (
     confidence_colour_bgr,
     draw_pitch,
