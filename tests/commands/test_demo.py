@@ -14,7 +14,8 @@ def test_settings_reach_the_action(monkeypatch, capsys):
 
     def fake_run_demo(out, settings, progress):
         seen.append((out, settings, progress))
-        return {"table": "| t |", "clip": "c", "runs": {"online": "o"}, "compare": "cmp", "overlay": None}
+        return {"table": "| t |", "clip": "c", "runs": {"online": "o"}, "compare": "cmp", "overlay": None,
+                "clip_reused": True, "disk_mb": 12.0, "clip_disk_mb": 10.0}
 
     monkeypatch.setattr(demo_command, "run_demo", fake_run_demo)
     assert main(["demo", "--no-progress"]) == 0
