@@ -46,12 +46,20 @@ def focal_from_ray_angle(uv_px: np.ndarray, angle_rad: float, width_px: int, hei
     return math.sqrt(lo * hi)
 
 
-def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int) -> Camera | None:
+def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int,
+                           steps: int = 4) -> Camera | None:
     """The two-point method: focal point fixed at position_w, roll 0, k1 0.
 
     Args:
         uv_px: (2, 2) pixels of two pitch points; points_w: (2, 3) their positions (metres).
         position_w: (3,) focal point (the tripod T).
+        steps: fixed-point steps on (pan, tilt) once roll is set to 0.
+
+    The rotation that carries the two world rays onto the two camera rays (f from their angle)
+    gives pan and tilt; dropping its roll moves the points, so a few Gauss-Newton steps on
+    (pan, tilt) alone then bring the two points back (least squares over both). Sign facts
+    used by the steps, for a camera looking down at the pitch: +pan moves points towards -u by
+    about f sin(tilt) per radian, +tilt moves them towards +v by about f per radian.
 
     Returns:
         The camera, or None when the pair is degenerate or the angle cannot be matched.
@@ -75,15 +83,33 @@ def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px
     R_cw = u @ np.diag([1, 1, np.sign(np.linalg.det(u @ vt))]) @ vt
     pan, tilt, _ = angles_from_rotation(R_cw)
     camera = Camera(focal, 0.0, pan, tilt, 0.0, np.asarray(position_w, float), width_px, height_px)
-    # A few fixed-point steps on pan/tilt with roll held at 0: align the mean ray.
-    for _ in range(3):
-        uv, front = camera.project(np.asarray(points_w, dtype=float).reshape(2, 3))
+    return _pan_tilt_steps(camera, uv_px, np.asarray(points_w, dtype=float).reshape(2, 3), steps)
+
+
+def _pan_tilt_steps(camera: Camera, uv_px: np.ndarray, points_w: np.ndarray, steps: int) -> Camera | None:
+    """Gauss-Newton steps on (pan, tilt) of ``camera`` (roll, f, k1, C held) bringing points_w onto uv_px.
+
+    Args:
+        uv_px: (N, 2) pixels; points_w: (N, 3) metres. The Jacobian is the analytic one of
+            :func:`project_state` (state columns 2 = pan, 3 = tilt).
+
+    Returns:
+        The camera, or None when a point falls behind it.
+    """
+    W, H = camera.width_px, camera.height_px
+    state = camera.to_vector()
+    for _ in range(steps):
+        uv, J_uv, front = project_state(state, points_w, W, H)
         if not front.all():
             return None
-        shift = (uv_px - uv).mean(axis=0) / focal
-        camera = camera.replace(pan_rad=camera.pan_rad + shift[0] / max(math.sin(camera.tilt_rad), 0.2),
-                                tilt_rad=camera.tilt_rad - shift[1])
-    return camera
+        residual = (uv_px - uv).ravel()
+        J = J_uv.reshape(-1, 8)[:, 2:4]
+        step, *_ = np.linalg.lstsq(J, residual, rcond=None)
+        state[2:4] += np.clip(step, -0.2, 0.2)
+        if np.max(np.abs(step)) < 1e-9:
+            break
+    _, _, front = project_state(state, points_w, W, H)
+    return Camera.from_vector(state, W, H) if front.all() else None
 
 
 def reinit_from_keypoints(
