@@ -2,7 +2,8 @@
 
 The two-point method: with the focal point at the tripod and roll 0, the angle between the
 rays of two keypoints gives f, and rotating the two world rays onto the two camera rays
-gives pan and tilt. Each candidate focal point (default: the default tripods) is tried.
+gives pan and tilt. Each candidate focal point (default: the common broadcast positions and
+their mirror images) is tried.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down (a camera above the pitch
 has z < 0); pan 0 looks towards -y, positive pan turns towards +x. No I/O.
@@ -17,7 +18,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
 from broadtrack_graph.geometry.state import project_state
-from broadtrack_graph.reinit.positions import DEFAULT_TRIPOD_POSITIONS_W
+from broadtrack_graph.reinit.positions import candidate_positions
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
 
@@ -121,13 +122,18 @@ def reinit_from_keypoints(
     inlier_px: float = 10.0,
     max_pairs: int = 60,
     seed: int = 0,
+    refine_top: int = 3,
 ) -> ReinitResult:
     """Camera from labelled keypoints: two-point method in RANSAC over pairs, then refinement.
 
-    For each candidate focal point (default: :data:`DEFAULT_TRIPOD_POSITIONS_W`), pairs of
-    keypoints give cameras (:func:`camera_from_two_points`); the one with most keypoints
-    within ``inlier_px`` wins, and f, pan, tilt, roll and the focal point are then refined
-    on its inliers (Cauchy-weighted Gauss-Newton on the reprojection error, weak priors).
+    For each candidate focal point (default: :func:`candidate_positions`, the common broadcast
+    positions and their mirror images; after a tripod fit the tracker passes its T alone),
+    pairs of keypoints give cameras (:func:`camera_from_two_points`), scored by the keypoints
+    of the whole frame within ``inlier_px`` (then by their capped error). The best hypotheses
+    of the ``refine_top`` best positions are refined on their inliers (at 2x, then 1x
+    ``inlier_px``: f, pan, tilt, roll and the focal point, Cauchy-weighted Gauss-Newton, weak
+    priors) and re-scored; the best wins. ``inlier_px`` 10 suits keypoints a few px off
+    (a heatmap detector's ~3 px).
 
     Args:
         uv_px: (N, 2) pixels; points_w: (N, 3) metres. N >= 2.
@@ -139,32 +145,51 @@ def reinit_from_keypoints(
     points_w = np.asarray(points_w, float).reshape(-1, 3)
     if len(uv_px) < 2:
         return ReinitResult(None, None, "", "fewer than 2 keypoints")
-    positions = list(DEFAULT_TRIPOD_POSITIONS_W.values()) if positions_w is None else [tuple(p) for p in positions_w]
+    positions = candidate_positions() if positions_w is None else [tuple(p) for p in positions_w]
     rng = np.random.default_rng(seed)
     pairs = list(itertools.combinations(range(len(uv_px)), 2))
     if len(pairs) > max_pairs:
         pairs = [pairs[i] for i in rng.choice(len(pairs), max_pairs, replace=False)]
-    best = None
+    # Hypotheses: the best pair per candidate focal point, scored by inliers among ALL keypoints.
+    per_position = []
     for position in positions:
+        best = None
         for i, j in pairs:
             camera = camera_from_two_points(uv_px[[i, j]], points_w[[i, j]], position, width_px, height_px)
             if camera is None:
                 continue
-            uv, front = camera.project(points_w)
-            err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
-            inliers = err < inlier_px
-            key = (int(inliers.sum()), -float(np.sum(np.minimum(err, inlier_px))))
+            key, _ = _score(camera, uv_px, points_w, inlier_px)
             if best is None or key > best[0]:
-                best = (key, camera, inliers, position)
-    if best is None:
+                best = (key, camera, position)
+        if best is not None:
+            per_position.append(best)
+    if not per_position:
         return ReinitResult(None, None, "", "no keypoint pair gave a camera", len(pairs))
-    _, camera, inliers, position = best
-    camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
+    # The most promising hypotheses are refined on their inliers (loose, then tight) and re-scored.
+    per_position.sort(key=lambda item: item[0], reverse=True)
+    best = None
+    for _, camera, position in per_position[:refine_top]:
+        for threshold in (2.0 * inlier_px, inlier_px):
+            _, inliers = _score(camera, uv_px, points_w, threshold)
+            if inliers.sum() >= 3:
+                camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
+        key, _ = _score(camera, uv_px, points_w, inlier_px)
+        if best is None or key > best[0]:
+            best = (key, camera, position)
+    _, camera, position = best
     uv, front = camera.project(points_w)
     err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
     share = float(np.mean(err < inlier_px))
     score = LabelledScore(0.0, 0, 0, 0, share, float(np.mean(np.minimum(err, 100.0))))
     return ReinitResult(camera, score, f"two-point at {tuple(round(v) for v in position)}", tried=len(pairs))
+
+
+def _score(camera: Camera, uv_px: np.ndarray, points_w: np.ndarray, inlier_px: float):
+    """((inlier count, -sum of errors capped at inlier_px), inlier mask (N,)) of a camera on keypoints."""
+    uv, front = camera.project(points_w)
+    err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
+    inliers = err < inlier_px
+    return (int(inliers.sum()), -float(np.sum(np.minimum(err, inlier_px)))), inliers
 
 
 def _refine_on_keypoints(camera: Camera, uv_px, points_w, position_w, iterations: int = 15,
