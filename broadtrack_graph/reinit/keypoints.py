@@ -123,6 +123,7 @@ def reinit_from_keypoints(
     max_pairs: int = 60,
     seed: int = 0,
     refine_top: int = 3,
+    loose_per_focal: float = 0.03,
 ) -> ReinitResult:
     """Camera from labelled keypoints: two-point method in RANSAC over pairs, then refinement.
 
@@ -130,9 +131,10 @@ def reinit_from_keypoints(
     positions and their mirror images; after a tripod fit the tracker passes its T alone),
     pairs of keypoints give cameras (:func:`camera_from_two_points`), scored by the keypoints
     of the whole frame within ``inlier_px`` (then by their capped error). The best hypotheses
-    of the ``refine_top`` best positions are refined on their inliers (at 2x, then 1x
-    ``inlier_px``: f, pan, tilt, roll and the focal point, Cauchy-weighted Gauss-Newton, weak
-    priors) and re-scored; the best wins. ``inlier_px`` 10 suits keypoints a few px off
+    of the ``refine_top`` best positions are refined on their inliers (first within
+    max(4 ``inlier_px``, ``loose_per_focal`` f) since a focal point metres off moves the keypoints
+    in proportion to f, then 2x and 1x ``inlier_px``: f, pan, tilt, roll and the focal point,
+    Cauchy-weighted Gauss-Newton, weak priors) and re-scored; the best wins. ``inlier_px`` 10 suits keypoints a few px off
     (a heatmap detector's ~3 px).
 
     Args:
@@ -169,7 +171,8 @@ def reinit_from_keypoints(
     per_position.sort(key=lambda item: item[0], reverse=True)
     best = None
     for _, camera, position in per_position[:refine_top]:
-        for threshold in (2.0 * inlier_px, inlier_px):
+        # A focal point metres off shifts the far keypoints in proportion to f: start loose.
+        for threshold in (max(4.0 * inlier_px, loose_per_focal * camera.focal_px), 2.0 * inlier_px, inlier_px):
             _, inliers = _score(camera, uv_px, points_w, threshold)
             if inliers.sum() >= 3:
                 camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
