@@ -43,6 +43,8 @@ class TrackingConfig:
             raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
         if self.lag_frames < 1:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
+        if self.recover_max_frames < 0:
+            raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
 
