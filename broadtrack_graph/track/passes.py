@@ -71,13 +71,15 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     if recover:
         frames = _capturing(frames, given)
     if config.mode != "batch":
+        # Fixed-lag keeps no per-frame observations of its own (a long run would grow without
+        # bound): the recovery works on the observations a detections file brought.
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
-                          reinit_positions=reinit_positions, mask_paths=mask_paths, keep_observations=recover)
+                          reinit_positions=reinit_positions, mask_paths=mask_paths)
         run_loop(run, frames, progress, total, config.mode)
         result = run.finish()
-        if not recover:
+        if not recover or not given:
             return result
-        return recover_fixed_lag(result, {**given, **run.kept}, width_px, height_px, config, pitch, run_info,
+        return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
                                  graph_config_for(config, graph_config))
     first = replace(config, mode="online")
     run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
