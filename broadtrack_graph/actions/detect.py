@@ -40,6 +40,7 @@ from broadtrack_graph.io.annotations import GAMESTATE_FILE, read_annotations
 from broadtrack_graph.io.detections import DetectionsWriter, write_mask_png
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.jsonfile import read_json
+from broadtrack_graph.io.nbjw_keypoints import read_nbjw_predictions
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
@@ -299,6 +300,47 @@ def import_annotations(
         raise InputError(out_path, f"cannot write: {exc.strerror or exc}") from None
     summary.records = len(records)
     summary.frames_with_lines = sum(bool(r["lines"]) for _, r in records)
+    summary.seconds = time.perf_counter() - started
+    for line in summary.skipped:
+        log.warning(line)
+    return summary
+
+
+def import_nbjw(source: str | Path, out_path: str | Path, width_px: int, height_px: int, clip: str | None = None,
+                units: str = "normalized") -> ExportSummary:
+    """NBJW / PnLCalib per-frame keypoint predictions (folder or zip) -> a detections file of keypoints.
+
+    Each keypoint is written with its pitch position (``world``, metres, SoccerNet frame), its
+    NBJW number (``id``) and its probability (``confidence``); frame index = the file's rank in
+    numeric order, frame id = the file stem. Unknown keypoint numbers are reported (one line
+    each) and skipped.
+
+    Args:
+        source: folder or zip archive of the per-frame JSON files.
+        out_path: the .jsonl file to write.
+        width_px, height_px: size of the images the predictions are for.
+        clip: which clip, when the source holds several.
+        units: "normalized" (NBJW's default) or "px".
+
+    Raises:
+        InputError: unreadable source, several clips without ``clip``, bad image size.
+    """
+    started = time.perf_counter()
+    if width_px is None or height_px is None or width_px < 2 or height_px < 2:
+        raise InputError(None, "--import nbjw needs the image size: give --width and --height")
+    out_path = Path(out_path)
+    predictions = read_nbjw_predictions(source, width_px, height_px, clip=clip, units=units)
+    summary = ExportSummary(out_path, skipped=list(predictions.issues))
+    try:
+        with DetectionsWriter(out_path) as writer:
+            for observations in predictions.frames:
+                index = observations.frame_index
+                writer.write(observations, predictions.frame_ids[index], keypoint_ids=predictions.keypoint_ids[index])
+                summary.frames += 1
+                summary.records += 1
+                summary.frames_with_keypoints += observations.keypoints is not None
+    except OSError as exc:
+        raise InputError(out_path, f"cannot write: {exc.strerror or exc}") from None
     summary.seconds = time.perf_counter() - started
     for line in summary.skipped:
         log.warning(line)

@@ -12,7 +12,8 @@ from broadtrack_graph.commands.tracking_options import (
 )
 from broadtrack_graph.errors import InputError
 
-HELP = "write a detections file (JSON lines) from frames with the project's detector, or from SoccerNet annotations"
+HELP = ("write a detections file (JSON lines) from frames with the project's detector, from SoccerNet annotations, "
+        "or from NBJW / PnLCalib keypoint predictions")
 
 
 def add_arguments(parser) -> None:
@@ -22,8 +23,16 @@ def add_arguments(parser) -> None:
     parser.add_argument("--annotations", type=Path,
                         help="instead of INPUT: import SoccerNet line annotations (folder of per-image JSON or "
                              "Labels-GameState.json) as line detections")
-    parser.add_argument("--width", type=int, help="--annotations: image width the annotations refer to")
-    parser.add_argument("--height", type=int, help="--annotations: image height")
+    parser.add_argument("--import", dest="import_kind", choices=["nbjw"], default=None,
+                        help="instead of INPUT: import a published detector's per-frame predictions; nbjw = No Bells "
+                             "Just Whistles / PnLCalib keypoint files (folder or zip of per-frame JSON); INPUT is "
+                             "their folder or zip")
+    parser.add_argument("--clip", default=None,
+                        help="--import: the clip to import when the folder holds several (file stem without IMG_<n>)")
+    parser.add_argument("--units", choices=["normalized", "px"], default="normalized",
+                        help="--import: keypoint coordinates normalised by the image size (default) or pixels")
+    parser.add_argument("--width", type=int, help="--annotations / --import: image width the coordinates refer to")
+    parser.add_argument("--height", type=int, help="--annotations / --import: image height")
     parser.add_argument("--first-number", type=int, default=None,
                         help="--annotations folder: number of the file of frame 0 (default 1, or 0 if a file 0 exists)")
     parser.add_argument("--no-masks", action="store_true", help="do not write the marking masks")
@@ -34,8 +43,15 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from broadtrack_graph.actions.detect import export_detections, import_annotations
+    from broadtrack_graph.actions.detect import export_detections, import_annotations, import_nbjw
 
+    if args.import_kind is not None:
+        if args.input is None or args.annotations is not None:
+            raise InputError(None, "--import nbjw needs the predictions folder or zip as INPUT (and no --annotations)")
+        summary = import_nbjw(args.input, args.out, args.width, args.height, clip=args.clip, units=args.units)
+        print(f"imported {summary.records} frames ({summary.frames_with_keypoints} with keypoints) into {summary.path}"
+              + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else ""))
+        return 0
     if (args.input is None) == (args.annotations is None):
         raise InputError(None, "give either INPUT (frames) or --annotations SOURCE")
     if args.annotations is not None:

@@ -46,6 +46,10 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--batch-tripod", choices=("fixed", "joint"), default=None,
                         help="batch: hold the first pass's tripod fixed in the refinement or re-estimate it jointly "
                              f"(default {_DEFAULT.batch_tripod})")
+    parser.add_argument("--recover-max-frames", type=int, default=None,
+                        help="fixed-lag / batch: frames without a camera (before the first lock, in a gap) are recovered "
+                             "from their nearest good frame when the gap is at most this long; 0 = off "
+                             f"(default {_DEFAULT.recover_max_frames})")
 
 
 def config_from_args(args) -> TrackingConfig:
@@ -56,7 +60,7 @@ def config_from_args(args) -> TrackingConfig:
     """
     overrides = {}
     for flag, field in (("mode", "mode"), ("lag", "lag_frames"), ("confidence_threshold", "confidence_threshold"),
-                        ("batch_tripod", "batch_tripod")):
+                        ("batch_tripod", "batch_tripod"), ("recover_max_frames", "recover_max_frames")):
         if getattr(args, flag, None) is not None:
             overrides[field] = getattr(args, flag)
     for flag, field in (("no_flow", "use_flow"), ("no_tripod", "use_tripod"), ("no_k1", "estimate_k1")):

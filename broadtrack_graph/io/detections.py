@@ -249,8 +249,11 @@ def read_detections(
 
 
 def observations_to_record(observations: FrameObservations, frame_id: str | None = None,
-                           mask_path: str | None = None) -> dict:
-    """FrameObservations -> one JSON object of the detections format (pixels)."""
+                           mask_path: str | None = None, keypoint_ids: list[int] | None = None) -> dict:
+    """FrameObservations -> one JSON object of the detections format (pixels).
+
+    keypoint_ids: optional number per keypoint in a detector's own numbering (kept as "id").
+    """
     record: dict = {"frame": int(observations.frame_index),
                     "image_size": [int(observations.width_px), int(observations.height_px)], "units": "px"}
     if frame_id is not None:
@@ -262,6 +265,8 @@ def observations_to_record(observations: FrameObservations, frame_id: str | None
         record["keypoints"] = []
         for index in range(len(kp)):
             entry = {"xy": np.round(kp.uv_px[index], 2).tolist(), "confidence": round(float(kp.confidence[index]), 4)}
+            if keypoint_ids is not None and index < len(keypoint_ids):
+                entry["id"] = int(keypoint_ids[index])
             name = kp.names[index] if index < len(kp.names) else ""
             if name:
                 entry["name"] = name
@@ -283,8 +288,9 @@ class DetectionsWriter:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._handle = self.path.open("w", encoding="utf-8")
 
-    def write(self, observations: FrameObservations, frame_id: str | None = None, mask_path: str | None = None) -> None:
-        self._handle.write(json.dumps(observations_to_record(observations, frame_id, mask_path)) + "\n")
+    def write(self, observations: FrameObservations, frame_id: str | None = None, mask_path: str | None = None,
+              keypoint_ids: list[int] | None = None) -> None:
+        self._handle.write(json.dumps(observations_to_record(observations, frame_id, mask_path, keypoint_ids)) + "\n")
         self._handle.flush()
 
     def close(self) -> None:

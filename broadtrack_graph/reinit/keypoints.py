@@ -2,7 +2,8 @@
 
 The two-point method: with the focal point at the tripod and roll 0, the angle between the
 rays of two keypoints gives f, and rotating the two world rays onto the two camera rays
-gives pan and tilt. Each candidate focal point (default: the default tripods) is tried.
+gives pan and tilt. Each candidate focal point (default: the common broadcast positions and
+their mirror images) is tried.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down (a camera above the pitch
 has z < 0); pan 0 looks towards -y, positive pan turns towards +x. No I/O.
@@ -17,7 +18,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
 from broadtrack_graph.geometry.state import project_state
-from broadtrack_graph.reinit.positions import DEFAULT_TRIPOD_POSITIONS_W
+from broadtrack_graph.reinit.positions import candidate_positions
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
 
@@ -46,12 +47,20 @@ def focal_from_ray_angle(uv_px: np.ndarray, angle_rad: float, width_px: int, hei
     return math.sqrt(lo * hi)
 
 
-def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int) -> Camera | None:
+def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int,
+                           steps: int = 4) -> Camera | None:
     """The two-point method: focal point fixed at position_w, roll 0, k1 0.
 
     Args:
         uv_px: (2, 2) pixels of two pitch points; points_w: (2, 3) their positions (metres).
         position_w: (3,) focal point (the tripod T).
+        steps: fixed-point steps on (pan, tilt) once roll is set to 0.
+
+    The rotation that carries the two world rays onto the two camera rays (f from their angle)
+    gives pan and tilt; dropping its roll moves the points, so a few Gauss-Newton steps on
+    (pan, tilt) alone then bring the two points back (least squares over both). Sign facts
+    used by the steps, for a camera looking down at the pitch: +pan moves points towards -u by
+    about f sin(tilt) per radian, +tilt moves them towards +v by about f per radian.
 
     Returns:
         The camera, or None when the pair is degenerate or the angle cannot be matched.
@@ -75,15 +84,33 @@ def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px
     R_cw = u @ np.diag([1, 1, np.sign(np.linalg.det(u @ vt))]) @ vt
     pan, tilt, _ = angles_from_rotation(R_cw)
     camera = Camera(focal, 0.0, pan, tilt, 0.0, np.asarray(position_w, float), width_px, height_px)
-    # A few fixed-point steps on pan/tilt with roll held at 0: align the mean ray.
-    for _ in range(3):
-        uv, front = camera.project(np.asarray(points_w, dtype=float).reshape(2, 3))
+    return _pan_tilt_steps(camera, uv_px, np.asarray(points_w, dtype=float).reshape(2, 3), steps)
+
+
+def _pan_tilt_steps(camera: Camera, uv_px: np.ndarray, points_w: np.ndarray, steps: int) -> Camera | None:
+    """Gauss-Newton steps on (pan, tilt) of ``camera`` (roll, f, k1, C held) bringing points_w onto uv_px.
+
+    Args:
+        uv_px: (N, 2) pixels; points_w: (N, 3) metres. The Jacobian is the analytic one of
+            :func:`project_state` (state columns 2 = pan, 3 = tilt).
+
+    Returns:
+        The camera, or None when a point falls behind it.
+    """
+    W, H = camera.width_px, camera.height_px
+    state = camera.to_vector()
+    for _ in range(steps):
+        uv, J_uv, front = project_state(state, points_w, W, H)
         if not front.all():
             return None
-        shift = (uv_px - uv).mean(axis=0) / focal
-        camera = camera.replace(pan_rad=camera.pan_rad + shift[0] / max(math.sin(camera.tilt_rad), 0.2),
-                                tilt_rad=camera.tilt_rad - shift[1])
-    return camera
+        residual = (uv_px - uv).ravel()
+        J = J_uv.reshape(-1, 8)[:, 2:4]
+        step, *_ = np.linalg.lstsq(J, residual, rcond=None)
+        state[2:4] += np.clip(step, -0.2, 0.2)
+        if np.max(np.abs(step)) < 1e-9:
+            break
+    _, _, front = project_state(state, points_w, W, H)
+    return Camera.from_vector(state, W, H) if front.all() else None
 
 
 def reinit_from_keypoints(
@@ -95,13 +122,20 @@ def reinit_from_keypoints(
     inlier_px: float = 10.0,
     max_pairs: int = 60,
     seed: int = 0,
+    refine_top: int = 3,
+    loose_per_focal: float = 0.03,
 ) -> ReinitResult:
     """Camera from labelled keypoints: two-point method in RANSAC over pairs, then refinement.
 
-    For each candidate focal point (default: :data:`DEFAULT_TRIPOD_POSITIONS_W`), pairs of
-    keypoints give cameras (:func:`camera_from_two_points`); the one with most keypoints
-    within ``inlier_px`` wins, and f, pan, tilt, roll and the focal point are then refined
-    on its inliers (Cauchy-weighted Gauss-Newton on the reprojection error, weak priors).
+    For each candidate focal point (default: :func:`candidate_positions`, the common broadcast
+    positions and their mirror images; after a tripod fit the tracker passes its T alone),
+    pairs of keypoints give cameras (:func:`camera_from_two_points`), scored by the keypoints
+    of the whole frame within ``inlier_px`` (then by their capped error). The best hypotheses
+    of the ``refine_top`` best positions are refined on their inliers (first within
+    max(4 ``inlier_px``, ``loose_per_focal`` f) since a focal point metres off moves the keypoints
+    in proportion to f, then 2x and 1x ``inlier_px``: f, pan, tilt, roll and the focal point,
+    Cauchy-weighted Gauss-Newton, weak priors) and re-scored; the best wins. ``inlier_px`` 10 suits keypoints a few px off
+    (a heatmap detector's ~3 px).
 
     Args:
         uv_px: (N, 2) pixels; points_w: (N, 3) metres. N >= 2.
@@ -113,32 +147,52 @@ def reinit_from_keypoints(
     points_w = np.asarray(points_w, float).reshape(-1, 3)
     if len(uv_px) < 2:
         return ReinitResult(None, None, "", "fewer than 2 keypoints")
-    positions = list(DEFAULT_TRIPOD_POSITIONS_W.values()) if positions_w is None else [tuple(p) for p in positions_w]
+    positions = candidate_positions() if positions_w is None else [tuple(p) for p in positions_w]
     rng = np.random.default_rng(seed)
     pairs = list(itertools.combinations(range(len(uv_px)), 2))
     if len(pairs) > max_pairs:
         pairs = [pairs[i] for i in rng.choice(len(pairs), max_pairs, replace=False)]
-    best = None
+    # Hypotheses: the best pair per candidate focal point, scored by inliers among ALL keypoints.
+    per_position = []
     for position in positions:
+        best = None
         for i, j in pairs:
             camera = camera_from_two_points(uv_px[[i, j]], points_w[[i, j]], position, width_px, height_px)
             if camera is None:
                 continue
-            uv, front = camera.project(points_w)
-            err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
-            inliers = err < inlier_px
-            key = (int(inliers.sum()), -float(np.sum(np.minimum(err, inlier_px))))
+            key, _ = _score(camera, uv_px, points_w, inlier_px)
             if best is None or key > best[0]:
-                best = (key, camera, inliers, position)
-    if best is None:
+                best = (key, camera, position)
+        if best is not None:
+            per_position.append(best)
+    if not per_position:
         return ReinitResult(None, None, "", "no keypoint pair gave a camera", len(pairs))
-    _, camera, inliers, position = best
-    camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
+    # The most promising hypotheses are refined on their inliers (loose, then tight) and re-scored.
+    per_position.sort(key=lambda item: item[0], reverse=True)
+    best = None
+    for _, camera, position in per_position[:refine_top]:
+        # A focal point metres off shifts the far keypoints in proportion to f: start loose.
+        for threshold in (max(4.0 * inlier_px, loose_per_focal * camera.focal_px), 2.0 * inlier_px, inlier_px):
+            _, inliers = _score(camera, uv_px, points_w, threshold)
+            if inliers.sum() >= 3:
+                camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
+        key, _ = _score(camera, uv_px, points_w, inlier_px)
+        if best is None or key > best[0]:
+            best = (key, camera, position)
+    _, camera, position = best
     uv, front = camera.project(points_w)
     err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
     share = float(np.mean(err < inlier_px))
     score = LabelledScore(0.0, 0, 0, 0, share, float(np.mean(np.minimum(err, 100.0))))
     return ReinitResult(camera, score, f"two-point at {tuple(round(v) for v in position)}", tried=len(pairs))
+
+
+def _score(camera: Camera, uv_px: np.ndarray, points_w: np.ndarray, inlier_px: float):
+    """((inlier count, -sum of errors capped at inlier_px), inlier mask (N,)) of a camera on keypoints."""
+    uv, front = camera.project(points_w)
+    err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
+    inliers = err < inlier_px
+    return (int(inliers.sum()), -float(np.sum(np.minimum(err, inlier_px)))), inliers
 
 
 def _refine_on_keypoints(camera: Camera, uv_px, points_w, position_w, iterations: int = 15,

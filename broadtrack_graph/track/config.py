@@ -33,6 +33,9 @@ class TrackingConfig:
     min_marking_points: int = 12  # fewer marking points (or too little grass): "no pitch"
     min_grass_share: float = 0.05  # share of the image that must be playing surface
     write_960x540: bool = False  # also write cameras at the calibration benchmark's resolution
+    # offline modes: frames the forward pass left without a camera (before the first lock, in a gap)
+    # are recovered from their nearest good neighbour when the gap is at most this long (0: off)
+    recover_max_frames: int = 250
     flow: FlowConfig = FlowConfig()
 
     def __post_init__(self) -> None:
@@ -40,6 +43,8 @@ class TrackingConfig:
             raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
         if self.lag_frames < 1:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
+        if self.recover_max_frames < 0:
+            raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
 

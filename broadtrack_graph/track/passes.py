@@ -6,6 +6,12 @@ fixed in the tripod factor; the offline mode does the paper's two passes: track
 without the tripod term, fit, then a batch refinement (Levenberg-Marquardt over
 overlapping chunks) that re-estimates the tripod with the trajectory. The fitted
 tripod is written to ``tripod.json`` for later runs of the same camera.
+
+Both offline modes then give a camera to the frames the forward pass could not lock
+(:mod:`broadtrack_graph.track.recover`: walked in from the nearest good frame, backwards for
+the opening), and smooth them with their neighbours: batch mode refines them with the whole
+track; fixed-lag mode refines each recovered stretch with up to ``lag_frames`` good frames on
+either side (only the recovered frames' cameras are replaced). The online mode stays causal.
 """
 
 from __future__ import annotations
@@ -33,7 +39,13 @@ from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.recover import recover_gaps
 from broadtrack_graph.track.result import RunResult, std_fields
+
+_WRITER_KEYS = ("complete", "started_utc", "updated_utc", "width_px", "height_px", "frames_written",
+                "frames_with_camera", "completeness", "status_counts", "mean_confidence", "last_frame_index",
+                "elapsed_s", "fps", "files", "run")
+"""Summary keys a TrackWriter computes itself (the rest of a summary is carried over on a rewrite)."""
 
 
 def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
@@ -54,19 +66,88 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     metres off (seed 2: 2.9 m; with the held first pass: see the README figures).
     """
     out_dir = Path(out_dir)
+    recover = config.mode != "online" and config.recover_max_frames > 0
+    given: dict[int, FrameObservations] = {}
+    if recover:
+        frames = _capturing(frames, given)
     if config.mode != "batch":
+        # Fixed-lag keeps no per-frame observations of its own (a long run would grow without
+        # bound): the recovery works on the observations a detections file brought.
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
                           reinit_positions=reinit_positions, mask_paths=mask_paths)
         run_loop(run, frames, progress, total, config.mode)
-        return run.finish()
+        result = run.finish()
+        if not recover or not given:
+            return result
+        return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
+                                 graph_config_for(config, graph_config))
     first = replace(config, mode="online")
     run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True,
                       reinit_positions=reinit_positions, mask_paths=mask_paths)
     run_loop(run, frames, progress, total, "pass 1 (online)")
     pass1 = run.finish()
-    return refine_run(pass1, run.kept, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
+    observations = run.kept
+    if recover:
+        observations = {**given, **run.kept}
+        recovery = recover_gaps(pass1.records, observations, pitch or PitchTemplate(), graph_config_for(config, graph_config),
+                                config.confidence_threshold, config.recover_max_frames, pass1.tripod or tripod)
+        pass1 = RunResult(pass1.out_dir, {**pass1.summary, "offline_recovery": recovery.info()}, recovery.records,
+                          pass1.tripod)
+    return refine_run(pass1, observations, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
                       graph_config)
+
+
+def _capturing(frames, store: dict[int, FrameObservations]):
+    """The frames, noting the observations each one brings (a detections file's) in store."""
+    for frame in frames:
+        if frame.observations is not None:
+            store[frame.frame_index] = replace(frame.observations, marking_mask=None, flow=None)
+        yield frame
+
+
+def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
+                      config: TrackingConfig, pitch: PitchTemplate | None, run_info: dict | None,
+                      graph: GraphConfig) -> RunResult:
+    """Fixed-lag mode: recover the frames without a camera, smooth each recovered stretch with up to
+    ``lag_frames`` good frames on either side (batch LM, tripod held), and rewrite the run folder."""
+    pitch = pitch or PitchTemplate()
+    recovery = recover_gaps(result.records, observations, pitch, graph, config.confidence_threshold,
+                            config.recover_max_frames, result.tripod)
+    if not recovery.recovered:
+        return result
+    records = recovery.records
+    recovered = set(recovery.recovered)
+    position = {r.frame_index: i for i, r in enumerate(records)}
+    refiner = BatchRefiner(width_px, height_px, pitch, graph)
+    curves, sampling = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5), TemplateSampling(pitch)
+    for first, last in recovery.gaps:
+        lo = max(0, position[first] - config.lag_frames)
+        hi = min(len(records), position[last] + 1 + config.lag_frames)
+        window = [r for r in records[lo:hi] if r.camera is not None and r.frame_index in observations]
+        if not any(r.frame_index in recovered for r in window):
+            continue
+        initial = Track([FrameEstimate(r.frame_index, r.camera) for r in window])
+        for k in range(1, len(window)):
+            if window[k].frame_index != window[k - 1].frame_index + 1:
+                initial.frames[k].reinitialised = True
+        track, _ = refiner.refine([observations[r.frame_index] for r in window], initial, tripod=result.tripod,
+                                  estimate_tripod=False)
+        for estimate in track.frames:
+            if estimate is None or estimate.camera is None or estimate.frame_index not in recovered:
+                continue
+            i = position[estimate.frame_index]
+            obs = observations[estimate.frame_index]
+            records[i] = replace(records[i], camera=estimate.camera, std=std_fields(estimate),
+                                 confidence=frame_confidence(estimate.camera, obs, None, curves, sampling))
+    extra = {k: v for k, v in result.summary.items() if k not in _WRITER_KEYS}
+    extra["offline_recovery"] = recovery.info()
+    writer = TrackWriter(result.out_dir, width_px, height_px, also_960x540=config.write_960x540,
+                         run_info=result.summary.get("run", run_info or {}))
+    for record in records:
+        writer.write(record)
+    summary = writer.close(extra)
+    return RunResult(Path(result.out_dir), summary, records, result.tripod)
 
 
 def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
@@ -122,6 +203,8 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     pass1_s = float(pass1.summary.get("elapsed_s") or 0.0)
     extra = {"batch_refine_s": round(elapsed, 3), "pass1": str(Path(pass1.out_dir)), "pass1_s": round(pass1_s, 3),
              "fps_two_passes": round(len(pass1.records) / max(pass1_s + elapsed, 1e-9), 3)}
+    if "offline_recovery" in pass1.summary:
+        extra["offline_recovery"] = pass1.summary["offline_recovery"]
     if fitted is not None:
         extra["tripod"] = {"T_w": list(map(float, fitted.T_w)), "delta_m": float(fitted.delta_m)}
         RunFolder(out_dir).write_tripod(fitted, refiner.last_info.get("tripod_fit"))

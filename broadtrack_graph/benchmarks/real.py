@@ -1,0 +1,132 @@
+"""``broadtrack-graph bench real``: the tracker on real broadcast data, one section per data kind.
+
+Sections (each a function ``section(args) -> dict | None``, listed in :data:`SECTIONS`; the
+report merges them under their names; a section whose data is not given is skipped):
+
+- ``tsworldcup`` (``--tsworldcup DIR``): for every clip folder in DIR holding
+  ``detections.jsonl`` (a published detector's per-frame keypoints) and
+  ``gt_homographies.json`` (per-frame ground-plane homographies), every requested mode is
+  tracked from the detections file alone, and scored by the homography protocol
+  (:mod:`broadtrack_graph.metrics.homography_protocol`: completeness, IoU_part with missing
+  frames counted 0, IoU_whole, reprojection error, jitter) next to the per-frame baseline, a
+  RANSAC homography fitted to each frame's keypoints alone. The ratios to the baseline and
+  the targets (completeness 1.0, reprojection <= 0.8x, jitter <= 0.5x, IoU_part >= the
+  baseline's) are reported per clip and mode.
+
+Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
+repository. Wall times are of the whole run on the machine as it was (upper bounds on a
+shared machine).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+
+from broadtrack_graph.track.config import MODES
+
+HELP = "the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a per-frame fit"
+
+log = logging.getLogger(__name__)
+
+TARGETS = {"completeness": 1.0, "reprojection_ratio_max": 0.8, "jitter_ratio_max": 0.5, "iou_part_ratio_min": 1.0}
+"""Targets against the per-frame baseline (ratios = mode / baseline)."""
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--tsworldcup", type=Path, default=None,
+                        help="folder of TS-WorldCup clips (each with detections.jsonl and gt_homographies.json)")
+    parser.add_argument("--modes", nargs="+", default=list(MODES), choices=MODES, help="tracking modes (default all)")
+    parser.add_argument("--clips", nargs="+", default=None, help="only these clip folder names")
+    parser.add_argument("--out", type=Path, default=Path("bench-real"), help="folder for the runs (default ./bench-real)")
+    parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+
+
+def tsworldcup_section(args) -> dict | None:
+    """The TS-WorldCup section: per clip, the baseline and each mode's protocol figures."""
+    if args.tsworldcup is None:
+        return None
+    from broadtrack_graph.errors import InputError
+
+    root = Path(args.tsworldcup)
+    clips = sorted(p for p in root.iterdir() if (p / "detections.jsonl").is_file()
+                   and (p / "gt_homographies.json").is_file()) if root.is_dir() else []
+    if args.clips:
+        clips = [p for p in clips if p.name in set(args.clips)]
+    if not clips:
+        raise InputError(root, "no clip folder with detections.jsonl and gt_homographies.json")
+    section = {"root": str(root), "targets": TARGETS, "clips": {}}
+    for clip in clips:
+        section["clips"][clip.name] = score_tsworldcup_clip(clip, args.modes, Path(args.out) / "tsworldcup" / clip.name,
+                                                            not args.no_progress)
+    section["all_targets_met"] = all(m["meets_targets"] for c in section["clips"].values() for m in c["modes"].values())
+    return section
+
+
+def score_tsworldcup_clip(clip: Path, modes, out_dir: Path, progress: bool = False) -> dict:
+    """Baseline and every mode on one clip folder; the runs go to out_dir/<mode>."""
+    from broadtrack_graph.actions.track import track_input
+    from broadtrack_graph.io.detections import read_detections
+    from broadtrack_graph.io.gt_homographies import read_gt_homographies
+    from broadtrack_graph.io.run_folder import read_track
+    from broadtrack_graph.metrics.homography_protocol import clip_figures, fit_keypoint_homography
+    from broadtrack_graph.track.config import TrackingConfig
+
+    gt = read_gt_homographies(clip / "gt_homographies.json")
+    width, height = gt.image_size
+    detections = read_detections(clip / "detections.jsonl")
+    baseline = {}
+    for index, obs in detections.frames.items():
+        kp = obs.keypoints
+        baseline[index] = None if kp is None else fit_keypoint_homography(kp.uv_px, kp.points_w[:, :2])
+    base = clip_figures(baseline, gt.homographies, width, height)
+    result = {"frames": len(gt.homographies), "baseline_per_frame_homography": _rounded(base), "modes": {}}
+    for mode in modes:
+        run_dir = out_dir / mode
+        started = time.perf_counter()
+        track_input(None, run_dir, TrackingConfig(mode=mode), detections_path=clip / "detections.jsonl",
+                    progress=progress)
+        wall_s = time.perf_counter() - started
+        track = read_track(run_dir, width, height)
+        cameras = {r.frame_index: r.camera for r in track.records}
+        figures = clip_figures(cameras, gt.homographies, width, height)
+        ratios = {
+            "reprojection": _ratio(figures["reprojection_px"], base["reprojection_px"]),
+            "jitter": _ratio(figures["jitter_px"], base["jitter_px"]),
+            "iou_part": _ratio(figures["iou_part"], base["iou_part"]),
+        }
+        meets = (figures["completeness"] >= TARGETS["completeness"]
+                 and ratios["reprojection"] is not None and ratios["reprojection"] <= TARGETS["reprojection_ratio_max"]
+                 and ratios["jitter"] is not None and ratios["jitter"] <= TARGETS["jitter_ratio_max"]
+                 and ratios["iou_part"] is not None and ratios["iou_part"] >= TARGETS["iou_part_ratio_min"])
+        result["modes"][mode] = {**_rounded(figures), "vs_baseline": _rounded(ratios), "meets_targets": bool(meets),
+                                 "reinitialisations": track.summary.get("reinitialisations"),
+                                 "wall_s": round(wall_s, 2), "run": str(run_dir)}
+        log.info("%s %s: %s", clip.name, mode, result["modes"][mode])
+    return result
+
+
+SECTIONS = {"tsworldcup": tsworldcup_section}
+"""Section name -> function(args) -> dict or None (skipped). Other real-data sections are added here."""
+
+
+def run(args) -> dict:
+    report: dict = {"sections": {}}
+    for name, section in SECTIONS.items():
+        figures = section(args)
+        if figures is not None:
+            report["sections"][name] = figures
+    if not report["sections"]:
+        from broadtrack_graph.errors import InputError
+
+        raise InputError(None, "bench real: give at least one data folder (e.g. --tsworldcup DIR)")
+    return report
+
+
+def _ratio(value, reference):
+    return None if value is None or not reference else value / reference
+
+
+def _rounded(figures: dict) -> dict:
+    return {k: (round(v, 4) if isinstance(v, float) else v) for k, v in figures.items()}
