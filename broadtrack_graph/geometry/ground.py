@@ -109,3 +109,43 @@ def ground_covariance(state: np.ndarray, xy_m: np.ndarray, width_px: int, height
     A, B = ground_jacobians(state, xy_m, width_px, height_px)
     cov = np.asarray(state_covariance, dtype=float).reshape(STATE_SIZE, STATE_SIZE)
     return A @ cov @ A.transpose(0, 2, 1) + (pixel_sigma_px ** 2) * (B @ B.transpose(0, 2, 1))
+
+
+def box_feet(boxes_px: np.ndarray) -> np.ndarray:
+    """(N, 3, 2) bottom-left, bottom-middle and bottom-right points of boxes (N, 4) [x0, y0, x1, y1] pixels."""
+    b = np.asarray(boxes_px, dtype=float).reshape(-1, 4)
+    middle = np.column_stack([(b[:, 0] + b[:, 2]) / 2.0, b[:, 3]])
+    return np.stack([b[:, [0, 3]], middle, b[:, [2, 3]]], axis=1)
+
+
+def foot_positions(camera: Camera, boxes_px: np.ndarray, state_covariance: np.ndarray | None,
+                   pixel_sigma_px: float = 2.0, max_distance_m: float = DEFAULT_MAX_DISTANCE_M) -> dict:
+    """Pitch positions of player boxes: bottom middle (and corners) on the ground, with standard deviations.
+
+    Args:
+        camera: the frame's camera (boxes in its pixels).
+        boxes_px: (N, 4) [x0, y0, x1, y1] pixels.
+        state_covariance: (8, 8) covariance of the camera state (px, -, rad, m), or None (pixel noise only).
+        pixel_sigma_px: standard deviation of the foot point per image axis, pixels.
+        max_distance_m: ground points farther from the camera are rejected.
+
+    Returns:
+        dict with ``xy_m`` (N, 2) bottom middle, ``left_m`` / ``right_m`` (N, 2) bottom corners (metres, NaN
+        where they miss the ground), ``std_m`` (N, 2) standard deviations of x and y (metres), ``cov_m2``
+        (N, 2, 2), ``reasons`` (N,) :data:`GROUND_OK` or why the middle point has no position.
+    """
+    feet = box_feet(boxes_px)
+    n = len(feet)
+    xy_all, reasons_all = ground_points(camera, feet.reshape(-1, 2), max_distance_m)
+    xy_all = xy_all.reshape(n, 3, 2)
+    reasons = reasons_all.reshape(n, 3)[:, 1]
+    xy = xy_all[:, 1]
+    cov = np.full((n, 2, 2), np.nan)
+    good = np.flatnonzero(reasons == GROUND_OK)
+    if len(good):
+        covariance = np.zeros((STATE_SIZE, STATE_SIZE)) if state_covariance is None else state_covariance
+        cov[good] = ground_covariance(camera.to_vector(), xy[good], camera.width_px, camera.height_px, covariance,
+                                      pixel_sigma_px)
+    std = np.sqrt(np.clip(np.diagonal(cov, axis1=1, axis2=2), 0.0, None))
+    return {"xy_m": xy, "left_m": xy_all[:, 0], "right_m": xy_all[:, 2], "std_m": std, "cov_m2": cov,
+            "reasons": reasons}
