@@ -219,3 +219,16 @@ def read_gamestate_predictions(path: str | Path) -> list[dict]:
     if not isinstance(data, dict) or not isinstance(data.get("predictions"), list):
         raise InputError(path, "not a game-state predictions file: no 'predictions' list")
     return data["predictions"]
+
+
+def boxes_from_positions(positions: PlayerPositions, source: str = "players.jsonl"):
+    """The boxes of a players file as :class:`~broadtrack_graph.io.player_boxes.PlayerBoxes` (to locate the same
+    boxes through another run's cameras)."""
+    from broadtrack_graph.io.player_boxes import PlayerBoxes
+
+    out = PlayerBoxes(source=source, kind="players")
+    for frame in np.unique(positions.frame):
+        rows = np.flatnonzero(positions.frame == frame)
+        out.add_frame(int(frame), positions.frame_ids[rows[0]], positions.box_px[rows], positions.track_id[rows],
+                      [positions.roles[i] for i in rows], [positions.teams[i] for i in rows])
+    return out
