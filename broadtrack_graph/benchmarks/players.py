@@ -212,6 +212,10 @@ def _real(args, progress: bool) -> dict:
     report = {"clip": str(args.real), "out": str(out), "modes": {}}
     end = args.real_frames
     for mode in ("online", "fixed-lag"):
+        run_dir = out / "runs" / mode
+        if args.reuse_runs and (run_dir / "summary.json").is_file() and (mode != "online" or (run_dir / "players.jsonl").is_file()):
+            report["modes"][mode] = {"track_wall_s": None, "reused": True}
+            continue
         started = time.perf_counter()
         track_input(args.real, out / "runs" / mode, TrackingConfig(mode=mode, lag_frames=args.lag),
                     DetectorOptions("weightfree"), end=end, progress=progress,

@@ -2,7 +2,8 @@
 
 Per track (a track id over frames), positions are first smoothed lightly over time:
 a centred moving average of ``smooth_frames`` frames (default 5, 0.2 s at 25 fps),
-taken within each run of consecutive frames (a gap ends a run). This is the usual
+taken within each run of consecutive frames (a gap ends a run; the window shrinks
+symmetrically at a run's ends). This is the usual
 treatment of tracking data before speeds are read from it; raw frame-to-frame steps
 add the positions' noise to every step and inflate distances.
 
@@ -67,7 +68,11 @@ def _runs(frames: np.ndarray, max_gap: int) -> list[slice]:
 
 
 def smooth_track(frames: np.ndarray, xy_m: np.ndarray, window: int) -> np.ndarray:
-    """Centred moving average of (K, 2) positions within runs of consecutive frames (window shrinks at the ends)."""
+    """Centred moving average of (K, 2) positions within runs of consecutive frames.
+
+    Near the ends of a run the window shrinks symmetrically (the first and last points stay
+    as they are), so motion at constant velocity is left unchanged.
+    """
     out = np.array(xy_m, dtype=float, copy=True)
     if window <= 1:
         return out
@@ -76,8 +81,9 @@ def smooth_track(frames: np.ndarray, xy_m: np.ndarray, window: int) -> np.ndarra
         seg = xy_m[run]
         n = len(seg)
         csum = np.vstack([np.zeros((1, 2)), np.cumsum(seg, axis=0)])
-        lo = np.clip(np.arange(n) - half, 0, n)
-        hi = np.clip(np.arange(n) + half + 1, 0, n)
+        k = np.arange(n)
+        reach = np.minimum(np.minimum(half, k), n - 1 - k)
+        lo, hi = k - reach, k + reach + 1
         out[run] = (csum[hi] - csum[lo]) / (hi - lo)[:, None]
     return out
 
