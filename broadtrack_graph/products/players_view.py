@@ -58,7 +58,8 @@ def draw_players(canvas_bgr: np.ndarray, view: BirdseyeView, xy_m: np.ndarray, t
             if max(axes) > radius:
                 cv2.ellipse(canvas_bgr, centre, axes, 0, 0, 360, colour, 1, cv2.LINE_AA)
         cv2.circle(canvas_bgr, centre, radius, colour, -1, cv2.LINE_AA)
-        cv2.circle(canvas_bgr, centre, radius, (255, 255, 255), 1, cv2.LINE_AA)
+        if radius >= 5:
+            cv2.circle(canvas_bgr, centre, radius, (255, 255, 255), 1, cv2.LINE_AA)
         if labels and track_ids[i] >= 0:
             cv2.putText(canvas_bgr, str(int(track_ids[i])), (centre[0] + radius + 1, centre[1] - radius),
                         cv2.FONT_HERSHEY_SIMPLEX, 0.35, (255, 255, 255), 1, cv2.LINE_AA)
