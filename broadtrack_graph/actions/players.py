@@ -42,7 +42,7 @@ from broadtrack_graph.io.players_file import (
 )
 from broadtrack_graph.io.run_folder import Track, read_track
 from broadtrack_graph.io.track_record import covariance_from_std
-from broadtrack_graph.metrics.players import AnalyticsConfig, analytics_summary, track_analytics
+from broadtrack_graph.metrics.players import AnalyticsConfig, analytics_summary, fps_from_times, track_analytics
 
 log = logging.getLogger(__name__)
 
@@ -76,16 +76,9 @@ class PlayersResult:
 
 
 def clip_fps(track: Track, default: float = 25.0) -> float:
-    """Frames per second from the records' times (median step), else ``default``."""
+    """Frames per second of a run from its records' times (:func:`~broadtrack_graph.metrics.players.fps_from_times`)."""
     times = np.array([np.nan if r.time_s is None else r.time_s for r in track.records], dtype=float)
-    frames = track.frame_indices.astype(float)
-    ok = np.isfinite(times)
-    if ok.sum() >= 2:
-        dt = np.diff(times[ok]) / np.maximum(np.diff(frames[ok]), 1)
-        dt = dt[dt > 0]
-        if len(dt):
-            return float(1.0 / np.median(dt))
-    return default
+    return fps_from_times(times, track.frame_indices, default)
 
 
 def locate_players(track: Track, boxes: PlayerBoxes, options: PlayersOptions = PlayersOptions(),

@@ -20,7 +20,6 @@ from broadtrack_graph.track.inputs import frames_from_detections, frames_from_so
 from broadtrack_graph.track.passes import run_frames
 from broadtrack_graph.track.result import RunResult
 
-
 DETECTOR_BOXES = "detector"
 """``players`` value of :func:`track_input` meaning the detector's own player blobs."""
 

@@ -27,7 +27,6 @@ A bird's-eye video is written to ``--real-out`` (never into the repository).
 
 from __future__ import annotations
 
-import json
 import logging
 import time
 from pathlib import Path

@@ -39,6 +39,19 @@ class AnalyticsConfig:
     max_gap_frames: int = DEFAULT_MAX_GAP_FRAMES  # longer gaps in a track are not bridged for the distance
 
 
+def fps_from_times(times_s: np.ndarray, frames: np.ndarray, default: float = 25.0) -> float:
+    """Frames per second from per-frame times (seconds, NaN unknown) and frame indices: 1 / median step, else default."""
+    times = np.asarray(times_s, dtype=float)
+    frames = np.asarray(frames, dtype=float)
+    ok = np.isfinite(times)
+    if ok.sum() >= 2:
+        dt = np.diff(times[ok]) / np.maximum(np.diff(frames[ok]), 1)
+        dt = dt[dt > 0]
+        if len(dt):
+            return float(1.0 / np.median(dt))
+    return default
+
+
 def tracks(frames: np.ndarray, track_ids: np.ndarray, xy_m: np.ndarray) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Group positions by track id: id -> (frames (K,) sorted, xy (K, 2) metres); rows without position or id dropped.
 
