@@ -21,7 +21,9 @@ no tripod, no temporal link), as a per-frame calibrator does. Figures per source
 Real part (``--real VIDEO``, default the shared 720p clip when present): the clip is
 tracked online and with the fixed-lag smoother, players from the detector's own blobs
 (linked into tracks by IoU); the online run's boxes go through both runs' cameras and
-the players' frame-to-frame jitter (RMS second difference of positions) is compared.
+the players' frame-to-frame jitter (second difference of positions over three frames)
+is compared, and its part due to the cameras alone (each box's foot pixel held fixed
+and put on the ground with the cameras of frames t-1, t, t+1).
 A bird's-eye video is written to ``--real-out`` (never into the repository).
 """
 
@@ -160,12 +162,44 @@ def score_players(lines: list[dict], truth: dict, true_cameras: dict, fps: float
     return report
 
 
+def camera_jitter_m(track, positions) -> np.ndarray:
+    """Second differences (metres) of each box's foot pixel put on the ground with the cameras of frames t-1, t, t+1.
+
+    The pixel is held fixed, so this is the part of the players' jitter that the cameras alone cause.
+
+    Returns:
+        (M,) norms, one per box whose frame and both neighbours have a camera.
+    """
+    from broadtrack_graph.geometry.ground import box_feet, ground_points
+
+    cameras = {r.frame_index: r.camera for r in track.records}
+    out = []
+    for frame in np.unique(positions.frame):
+        trio = [cameras.get(int(frame) + d) for d in (-1, 0, 1)]
+        if any(c is None for c in trio):
+            continue
+        feet = box_feet(positions.box_px[positions.frame == frame])[:, 1]
+        xy = [ground_points(c, feet)[0] for c in trio]
+        out.append(np.linalg.norm(xy[2] - 2 * xy[1] + xy[0], axis=1))
+    values = np.concatenate(out) if out else np.zeros(0)
+    return values[np.isfinite(values)]
+
+
+def _jitter_stats(values: np.ndarray) -> dict:
+    if not len(values):
+        return {"count": 0, "rms": None, "median": None, "p95": None}
+    return {"count": int(len(values)), "rms": round(float(np.sqrt(np.mean(values ** 2))), 4),
+            "median": round(float(np.median(values)), 4), "p95": round(float(np.percentile(values, 95)), 4)}
+
+
 def _synthetic(args, progress: bool) -> dict:
     from broadtrack_graph.actions.players import PlayersOptions, players_from_run
     from broadtrack_graph.benchmarks.accuracy import ensure_clip, track_clip
     from broadtrack_graph.io.jsonfile import read_json
     from broadtrack_graph.io.player_boxes import read_player_boxes
+    from broadtrack_graph.io.players_file import positions_from_lines
     from broadtrack_graph.io.run_folder import read_track
+    from broadtrack_graph.metrics.players import all_jitter_m
     from broadtrack_graph.track.config import TrackingConfig
 
     out = Path(args.out)
@@ -193,6 +227,10 @@ def _synthetic(args, progress: bool) -> dict:
         result = players_from_run(run_dir, boxes, out / "players" / name.replace(" ", "-"), options, progress=False)
         scored = score_players(result.lines, truth, true_cameras, fps, options.smooth_frames)
         scored["median_std_m"] = result.summary.get("median_std_m")
+        positions = positions_from_lines(result.lines)
+        scored["jitter_second_difference_m"] = _jitter_stats(
+            all_jitter_m(positions.frame, positions.track_id, positions.xy_m))
+        scored["camera_jitter_second_difference_m"] = _jitter_stats(camera_jitter_m(read_track(run_dir), positions))
         report["sources"][name] = scored
     return report
 
@@ -204,6 +242,7 @@ def _real(args, progress: bool) -> dict:
     from broadtrack_graph.actions.players import PlayersOptions, players_from_run
     from broadtrack_graph.actions.track import DETECTOR_BOXES, DetectorOptions, track_input
     from broadtrack_graph.io.players_file import boxes_from_positions, read_players_file
+    from broadtrack_graph.io.run_folder import read_track
     from broadtrack_graph.metrics.players import all_jitter_m
     from broadtrack_graph.track.config import TrackingConfig
 
@@ -230,11 +269,9 @@ def _real(args, progress: bool) -> dict:
         report["modes"][mode].update({
             "boxes": result.boxes, "located": result.located, "no_camera": result.no_camera,
             "median_std_m": result.summary.get("median_std_m"),
-            "jitter_second_difference_m": {
-                "count": int(len(jitter)),
-                "rms": None if not len(jitter) else round(float(np.sqrt(np.mean(jitter ** 2))), 4),
-                "median": None if not len(jitter) else round(float(np.median(jitter)), 4),
-                "p95": None if not len(jitter) else round(float(np.percentile(jitter, 95)), 4)},
+            "jitter_second_difference_m": _jitter_stats(jitter),
+            "camera_jitter_second_difference_m": _jitter_stats(camera_jitter_m(read_track(out / "runs" / mode),
+                                                                               positions)),
             "analytics": result.summary["analytics"],
             "video": str(out / "players" / mode / "birdseye_players.mp4"),
         })
