@@ -9,7 +9,7 @@ deviation combines the camera's marginal standard deviations of ``track.jsonl``
 
 * ``players.jsonl`` (:mod:`broadtrack_graph.io.players_file`), flushed per frame;
 * ``predictions-gamestate.json``: SoccerNet game-state predictions with ``bbox_pitch``;
-* ``players_summary.json``: counts, the issues, per-track distance / top speed / jitter
+* ``players_summary.json``: counts, the issues (the first 1000), per-track distance / top speed / jitter
   (:mod:`broadtrack_graph.metrics.players`);
 * ``birdseye_players.mp4`` on request (:mod:`broadtrack_graph.products.players_view`).
 
@@ -49,6 +49,7 @@ log = logging.getLogger(__name__)
 SUMMARY_FILE = "players_summary.json"
 VIDEO_FILE = "birdseye_players.mp4"
 MAX_LOGGED_ISSUES = 20
+MAX_SUMMARY_ISSUES = 1000
 
 
 @dataclass(frozen=True)
@@ -178,7 +179,8 @@ def players_from_run(run_dir: str | Path, boxes: str | Path | PlayerBoxes, out_d
         "tracks": {str(k): {kk: (round(vv, 4) if isinstance(vv, float) and np.isfinite(vv) else
                                  (None if isinstance(vv, float) else vv)) for kk, vv in v.items()}
                    for k, v in per_track.items()},
-        "issues": result.issues,
+        "issue_count": len(result.issues),
+        "issues": result.issues[:MAX_SUMMARY_ISSUES],
     }
     write_json_atomic(out / SUMMARY_FILE, result.summary, indent=2)
     if options.video:
