@@ -26,6 +26,7 @@ COMMANDS = (
     "calibrate",
     "synth",
     "detect",
+    "players",
 )
 
 

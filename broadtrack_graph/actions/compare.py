@@ -11,8 +11,10 @@ from pathlib import Path
 import numpy as np
 
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.players_file import PLAYERS_FILE, read_players_file
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.metrics.compare import COMPARE_TAUS, DEFINITIONS, compare_tracks, tripod_from_summary
+from broadtrack_graph.metrics.players import fps_from_times
 from broadtrack_graph.products.compare_report import format_table, write_comparison
 
 
@@ -42,6 +44,9 @@ def compare_runs(
             size when the file states it, else each run's own resolution).
         taus: metric thresholds, pixels.
 
+    A run folder holding a ``players.jsonl`` (``track --players`` or ``players --out RUN``)
+    adds its players' figures (distance covered, top speed, jitter) to the table.
+
     Returns:
         The report (as written to compare.json): "runs" name -> figures, "taus",
         "definitions", "table_markdown", "files".
@@ -65,7 +70,13 @@ def compare_runs(
         annotations = read_annotations(annotations_path)
         if not annotations.frames:
             raise InputError(annotations_path, "no usable annotation")
-    report = compare_tracks(tracks, truth, annotations, eval_size_px, taus)
+    players, fps = {}, {}
+    for name, path in zip(names, run_dirs):
+        if (Path(path) / PLAYERS_FILE).is_file():
+            players[name] = read_players_file(Path(path) / PLAYERS_FILE)
+            times = np.array([np.nan if r.time_s is None else r.time_s for r in tracks[name].records], dtype=float)
+            fps[name] = fps_from_times(times, tracks[name].frame_indices)
+    report = compare_tracks(tracks, truth, annotations, eval_size_px, taus, players, fps)
     report["annotations"] = None if annotations_path is None else str(annotations_path)
     report["ground_truth"] = None if ground_truth_dir is None else str(ground_truth_dir)
     if tripod_T_w is None:

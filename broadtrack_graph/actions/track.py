@@ -20,6 +20,9 @@ from broadtrack_graph.track.inputs import frames_from_detections, frames_from_so
 from broadtrack_graph.track.passes import run_frames
 from broadtrack_graph.track.result import RunResult
 
+DETECTOR_BOXES = "detector"
+"""``players`` value of :func:`track_input` meaning the detector's own player blobs."""
+
 
 @dataclass(frozen=True)
 class DetectorOptions:
@@ -58,6 +61,8 @@ def track_input(
     end: int | None = None,
     progress: bool = True,
     pitch: PitchTemplate | None = None,
+    players: str | Path | None = None,
+    players_options=None,
 ) -> RunResult:
     """Track a video / frame folder / game-state sequence, or a detections file (with or without frames).
 
@@ -69,7 +74,41 @@ def track_input(
         tripod: known tripod, or None; tripod_position: known pan/tilt centre only (metres).
         detections_path: a detections file (JSON lines) to track from instead of a detector.
         start, end: frame range (0-based, end exclusive).
+        players: put players on the pitch too: a box file (game-state labels, MOT, detections), or
+            :data:`DETECTOR_BOXES` for the player blobs the detector finds (or the detections file holds;
+            linked into tracks by :func:`~broadtrack_graph.detect.player_ids.link_track_ids`);
+            written to the run folder once the cameras are final (:mod:`broadtrack_graph.actions.players`).
+        players_options: a :class:`~broadtrack_graph.actions.players.PlayersOptions` (default options).
     """
+    if players is None:
+        return _track(frames_path, out_dir, config, detector, tripod, tripod_position, detections_path, start, end,
+                      progress, pitch, None)
+    from broadtrack_graph.actions.players import PlayersOptions, players_from_run
+    from broadtrack_graph.io.player_boxes import PlayerBoxes
+
+    collected = PlayerBoxes(source="detector", kind="detector") if str(players) == DETECTOR_BOXES else None
+
+    def collect(frame, handed, detections) -> None:
+        boxes = detections.player_boxes_px if detections is not None else None
+        if boxes is None and frame.observations is not None:
+            boxes = frame.observations.player_boxes_px
+        if boxes is not None and len(boxes):
+            collected.add_frame(frame.frame_index, frame.frame_id, boxes)
+
+    result = _track(frames_path, out_dir, config, detector, tripod, tripod_position, detections_path, start, end,
+                    progress, pitch, collect if collected is not None else None)
+    if collected is not None:
+        from broadtrack_graph.detect.player_ids import link_track_ids
+
+        collected = link_track_ids(collected)  # the detector's blobs have no identities
+    located = players_from_run(out_dir, collected if collected is not None else Path(players), out_dir,
+                               players_options or PlayersOptions(), progress)
+    result.summary["players"] = {k: located.summary[k] for k in ("boxes", "located", "no_camera", "analytics")}
+    return result
+
+
+def _track(frames_path, out_dir, config, detector, tripod, tripod_position, detections_path, start, end, progress,
+           pitch, on_frame_done) -> RunResult:
     pitch = pitch or PitchTemplate()
     run_info = {"input": None if frames_path is None else str(frames_path),
                 "detections": None if detections_path is None else str(detections_path),
@@ -84,7 +123,8 @@ def track_input(
             frames = frames_from_detections(detections, 25.0 if source is None else source.fps, start, end, source)
             run_info["detection_issues"] = len(detections.issues)
             return run_frames(frames, width, height, out_dir, config, None, tripod, pitch, run_info, progress, total,
-                              reinit_positions=positions, mask_paths=detections.mask_paths)
+                              reinit_positions=positions, mask_paths=detections.mask_paths,
+                              on_frame_done=on_frame_done)
         finally:
             if source is not None:
                 source.close()
@@ -94,4 +134,4 @@ def track_input(
         run_info["source"] = source.describe()
         return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, config,
                           make_detector(detector, pitch), tripod, pitch, run_info, progress, len(source),
-                          reinit_positions=positions)
+                          reinit_positions=positions, on_frame_done=on_frame_done)

@@ -20,6 +20,7 @@ SUITES = (
     "detections",
     "endurance",
     "real",
+    "players",
 )
 
 

@@ -15,6 +15,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--start", type=int, default=None, help="first input frame (0-based, inclusive)")
     parser.add_argument("--end", type=int, default=None, help="last input frame (0-based, exclusive)")
     parser.add_argument("--no-inset", action="store_true", help="leave out the bird's-eye inset")
+    parser.add_argument("--players", type=Path, default=None,
+                        help="players.jsonl (or its folder) of the run: draw the players in the bird's-eye inset")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
 
@@ -22,7 +24,7 @@ def run(args) -> int:
     from broadtrack_graph.products.overlay import write_overlay
 
     result = write_overlay(args.run, args.frames, args.out, args.start, args.end, inset=not args.no_inset,
-                           progress=not args.no_progress)
+                           progress=not args.no_progress, players_path=args.players)
     print(f"wrote {result['frames']} frames to {result['out']} "
           f"({result['with_camera']} with a camera, {result['missing_input']} unreadable input frames)")
     return 0

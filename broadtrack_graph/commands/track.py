@@ -24,6 +24,12 @@ def add_arguments(parser) -> None:
     parser.add_argument("--detections", type=Path, help="track from a detections file (JSON lines) instead of a detector")
     parser.add_argument("--frames", type=Path, help="with --detections: the frames too (turns optical flow on)")
     parser.add_argument("--write-960x540", action="store_true", help="also write cameras at 960x540")
+    parser.add_argument("--players", default=None, metavar="FILE|detector",
+                        help="also put players on the pitch (players.jsonl, game-state predictions in the run folder): "
+                             "a box file (Labels-GameState.json, MOT .txt, detections .jsonl) or 'detector' for the "
+                             "detector's own player blobs")
+    parser.add_argument("--pixel-sigma", type=float, default=2.0,
+                        help="with --players: foot-point noise per image axis, pixels (default 2)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     add_tracking_arguments(parser)
 
@@ -35,13 +41,22 @@ def run(args) -> int:
     config = config_from_args(args)
     detector = detector_options(args)
     tripod, position = tripod_from_args(args)
+    players_options = None
+    if args.players is not None:
+        from broadtrack_graph.actions.players import PlayersOptions
+
+        players_options = PlayersOptions(pixel_sigma_px=args.pixel_sigma)
     result = track_input(frames, args.out, config, detector, tripod=tripod, tripod_position=position,
-                         detections_path=args.detections, start=args.start, end=args.end, progress=not args.no_progress)
+                         detections_path=args.detections, start=args.start, end=args.end, progress=not args.no_progress,
+                         players=args.players, players_options=players_options)
     summary = result.summary
     print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps', 0):.1f} fps)")
     counts = summary.get("status_counts", {})
     if counts:
         print("  " + ", ".join(f"{k}: {v}" for k, v in counts.items() if v))
+    players = summary.get("players")
+    if players:
+        print(f"  players: {players['located']} of {players['boxes']} boxes located (players.jsonl)")
     if result.tripod is not None:
         print(f"  tripod T = {[round(v, 2) for v in result.tripod.T_w]} m, delta = {result.tripod.delta_m:.3f} m "
               f"(written to {result.out_dir / TRIPOD_FILE})")

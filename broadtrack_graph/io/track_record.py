@@ -175,3 +175,21 @@ def std_from_covariance(covariance: np.ndarray) -> dict:
         "roll_std_deg": math.degrees(sigma[4]),
         "position_std_m": sigma[5:8].copy(),
     }
+
+
+def covariance_from_std(std: dict) -> np.ndarray | None:
+    """(8, 8) diagonal state covariance (px, -, rad, rad, rad, m, m, m) from :attr:`TrackRecord.std`, or None.
+
+    Inverse of :func:`std_from_covariance` for the diagonal (``track.jsonl`` keeps no correlations).
+    Unknown entries count as 0; None when no standard deviation is known.
+    """
+    if not std:
+        return None
+    position = std.get("position_std_m")
+    sigma = np.array([
+        std.get("focal_std_px") or 0.0, std.get("k1_std") or 0.0,
+        math.radians(std.get("pan_std_deg") or 0.0), math.radians(std.get("tilt_std_deg") or 0.0),
+        math.radians(std.get("roll_std_deg") or 0.0),
+        *(np.zeros(3) if position is None else np.nan_to_num(np.asarray(position, dtype=float).reshape(3))),
+    ])
+    return np.diag(sigma ** 2)

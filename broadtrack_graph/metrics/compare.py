@@ -13,6 +13,10 @@ Figures per run (all computed over the frames that have a camera):
   extent (max - min) per axis, and RMS distance to the mean position, metres.
 * Error against ground-truth cameras when given: RMS of pan / tilt / roll errors
   (deg), mean absolute relative focal error (%), RMS position error (m).
+* Players, when a run folder has a ``players.jsonl``: boxes located, total distance
+  covered, median and largest top speed, median jitter over tracks
+  (:mod:`broadtrack_graph.metrics.players`: light smoothing over time before distances
+  and speeds; jitter from the raw positions).
 
 Numbers only: :func:`broadtrack_graph.actions.compare.compare_runs` reads the runs and writes
 the report (:mod:`broadtrack_graph.products.compare_report`).
@@ -190,8 +194,26 @@ def tripod_from_summary(track: Track):
     return None
 
 
+def player_statistics(positions, fps: float = 25.0, smooth_frames: int = 5) -> dict:
+    """Player figures of a run: boxes, located, and the track analytics summary (see the module docstring).
+
+    Args:
+        positions: a :class:`~broadtrack_graph.io.players_file.PlayerPositions`.
+        fps: frames per second of the clip.
+        smooth_frames: centred moving-average window for distances and speeds.
+    """
+    from broadtrack_graph.metrics.players import AnalyticsConfig, analytics_summary, track_analytics
+
+    per_track = track_analytics(positions.frame, positions.track_id, positions.xy_m,
+                                AnalyticsConfig(fps=fps, smooth_frames=smooth_frames))
+    return {"boxes": int(len(positions)), "located": int(positions.has_position.sum()),
+            **analytics_summary(per_track),
+            "per_track_distance_m": {str(k): round(v["distance_m"], 3) for k, v in per_track.items()}}
+
+
 def compare_tracks(tracks: dict[str, Track], truth: Track | None = None, annotations=None,
-                   eval_size_px: tuple[int, int] | None = None, taus=COMPARE_TAUS) -> dict:
+                   eval_size_px: tuple[int, int] | None = None, taus=COMPARE_TAUS,
+                   players: dict | None = None, fps: dict | None = None) -> dict:
     """The figures of several tracks: {"runs": name -> figures, "taus": [...]}.
 
     Args:
@@ -201,6 +223,8 @@ def compare_tracks(tracks: dict[str, Track], truth: Track | None = None, annotat
         eval_size_px: (W, H) evaluation resolution (default: the annotations' image size
             when the file states it, else each track's own resolution).
         taus: metric thresholds, pixels.
+        players: name -> PlayerPositions of the runs that have players (others get none).
+        fps: name -> frames per second (default 25).
     """
     report: dict = {"runs": {}, "taus": [float(t) for t in taus]}
     for name, track in tracks.items():
@@ -210,6 +234,8 @@ def compare_tracks(tracks: dict[str, Track], truth: Track | None = None, annotat
             stats["metrics"] = metric_summary(annotations, track, size[0], size[1], taus)
         if truth is not None:
             stats["ground_truth_error"] = ground_truth_errors(track, truth)
+        if players and players.get(name) is not None:
+            stats["players"] = player_statistics(players[name], (fps or {}).get(name, 25.0))
         report["runs"][name] = stats
     return report
 
@@ -220,6 +246,8 @@ DEFINITIONS = {
     "focal_point std_m": "population standard deviation of C per axis (metres)",
     "focal_point extent_m": "max - min of C per axis (metres)",
     "JaC@tau": "SoccerNet accuracy at tau px: mean per-frame Jaccard over annotated frames with a camera",
+    "players distance": "distance covered summed over tracks, positions smoothed by a centred 5-frame moving average",
+    "players jitter": "RMS of the second difference of raw positions over consecutive frames, median over tracks (m)",
     "MRE/MedRE": "mean / median distance of annotated points to their projected class, at the first tau",
 }
 """What the comparison's figures mean (stored in compare.json and listed under the table)."""

@@ -62,6 +62,13 @@ def comparison_rows(report: dict) -> list[tuple[str, list[str]]]:
         row("GT roll error RMS (deg)", lambda s: _fmt(s["ground_truth_error"]["roll_rms_deg"], 4))
         row("GT focal error mean |rel| (%)", lambda s: _fmt(s["ground_truth_error"]["focal_mean_abs_rel_pct"], 3))
         row("GT position error RMS (m)", lambda s: _fmt(s["ground_truth_error"]["position_rms_m"], 3))
+    if any(s.get("players") for s in runs.values()):
+        row("players: boxes located", lambda s: f"{s['players']['located']} / {s['players']['boxes']}")
+        row("players: tracks", lambda s: str(s["players"]["tracks"]))
+        row("players: total distance (m)", lambda s: _fmt(s["players"]["total_distance_m"], 1))
+        row("players: median top speed (m/s)", lambda s: _fmt(s["players"]["median_top_speed_m_s"], 2))
+        row("players: max top speed (m/s)", lambda s: _fmt(s["players"]["max_top_speed_m_s"], 2))
+        row("players: median jitter RMS (m)", lambda s: _fmt(s["players"]["median_jitter_rms_m"], 3))
     return rows
 
 

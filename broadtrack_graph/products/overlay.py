@@ -202,6 +202,7 @@ def render_overlay_frame(
     view=None,
     inset: bool = True,
     template: PitchTemplate | None = None,
+    players=None,
 ) -> np.ndarray:
     """A frame with the projected pitch, the text panel and the bird's-eye inset.
 
@@ -211,6 +212,7 @@ def render_overlay_frame(
             when the run has no entry for it.
         view: a :class:`~broadtrack_graph.products.birdseye.BirdseyeView` kept for a whole video.
         inset: draw the bird's-eye inset (top right).
+        players: this frame's players for the inset, ``(PlayerPositions, rows (K,) int)``, or None.
 
     Returns:
         (H, W, 3) uint8 new image.
@@ -227,7 +229,14 @@ def render_overlay_frame(
     if inset:
         if camera is not None and (camera.width_px, camera.height_px) != out.shape[1::-1]:
             camera = camera.rescaled(out.shape[1], out.shape[0])
-        place_inset(out, draw_birdseye(camera, view, template=template, footprint_bgr=colour), "top-right")
+        picture = draw_birdseye(camera, view, template=template, footprint_bgr=colour)
+        if players is not None and view is not None:
+            from broadtrack_graph.products.players_view import draw_players
+
+            positions, rows = players
+            draw_players(picture, view, positions.xy_m[rows], positions.track_id[rows],
+                         [positions.teams[i] for i in rows], [positions.roles[i] for i in rows], labels=False)
+        place_inset(out, picture, "top-right")
     return out
 
 
@@ -239,6 +248,7 @@ def write_overlay(
     end: int | None = None,
     inset: bool = True,
     progress: bool = True,
+    players_path: str | Path | None = None,
 ) -> dict:
     """Draw a run on its input frames and write an mp4 (``*.mp4``) or a folder of PNGs.
 
@@ -251,6 +261,7 @@ def write_overlay(
         frames_input: video, image folder or game-state sequence (as ``track`` takes).
         out_path: ``something.mp4`` (cv2 mp4v) or a folder for ``overlay_<frame_id>.png``.
         start, end: window of input frames (0-based, end exclusive).
+        players_path: a ``players.jsonl`` (or its folder) whose players are drawn in the inset.
 
     Returns:
         {"out": path, "frames": written, "with_camera": drawn with a camera, "missing_input": unreadable}.
@@ -267,13 +278,21 @@ def write_overlay(
 
     track = read_track(run_dir)
     records = track.by_frame_id()
+    players_rows: dict[str, list[int]] = {}
+    positions = None
+    if players_path is not None:
+        from broadtrack_graph.io.players_file import read_players_file
+
+        positions = read_players_file(players_path)
+        for i, frame_id in enumerate(positions.frame_ids):
+            players_rows.setdefault(frame_id, []).append(i)
     out_path = Path(out_path)
     as_video = out_path.suffix.lower() == ".mp4"
-    positions = np.array([r.camera.position_m for r in track.records if r.camera is not None]).reshape(-1, 3)
+    cam_positions = np.array([r.camera.position_m for r in track.records if r.camera is not None]).reshape(-1, 3)
     counts = {"frames": 0, "with_camera": 0, "missing_input": 0}
     writer = None
     with open_frames(frames_input, start, end) as source:
-        view = BirdseyeView.fitting(480, camera_positions_w=np.median(positions, axis=0)[None] if len(positions) else None)
+        view = BirdseyeView.fitting(480, camera_positions_w=np.median(cam_positions, axis=0)[None] if len(cam_positions) else None)
         if as_video:
             out_path.parent.mkdir(parents=True, exist_ok=True)
             writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), source.fps,
@@ -293,7 +312,10 @@ def write_overlay(
                     draw_info_panel(image, [f"frame {frame.frame_id}", f"unreadable input: {frame.problem}"[:70]])
                     counts["missing_input"] += 1
                 else:
-                    image = render_overlay_frame(frame.image_bgr, record, view, inset)
+                    players = None
+                    if positions is not None:
+                        players = (positions, np.array(players_rows.get(frame.frame_id, []), dtype=int))
+                    image = render_overlay_frame(frame.image_bgr, record, view, inset, players=players)
                     counts["with_camera"] += int(record is not None and record.camera is not None)
                 if writer is not None:
                     writer.write(image)

@@ -11,6 +11,10 @@ Layout of OUT (the same folder is a valid tracker input)::
     masks/000001.png                    uint8: LINE_CLASSES index + 1 of the visible marking, 0 = none
     keypoints/000001.json               visible template keypoints {name: [u, v]} (pixels)
     players.json                        per-frame player boxes [[id, x0, y0, x1, y1], ...] (pixels)
+    players_pitch.json                  true foot positions of every player in every frame (metres,
+                                        pitch frame): {"fps", "track_ids", "roles", "teams",
+                                        "frames": {frame_id: {track_id: [x, y]}}}; track_id = id + 1,
+                                        the game-state labels' track_id
     tripod.json                         {"T_w": [x, y, z], "delta_m": d} (generated tracks only)
     ground_truth.json                   per frame: lambda_m, annotated, occluded / folded classes
     clip.json                           preset, seed, size, fps, frame counts, files
@@ -40,6 +44,7 @@ from broadtrack_graph.synth.clip import clip_scene, iter_clip_frames
 logger = logging.getLogger(__name__)
 
 CLIP_FILE = "clip.json"
+PLAYER_TRUTH_FILE = "players_pitch.json"
 
 
 @dataclass
@@ -166,6 +171,7 @@ def write_synthetic_clip(
             video.release()
         _write_clip_files(out, info, lines_by_frame, boxes_by_frame, feet_by_frame, players.teams, truth_frames,
                           width_px, height_px, tripod)
+        write_player_truth(out, players, [f["frame_id"] for f in truth_frames], info["fps"])
     elapsed = time.perf_counter() - started
     if interrupted:
         raise KeyboardInterrupt
@@ -201,6 +207,27 @@ def _write_clip_files(out: Path, info: dict, lines_by_frame, boxes_by_frame, fee
     })
     info = dict(info, frames_written=len(truth_frames))
     write_json_atomic(out / CLIP_FILE, info, indent=2)
+
+
+def write_player_truth(out_dir: str | Path, players, frame_ids: list[str], fps: float) -> None:
+    """Write ``players_pitch.json``: every player's true foot position per frame (see the module docstring).
+
+    Args:
+        out_dir: the clip folder.
+        players: the clip's :class:`~broadtrack_graph.synth.scene.PlayerTrack` (positions_w (F, P, 3) metres).
+        frame_ids: ids of the frames written, in order (frame k is row k of positions_w).
+        fps: frame rate.
+    """
+    teams = [int(t) for t in players.teams]
+    roles = [{2: "referee", 3: "goalkeeper"}.get(t, "player") for t in teams]
+    frames = {}
+    for index, fid in enumerate(frame_ids):
+        xy = players.positions_w[index, :, :2]
+        frames[fid] = {str(p + 1): [round(float(xy[p, 0]), 4), round(float(xy[p, 1]), 4)] for p in range(len(teams))}
+    write_json_atomic(Path(out_dir) / PLAYER_TRUTH_FILE, {
+        "fps": float(fps), "track_ids": [p + 1 for p in range(len(teams))], "roles": roles, "teams": teams,
+        "frames": frames,
+    })
 
 
 def read_clip_info(folder: str | Path) -> dict:

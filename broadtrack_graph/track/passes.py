@@ -52,7 +52,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
                run_info: dict | None = None, progress: bool = True, total: int | None = None,
                graph_config: GraphConfig | None = None, reinit_positions=None,
-               mask_paths: dict | None = None) -> RunResult:
+               mask_paths: dict | None = None, on_frame_done=None) -> RunResult:
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
     In batch mode this is the paper's two-pass offline workflow: an online first pass
@@ -64,6 +64,9 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     without any tripod term, biased detections at tight zoom walked the focal point
     metres along the optical axis on the 16m preset, and the fit of such a track put T
     metres off (seed 2: 2.9 m; with the held first pass: see the README figures).
+
+    ``on_frame_done`` observes every processed frame of the (first) pass
+    (:data:`~broadtrack_graph.track.frame_loop.FrameDone`), e.g. to collect the detector's player boxes.
     """
     out_dir = Path(out_dir)
     recover = config.mode != "online" and config.recover_max_frames > 0
@@ -74,7 +77,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
         # Fixed-lag keeps no per-frame observations of its own (a long run would grow without
         # bound): the recovery works on the observations a detections file brought.
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
-                          reinit_positions=reinit_positions, mask_paths=mask_paths)
+                          reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done)
         run_loop(run, frames, progress, total, config.mode)
         result = run.finish()
         if not recover or not given:
@@ -84,7 +87,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     first = replace(config, mode="online")
     run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True,
-                      reinit_positions=reinit_positions, mask_paths=mask_paths)
+                      reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done)
     run_loop(run, frames, progress, total, "pass 1 (online)")
     pass1 = run.finish()
     observations = run.kept

@@ -18,7 +18,7 @@ def test_arguments_reach_the_writer(monkeypatch, capsys):
     monkeypatch.setattr(overlay_product, "write_overlay", fake_write_overlay)
     assert main(["overlay", "run", "--frames", "clip", "--out", "o.mp4", "--start", "2", "--end", "5", "--no-inset",
                  "--no-progress"]) == 0
-    assert seen == [((Path("run"), Path("clip"), Path("o.mp4"), 2, 5), {"inset": False, "progress": False})]
+    assert seen == [((Path("run"), Path("clip"), Path("o.mp4"), 2, 5), {"inset": False, "progress": False, "players_path": None})]
     assert "wrote 3 frames to o.mp4 (2 with a camera, 1 unreadable input frames)" in capsys.readouterr().out
 
 

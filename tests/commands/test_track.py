@@ -82,3 +82,11 @@ def test_unknown_key_in_config_file_exits_2(calls, capsys, tmp_path):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "bad.toml: unknown key 'lag'" in err and not calls
     assert main(["track", "--out", "run"]) == 2 and "give an INPUT" in capsys.readouterr().err
+
+
+def test_players_option_reaches_the_action(calls, capsys):
+    assert main(["track", "clip.mp4", "--out", "run", "--players", "detector", "--pixel-sigma", "3", "--no-progress"]) == 0
+    call = calls[0]
+    assert call["players"] == "detector" and call["players_options"].pixel_sigma_px == 3.0
+    assert main(["track", "clip.mp4", "--out", "run", "--no-progress"]) == 0
+    assert calls[1]["players"] is None and calls[1]["players_options"] is None

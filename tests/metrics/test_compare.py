@@ -179,3 +179,18 @@ def test_compare_command(tmp_path, capsys):
     assert code == 2 and "2 names for 1 runs" in capsys.readouterr().err
     code = cli.main(["compare", str(tmp_path / "nope")])
     assert code == 2 and "run folder not found" in capsys.readouterr().err
+
+
+def test_player_statistics_of_a_players_file():
+    import numpy as np
+
+    from broadtrack_graph.io.players_file import positions_from_lines
+    from broadtrack_graph.metrics.compare import player_statistics
+
+    lines = [{"frame": k, "frame_id": f"{k + 1:06d}", "track_id": 1, "box_px": [0, 0, 1, 1], "x_m": 0.2 * k,
+              "y_m": 0.0} for k in range(50)]
+    lines.append({"frame": 3, "frame_id": "000004", "track_id": 2, "box_px": [0, 0, 1, 1], "x_m": None, "y_m": None})
+    stats = player_statistics(positions_from_lines(lines), fps=25.0)
+    assert stats["boxes"] == 51 and stats["located"] == 50 and stats["tracks"] == 1
+    assert np.isclose(stats["total_distance_m"], 0.2 * 49, atol=1e-3)
+    assert np.isclose(stats["max_top_speed_m_s"], 5.0, atol=1e-3)

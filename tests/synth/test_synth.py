@@ -161,6 +161,14 @@ def test_cli_writes_a_clip_folder_that_reads_back(tmp_path):
     np.testing.assert_allclose(cameras["000003"].to_vector(), track.cameras[2].to_vector(), atol=1e-9)
     keypoints = json.loads((out / "keypoints" / "000001.json").read_text())
     assert all(len(uv) == 2 for uv in keypoints.values())
+    # True player positions per frame and id; the labels' bbox_pitch agrees with them.
+    player_truth = json.loads((out / "players_pitch.json").read_text())
+    assert sorted(player_truth["frames"]) == ["000001", "000002", "000003"]
+    image_frame = {image["image_id"]: image["file_name"][:6] for image in labels["images"]}
+    boxes = [a for a in labels["annotations"] if a.get("supercategory") == "object"]
+    for box in boxes:
+        x, y = player_truth["frames"][image_frame[box["image_id"]]][str(box["track_id"])]
+        assert (box["bbox_pitch"]["x_bottom_middle"], box["bbox_pitch"]["y_bottom_middle"]) == pytest.approx((x, y), abs=1e-3)
 
 
 def test_cli_renders_along_a_given_camera_track(tmp_path):

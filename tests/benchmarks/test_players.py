@@ -1,0 +1,35 @@
+import numpy as np
+
+from broadtrack_graph.benchmarks.players import camera_jitter_m, score_players
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.io.players_file import positions_from_lines
+from broadtrack_graph.io.run_folder import Track
+from broadtrack_graph.io.track_record import TrackRecord
+
+
+def test_score_players_splits_by_distance_and_scores_distance_covered():
+    camera = Camera.from_degrees(2000.0, 0.0, 0.0, 74.0, 0.0, [0.0, 55.0, -15.0], 1920, 1080)
+    truth = {"fps": 25.0, "frames": {}}
+    lines = []
+    for k in range(60):
+        fid = f"{k + 1:06d}"
+        near, far = [0.2 * k, 10.0], [0.2 * k, -30.0]  # 45 m and 85 m from the camera
+        truth["frames"][fid] = {"1": near, "2": far}
+        for tid, xy, offset in ((1, near, 0.1), (2, far, -0.3)):
+            lines.append({"frame": k, "frame_id": fid, "track_id": tid, "box_px": [0, 0, 1, 1],
+                          "x_m": xy[0] + offset, "y_m": xy[1]})
+    report = score_players(lines, truth, {fid: camera for fid in truth["frames"]}, 25.0)
+    assert report["near_lt_60m"]["count"] == 60 and abs(report["near_lt_60m"]["median_m"] - 0.1) < 1e-6
+    assert abs(report["far_ge_60m"]["median_m"] - 0.3) < 1e-6
+    assert report["distance_smoothed"]["tracks"] == 2
+    assert report["distance_smoothed"]["median_abs_rel_error_pct"] < 1e-6  # a constant offset moves no distance
+
+
+def test_camera_jitter_is_zero_for_a_still_camera():
+    camera = Camera.from_degrees(2000.0, 0.0, 0.0, 74.0, 0.0, [0.0, 55.0, -15.0], 1920, 1080)
+    records = [TrackRecord(k, f"{k + 1:06d}", k / 25, camera) for k in range(4)]
+    track = Track(records, 1920, 1080, {}, None)
+    positions = positions_from_lines([{"frame": k, "frame_id": f"{k + 1:06d}", "track_id": 1,
+                                       "box_px": [900, 700, 920, 760], "x_m": 0.0, "y_m": 0.0} for k in range(4)])
+    values = camera_jitter_m(track, positions)
+    assert len(values) == 2 and np.allclose(values, 0.0)
