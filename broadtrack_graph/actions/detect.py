@@ -137,7 +137,7 @@ def export_detections(
     config: TrackingConfig = TrackingConfig(),
     detector: DetectorOptions = DetectorOptions(),
     tripod: Tripod | None = None,
-    tripod_position=None,
+    reinit_position=None,
     start: int | None = None,
     end: int | None = None,
     write_masks: bool = True,
@@ -152,7 +152,7 @@ def export_detections(
         out_path: the .jsonl file to write (masks go to :func:`default_mask_dir`).
         config: options of the online tracker that names the markings (mode is forced to online).
         detector: which detector (weight-free or ONNX).
-        tripod / tripod_position: known tripod or known pan/tilt centre (metres), as for ``track``.
+        tripod / reinit_position: known tripod, or a re-initialisation guess of the camera position (metres), as for ``track``.
         start, end: frame range (0-based, end exclusive).
         write_masks: write the marking maps as PNGs.
         track_dir: keep the naming tracker's run folder here (default: a temporary folder, removed).
@@ -168,7 +168,7 @@ def export_detections(
         raise InputError(out_path, "is a folder; give the detections file to write (e.g. detections.jsonl)")
     config = replace(config, mode="online")
     mask_dir = default_mask_dir(out_path) if write_masks else None
-    positions = None if tripod_position is None else [tuple(float(v) for v in tripod_position)]
+    positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
     run_info = {"input": str(frames_path), "detector": detector.kind, "purpose": "naming for a detections export",
                 "detections_out": str(out_path)}
     made_detector = make_detector(detector, pitch)

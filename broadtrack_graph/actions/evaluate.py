@@ -45,6 +45,9 @@ def evaluate_folders(annotations_path: Path, cameras_path: Path, width_px: int, 
     """
     if width_px < 2 or height_px < 2:
         raise InputError(None, f"evaluation resolution must be at least 2x2, got {width_px}x{height_px}")
+    bad = [t for t in taus if not (float(t) > 0 and float(t) < float("inf"))]
+    if bad:
+        raise InputError(None, f"tau must be a finite number of pixels > 0, got {bad[0]}")
     annotations = read_annotations(annotations_path)
     if not annotations.frames:
         raise InputError(annotations_path, "no usable annotation file")

@@ -52,7 +52,7 @@ def track_input(
     config: TrackingConfig = TrackingConfig(),
     detector: DetectorOptions = DetectorOptions(),
     tripod: Tripod | None = None,
-    tripod_position=None,
+    reinit_position=None,
     detections_path: str | Path | None = None,
     start: int | None = None,
     end: int | None = None,
@@ -66,7 +66,7 @@ def track_input(
         out_dir: run folder.
         config: tracking options (mode, lag, switches).
         detector: detector for image input (unused with a detections file).
-        tripod: known tripod, or None; tripod_position: known pan/tilt centre only (metres).
+        tripod: known tripod, or None; reinit_position: a guess (x, y, z metres) of the camera position for re-initialisation, not a tripod constraint.
         detections_path: a detections file (JSON lines) to track from instead of a detector.
         start, end: frame range (0-based, end exclusive).
     """
@@ -74,7 +74,7 @@ def track_input(
     run_info = {"input": None if frames_path is None else str(frames_path),
                 "detections": None if detections_path is None else str(detections_path),
                 "detector": None if detections_path is not None else detector.kind}
-    positions = None if tripod_position is None else [tuple(float(v) for v in tripod_position)]
+    positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
     if detections_path is not None:
         detections = read_detections(detections_path, pitch)
         source = open_frames(frames_path, start, end) if frames_path is not None else None

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from broadtrack_graph.commands.validate import finite_float, int_at_least
+
 HELP = "compare camera runs (filter vs smoother, ...): JaC, MRE, completeness, jitter, focal point spread, plots"
 
 
@@ -17,9 +19,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--names", nargs="+", default=None, help="a display name per run")
     parser.add_argument("--out", type=Path, default=None,
                         help="write compare.json, compare.md, series.png, focal_points.png here")
-    parser.add_argument("--tripod-position", type=float, nargs=3, default=None, metavar=("X", "Y", "Z"),
+    parser.add_argument("--tripod-position", type=finite_float, nargs=3, default=None, metavar=("X", "Y", "Z"),
                         help="tripod point T (metres, pitch frame, z down) to mark on the focal point plot")
-    parser.add_argument("--eval-size", type=int, nargs=2, default=None, metavar=("W", "H"),
+    parser.add_argument("--eval-size", type=int_at_least(2), nargs=2, default=None, metavar=("W", "H"),
                         help="evaluation resolution (default: the annotations' image size, else the run's)")
 
 

@@ -10,6 +10,7 @@ from broadtrack_graph.commands.tracking_options import (
     detector_options,
     tripod_from_args,
 )
+from broadtrack_graph.commands.validate import frame_index, int_at_least
 from broadtrack_graph.errors import InputError
 
 HELP = "write a detections file (JSON lines) from frames with the project's detector, or from SoccerNet annotations"
@@ -22,9 +23,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--annotations", type=Path,
                         help="instead of INPUT: import SoccerNet line annotations (folder of per-image JSON or "
                              "Labels-GameState.json) as line detections")
-    parser.add_argument("--width", type=int, help="--annotations: image width the annotations refer to")
-    parser.add_argument("--height", type=int, help="--annotations: image height")
-    parser.add_argument("--first-number", type=int, default=None,
+    parser.add_argument("--width", type=int_at_least(2), help="--annotations: image width the annotations refer to")
+    parser.add_argument("--height", type=int_at_least(2), help="--annotations: image height")
+    parser.add_argument("--first-number", type=frame_index, default=None,
                         help="--annotations folder: number of the file of frame 0 (default 1, or 0 if a file 0 exists)")
     parser.add_argument("--no-masks", action="store_true", help="do not write the marking masks")
     parser.add_argument("--track-out", type=Path, default=None,
@@ -48,7 +49,7 @@ def run(args) -> int:
         raise InputError(None, "detect names the markings with the online tracker; --mode must be online")
     tripod, position = tripod_from_args(args)
     summary = export_detections(args.input, args.out, config, detector_options(args), tripod=tripod,
-                                tripod_position=position, start=args.start, end=args.end,
+                                reinit_position=position, start=args.start, end=args.end,
                                 write_masks=not args.no_masks, track_dir=args.track_out, progress=not args.no_progress)
     print(f"wrote {summary.records} of {summary.frames} frames to {summary.path} in {summary.seconds:.1f} s "
           f"({summary.frames_with_lines} with named lines, {summary.masks} masks"

@@ -35,7 +35,7 @@ def run(args) -> int:
     config = config_from_args(args)
     detector = detector_options(args)
     tripod, position = tripod_from_args(args)
-    result = track_input(frames, args.out, config, detector, tripod=tripod, tripod_position=position,
+    result = track_input(frames, args.out, config, detector, tripod=tripod, reinit_position=position,
                          detections_path=args.detections, start=args.start, end=args.end, progress=not args.no_progress)
     summary = result.summary
     print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps', 0):.1f} fps)")

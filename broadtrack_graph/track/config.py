@@ -40,6 +40,8 @@ class TrackingConfig:
             raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
         if self.lag_frames < 1:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
+        if not 0.0 <= self.confidence_threshold <= 1.0:
+            raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
 
