@@ -40,6 +40,7 @@ from broadtrack_graph.io.annotations import GAMESTATE_FILE, read_annotations
 from broadtrack_graph.io.detections import DetectionsWriter, write_mask_png
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.jsonfile import read_json
+from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
@@ -185,6 +186,7 @@ def export_detections(
                 raise InputError(out_path, f"cannot write: {exc.strerror or exc}") from None
             with writer:
                 recorder = DetectionRecorder(writer, mask_dir)
+                RunFolder(track_dir).clear()
                 run = TrackingRun(source.width_px, source.height_px, track_dir, config, made_detector, tripod, pitch,
                                   run_info=run_info, reinit_positions=positions, on_frame_done=recorder)
                 run_loop(run, frames_from_source(source), progress, len(source), "detect")

@@ -11,6 +11,8 @@ from __future__ import annotations
 import logging
 import sys
 
+log = logging.getLogger(__name__)
+
 from broadtrack_graph.io.track_record import STATUSES_WITH_CAMERA
 
 EXIT_OK = 0
@@ -67,3 +69,14 @@ def run_summary_line(command: str, summary: dict) -> str:
     marker = " INTERRUPTED" if summary.get("interrupted") else ""
     return (f"{command}:{marker} {frames} frames, {cameras} cameras ({statuses or 'no frame'}), "
             f"{warning_count()} warnings")
+
+
+def finish_run(command: str, summary: dict) -> int:
+    """Print the run's closing line and return its exit code: 3 (logged as an error) when it produced no camera."""
+    counts = summary.get("status_counts") or {}
+    cameras = sum(int(counts.get(s, 0)) for s in STATUSES_WITH_CAMERA)
+    if cameras == 0:
+        log.error("the run produced no camera in %d frames (see the statuses and warnings above); exit code %d",
+                  int(summary.get("frames_written") or 0), EXIT_NO_CAMERA)
+    print(run_summary_line(command, summary))
+    return EXIT_NO_CAMERA if cameras == 0 else EXIT_OK

@@ -54,6 +54,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     metres off (seed 2: 2.9 m; with the held first pass: see the README figures).
     """
     out_dir = Path(out_dir)
+    RunFolder(out_dir).clear()  # nothing of an earlier run into this folder survives (tripod.json, pass1/, ...)
     if config.mode != "batch":
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
                           reinit_positions=reinit_positions, mask_paths=mask_paths)
@@ -145,5 +146,10 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
             if progress:
                 bar.set_postfix(run.writer.progress_postfix() if hasattr(run.writer, "progress_postfix") else {},
                                 refresh=False)
+    except KeyboardInterrupt:
+        # Ctrl-C or SIGTERM (the command line turns it into KeyboardInterrupt): the summary tells the truth.
+        if hasattr(run.writer, "interrupt"):
+            run.writer.interrupt()
+        raise
     finally:
         bar.close()
