@@ -80,3 +80,18 @@ def finish_run(command: str, summary: dict) -> int:
                   int(summary.get("frames_written") or 0), EXIT_NO_CAMERA)
     print(run_summary_line(command, summary))
     return EXIT_NO_CAMERA if cameras == 0 else EXIT_OK
+
+
+def print_interrupted_summary(command: str, run_dir) -> None:
+    """After Ctrl-C / SIGTERM: the closing line from the run folder's summary.json (rewritten on interrupt)."""
+    from broadtrack_graph.errors import InputError
+    from broadtrack_graph.io.run_folder import RunFolder
+
+    folder = RunFolder(run_dir)
+    for candidate in (folder, folder.pass1()):
+        if candidate.has_summary():
+            try:
+                print(run_summary_line(command, candidate.read_summary()))
+                return
+            except InputError:
+                return

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from broadtrack_graph.actions.track import track_input
-from broadtrack_graph.commands.console import finish_run
+from broadtrack_graph.commands.console import finish_run, print_interrupted_summary
 from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
     config_from_args,
@@ -36,8 +36,13 @@ def run(args) -> int:
     config = config_from_args(args)
     detector = detector_options(args)
     tripod, position = tripod_from_args(args)
-    result = track_input(frames, args.out, config, detector, tripod=tripod, reinit_position=position,
-                         detections_path=args.detections, start=args.start, end=args.end, progress=not args.no_progress)
+    try:
+        result = track_input(frames, args.out, config, detector, tripod=tripod, reinit_position=position,
+                             detections_path=args.detections, start=args.start, end=args.end,
+                             progress=not args.no_progress)
+    except KeyboardInterrupt:
+        print_interrupted_summary("track", args.out)
+        raise
     summary = result.summary
     print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps') or 0:.1f} fps)")
     if result.tripod is not None:
