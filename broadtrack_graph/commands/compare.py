@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 from broadtrack_graph.commands.validate import finite_float, int_at_least
+
+log = logging.getLogger(__name__)
 
 HELP = "compare camera runs (filter vs smoother, ...): JaC, MRE, completeness, jitter, focal point spread, plots"
 
@@ -34,7 +37,7 @@ def run(args) -> int:
     for name, stats in report["runs"].items():
         metrics = stats.get("metrics")
         if metrics and metrics["frames_matched"] == 0:
-            print(f"warning: run '{name}': none of the {metrics['frames_annotated']} annotated frame ids is in the run")
+            log.warning("run '%s': none of the %d annotated frame ids is in the run", name, metrics["frames_annotated"])
     if report.get("files"):
         print("\n".join(f"wrote {path}" for path in report["files"].values()))
     return 0
