@@ -73,7 +73,10 @@ def _sigterm(signum, frame):
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # a bad argument (one line already printed, code 2) or --help (0)
+        return int(exc.code or 0)
     setup_logging(args.verbose)
     previous = signal.getsignal(signal.SIGTERM)
     try:

@@ -34,7 +34,7 @@ def run(args) -> int:
     if report["frames_with_camera"] == 0:
         log.warning("none of the %d annotated frames has a camera file in %s: check that the frame ids match",
                     report["frames"], report["cameras"])
-    print(f"cameras read from {report['cameras']}")
+    print(f"cameras read from {report.get('cameras', args.cameras)}")
     print(evaluation_table(report, args.width, args.height))
     if args.json is not None:
         print(f"report written to {args.json}")

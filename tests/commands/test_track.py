@@ -65,7 +65,7 @@ def test_config_file_and_flags_given_override_it(calls, tmp_path):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--lag", "0"], "lag_frames must be >= 1, got 0"),
+    (["--lag", "0"], "argument --lag: 0 is too small; give an integer >= 1"),
     (["--detector", "onnx"], "--detector onnx needs --segmentation-model and/or --keypoint-model"),
     (["--config", "missing.toml"], "missing.toml: config file not found"),
 ])
