@@ -148,3 +148,15 @@ def test_unreadable_inputs_are_one_line_errors(tmp_path):
     assert "clip.mp4" in str(info.value) and "\n" not in str(info.value)
     with pytest.raises(InputError, match="not found"):
         track_input(tmp_path / "nowhere", tmp_path / "out", progress=False)
+
+
+def test_a_rerun_clears_what_the_earlier_run_left(tmp_path):
+    out = tmp_path / "run"
+    (out / "pass1" / "cameras").mkdir(parents=True)
+    (out / "cameras").mkdir()
+    (out / "cameras" / "camera_000099.json").write_text("{}", encoding="utf-8")
+    for name in ("tripod.json", "shots.json", "notes.txt"):
+        (out / name).write_text("{}", encoding="utf-8")
+    result = run_frames([], 960, 540, out, TrackingConfig(), progress=False)
+    assert sorted(p.name for p in out.iterdir()) == ["cameras", "notes.txt", "summary.json", "track.jsonl"]
+    assert list((out / "cameras").iterdir()) == [] and result.summary["frames_written"] == 0
