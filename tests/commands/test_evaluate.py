@@ -32,3 +32,23 @@ def test_bad_resolution_exits_2_with_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == ("broadtrack-graph evaluate: error: argument --width: 1 is too small; give an integer >= 2 "
                    "(see broadtrack-graph evaluate --help)\n")
+
+
+def test_a_run_folder_is_read_through_its_cameras_and_named(tmp_path, capsys):
+    import json
+
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.io.cameras import write_camera_file
+
+    (tmp_path / "ann").mkdir()
+    (tmp_path / "ann" / "00001.json").write_text(json.dumps({"Middle line": [{"x": 0.5, "y": 0.2}, {"x": 0.5, "y": 0.8}]}))
+    write_camera_file(tmp_path / "run" / "cameras" / "camera_00001.json",
+                      Camera(1500.0, 0.0, 0.0, 1.3, 0.0, (0.0, 55.0, -12.0), 960, 540))
+    assert main(["evaluate", "--annotations", str(tmp_path / "ann"), "--cameras", str(tmp_path / "run"),
+                 "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert f"cameras read from {tmp_path / 'run' / 'cameras'}" in out and "with camera 1" in out
+    (tmp_path / "empty").mkdir()
+    assert main(["evaluate", "--annotations", str(tmp_path / "ann"), "--cameras", str(tmp_path / "empty")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no camera_<id>.json file in this folder" in err
