@@ -67,6 +67,13 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _stderr_is_terminal() -> bool:
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
 def _sigterm(signum, frame):
     raise KeyboardInterrupt("SIGTERM")
 
@@ -78,6 +85,10 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # a bad argument (one line already printed, code 2) or --help (0)
         return int(exc.code or 0)
     setup_logging(args.verbose)
+    if hasattr(args, "no_progress") and not _stderr_is_terminal():
+        # A progress bar redraws its line with carriage returns: in a log file every message would share a
+        # physical line with a bar. Bars are for terminals; the closing summary line reports the run.
+        args.no_progress = True
     previous = signal.getsignal(signal.SIGTERM)
     try:
         signal.signal(signal.SIGTERM, _sigterm)  # a killed run ends like Ctrl-C: summary rewritten

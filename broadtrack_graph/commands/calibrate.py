@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import json
+import logging
 from pathlib import Path
 
 from broadtrack_graph.actions.calibrate import PREVIEW_FRAMES, calibrate_folder
+from broadtrack_graph.commands.console import EXIT_NO_CAMERA
 from broadtrack_graph.commands.validate import int_at_least
+
+log = logging.getLogger(__name__)
 
 HELP = "single-frame calibration: treat each annotation file's line points as detections, write camera files"
 
@@ -29,4 +33,8 @@ def run(args) -> int:
                                preview_path=args.preview, progress=not args.no_progress)
     missing = summary.pop("missing")
     print(json.dumps({**summary, "missing_count": len(missing), "missing": dict(list(missing.items())[:20])}, indent=2))
+    if summary["cameras"] == 0:
+        log.error("no frame of %d could be calibrated (see \"missing\" above); exit code %d", summary["frames"],
+                  EXIT_NO_CAMERA)
+        return EXIT_NO_CAMERA
     return 0

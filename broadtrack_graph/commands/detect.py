@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from broadtrack_graph.commands.console import warning_count
 from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
     config_from_args,
@@ -42,7 +43,8 @@ def run(args) -> int:
     if args.annotations is not None:
         summary = import_annotations(args.annotations, args.out, args.width, args.height, args.first_number)
         print(f"imported {summary.records} annotated frames into {summary.path}"
-              + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else ""))
+              + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else "")
+              + f", {warning_count()} warnings")
         return 0
     config = config_from_args(args)
     if config.mode != "online":
@@ -53,5 +55,5 @@ def run(args) -> int:
                                 write_masks=not args.no_masks, track_dir=args.track_out, progress=not args.no_progress)
     print(f"wrote {summary.records} of {summary.frames} frames to {summary.path} in {summary.seconds:.1f} s "
           f"({summary.frames_with_lines} with named lines, {summary.masks} masks"
-          + (f" in {summary.mask_dir}" if summary.mask_dir else "") + ")")
+          + (f" in {summary.mask_dir}" if summary.mask_dir else "") + f"), {warning_count()} warnings")
     return 0

@@ -51,3 +51,15 @@ def test_ffmpeg_log_is_quiet_before_cv2_import():
     import broadtrack_graph.cli  # noqa: F401  (sets the variables at import)
 
     assert os.environ["OPENCV_FFMPEG_LOGLEVEL"] and os.environ["OPENCV_LOG_LEVEL"]
+
+
+def test_no_progress_bar_when_stderr_is_not_a_terminal(monkeypatch, capsys):
+    seen = []
+
+    def fake(frames, out_dir, config, detector, **kwargs):
+        seen.append(kwargs["progress"])
+        return RunResult(Path(out_dir), {"frames_written": 1, "status_counts": {"tracked": 1}}, [], None)
+
+    monkeypatch.setattr(track_command, "track_input", fake)
+    assert main(["track", "clip", "--out", "run"]) == 0  # capsys: stderr is not a terminal
+    assert seen == [False]  # a bar's carriage returns would share lines with the warnings in a log file
