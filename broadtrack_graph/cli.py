@@ -27,7 +27,7 @@ import sys  # noqa: E402
 
 from tqdm.contrib.logging import logging_redirect_tqdm  # noqa: E402
 
-from broadtrack_graph.commands.console import EXIT_INPUT_ERROR, EXIT_INTERRUPTED, setup_logging  # noqa: E402
+from broadtrack_graph.commands.console import EXIT_INPUT_ERROR, EXIT_INTERRUPTED, setup_logging, teardown_logging  # noqa: E402
 from broadtrack_graph.errors import InputError  # noqa: E402
 
 COMMANDS = (
@@ -104,6 +104,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"broadtrack-graph {args.command}: interrupted; files written so far are kept", file=sys.stderr)
         return EXIT_INTERRUPTED
     finally:
+        teardown_logging()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
 

@@ -51,6 +51,15 @@ def setup_logging(verbose: bool = False) -> None:
     _counter.count = 0
 
 
+def teardown_logging() -> None:
+    """Remove the stderr handler of :func:`setup_logging` (main() calls it on the way out: a caller such as a
+    test runner may close that stream later). The warning count stays readable."""
+    root = logging.getLogger()
+    for handler in list(root.handlers):
+        if getattr(handler, "_broadtrack", False) or handler is _counter:
+            root.removeHandler(handler)
+
+
 def warning_count() -> int:
     """Warnings (and errors) logged since :func:`setup_logging`."""
     return _counter.count
