@@ -35,6 +35,8 @@ def run(args) -> int:
                           args.tripod_position, tuple(args.eval_size) if args.eval_size else None)
     print(report["table_markdown"])
     for name, stats in report["runs"].items():
+        if stats.get("path"):
+            print(f"run '{name}' read from {stats['path']}")
         metrics = stats.get("metrics")
         if metrics and metrics["frames_matched"] == 0:
             log.warning("run '%s': none of the %d annotated frame ids is in the run", name, metrics["frames_annotated"])

@@ -27,4 +27,6 @@ def run(args) -> int:
                            progress=not args.no_progress)
     print(f"wrote {result['frames']} frames to {result['out']} "
           f"({result['with_camera']} with a camera, {result['missing_input']} unreadable input frames)")
+    if result.get("cameras_from"):
+        print(f"cameras read from {result['cameras_from']}")
     return 0
