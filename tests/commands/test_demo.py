@@ -17,6 +17,7 @@ def test_settings_reach_the_action(monkeypatch, capsys):
         return {"table": "| t |", "clip": "c", "runs": {"online": "o"}, "compare": "cmp", "overlay": None}
 
     monkeypatch.setattr(demo_command, "run_demo", fake_run_demo)
+    monkeypatch.setattr("broadtrack_graph.cli._stderr_is_terminal", lambda: True)  # bars only show on a terminal
     assert main(["demo", "--no-progress"]) == 0
     assert seen[0] == (Path("runs/demo"), DemoSettings(), False)
     assert main(["demo", "--out", "d", "--frames", "30", "--width", "640", "--height", "360", "--seed", "4",
