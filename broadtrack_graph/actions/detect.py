@@ -41,6 +41,7 @@ from broadtrack_graph.io.detections import DetectionsWriter, write_mask_png
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.jsonfile import read_json
 from broadtrack_graph.io.nbjw_keypoints import read_nbjw_predictions
+from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
@@ -138,7 +139,7 @@ def export_detections(
     config: TrackingConfig = TrackingConfig(),
     detector: DetectorOptions = DetectorOptions(),
     tripod: Tripod | None = None,
-    tripod_position=None,
+    reinit_position=None,
     start: int | None = None,
     end: int | None = None,
     write_masks: bool = True,
@@ -153,7 +154,7 @@ def export_detections(
         out_path: the .jsonl file to write (masks go to :func:`default_mask_dir`).
         config: options of the online tracker that names the markings (mode is forced to online).
         detector: which detector (weight-free or ONNX).
-        tripod / tripod_position: known tripod or known pan/tilt centre (metres), as for ``track``.
+        tripod / reinit_position: known tripod, or a re-initialisation guess of the camera position (metres), as for ``track``.
         start, end: frame range (0-based, end exclusive).
         write_masks: write the marking maps as PNGs.
         track_dir: keep the naming tracker's run folder here (default: a temporary folder, removed).
@@ -169,7 +170,7 @@ def export_detections(
         raise InputError(out_path, "is a folder; give the detections file to write (e.g. detections.jsonl)")
     config = replace(config, mode="online")
     mask_dir = default_mask_dir(out_path) if write_masks else None
-    positions = None if tripod_position is None else [tuple(float(v) for v in tripod_position)]
+    positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
     run_info = {"input": str(frames_path), "detector": detector.kind, "purpose": "naming for a detections export",
                 "detections_out": str(out_path)}
     made_detector = make_detector(detector, pitch)
@@ -186,6 +187,7 @@ def export_detections(
                 raise InputError(out_path, f"cannot write: {exc.strerror or exc}") from None
             with writer:
                 recorder = DetectionRecorder(writer, mask_dir)
+                RunFolder(track_dir).clear()
                 run = TrackingRun(source.width_px, source.height_px, track_dir, config, made_detector, tripod, pitch,
                                   run_info=run_info, reinit_positions=positions, on_frame_done=recorder)
                 run_loop(run, frames_from_source(source), progress, len(source), "detect")

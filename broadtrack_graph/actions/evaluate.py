@@ -10,7 +10,7 @@ from pathlib import Path
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.annotations import read_annotations
-from broadtrack_graph.io.cameras import list_camera_files, read_camera_file
+from broadtrack_graph.io.cameras import read_camera_file, resolve_camera_folder
 from broadtrack_graph.io.jsonfile import write_json_atomic
 from broadtrack_graph.metrics.soccernet import DEFAULT_TAUS, evaluate_cameras
 
@@ -18,10 +18,16 @@ from broadtrack_graph.metrics.soccernet import DEFAULT_TAUS, evaluate_cameras
 def load_cameras(folder: Path, frame_ids, width_px: int, height_px: int):
     """Read the camera files of the given frames; a broken file counts as a missing camera.
 
+    Args:
+        folder: a folder of camera files or a run folder (its cameras/ is read).
+
     Returns:
         (cameras: frame id -> Camera | None, errors: frame id -> one-line message)
+
+    Raises:
+        InputError: the folder is missing or holds no camera file.
     """
-    files = list_camera_files(folder)
+    folder, files = resolve_camera_folder(folder)
     cameras, errors = {}, {}
     for frame_id in frame_ids:
         path = files.get(frame_id)
@@ -41,13 +47,19 @@ def evaluate_folders(annotations_path: Path, cameras_path: Path, width_px: int, 
     """Read annotations and camera files and return the metric report (also written to json_path when given).
 
     Raises:
-        InputError: resolution below 2x2, no usable annotation, or the camera folder missing.
+        InputError: resolution below 2x2, a tau not > 0, no usable annotation, or the camera folder missing
+            or without camera files (a run folder is accepted: its cameras/ is read; ``report["cameras"]``
+            names the folder used).
     """
     if width_px < 2 or height_px < 2:
         raise InputError(None, f"evaluation resolution must be at least 2x2, got {width_px}x{height_px}")
+    bad = [t for t in taus if not (float(t) > 0 and float(t) < float("inf"))]
+    if bad:
+        raise InputError(None, f"tau must be a finite number of pixels > 0, got {bad[0]}")
     annotations = read_annotations(annotations_path)
     if not annotations.frames:
         raise InputError(annotations_path, "no usable annotation file")
+    cameras_path, _ = resolve_camera_folder(cameras_path)
     cameras, camera_errors = load_cameras(cameras_path, annotations.frames, width_px, height_px)
     report = evaluate_cameras(annotations, cameras, width_px, height_px, taus, camera_errors=camera_errors,
                               progress=progress)

@@ -55,7 +55,7 @@ def track_input(
     config: TrackingConfig = TrackingConfig(),
     detector: DetectorOptions = DetectorOptions(),
     tripod: Tripod | None = None,
-    tripod_position=None,
+    reinit_position=None,
     detections_path: str | Path | None = None,
     start: int | None = None,
     end: int | None = None,
@@ -71,7 +71,7 @@ def track_input(
         out_dir: run folder.
         config: tracking options (mode, lag, switches).
         detector: detector for image input (unused with a detections file).
-        tripod: known tripod, or None; tripod_position: known pan/tilt centre only (metres).
+        tripod: known tripod, or None; reinit_position: a guess (x, y, z metres) of the camera position for re-initialisation, not a tripod constraint.
         detections_path: a detections file (JSON lines) to track from instead of a detector.
         start, end: frame range (0-based, end exclusive).
         players: put players on the pitch too: a box file (game-state labels, MOT, detections), or
@@ -81,7 +81,7 @@ def track_input(
         players_options: a :class:`~broadtrack_graph.actions.players.PlayersOptions` (default options).
     """
     if players is None:
-        return _track(frames_path, out_dir, config, detector, tripod, tripod_position, detections_path, start, end,
+        return _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
                       progress, pitch, None)
     from broadtrack_graph.actions.players import PlayersOptions, players_from_run
     from broadtrack_graph.io.player_boxes import PlayerBoxes
@@ -95,7 +95,7 @@ def track_input(
         if boxes is not None and len(boxes):
             collected.add_frame(frame.frame_index, frame.frame_id, boxes)
 
-    result = _track(frames_path, out_dir, config, detector, tripod, tripod_position, detections_path, start, end,
+    result = _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
                     progress, pitch, collect if collected is not None else None)
     if collected is not None:
         from broadtrack_graph.detect.player_ids import link_track_ids
@@ -107,13 +107,13 @@ def track_input(
     return result
 
 
-def _track(frames_path, out_dir, config, detector, tripod, tripod_position, detections_path, start, end, progress,
+def _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end, progress,
            pitch, on_frame_done) -> RunResult:
     pitch = pitch or PitchTemplate()
     run_info = {"input": None if frames_path is None else str(frames_path),
                 "detections": None if detections_path is None else str(detections_path),
                 "detector": None if detections_path is not None else detector.kind}
-    positions = None if tripod_position is None else [tuple(float(v) for v in tripod_position)]
+    positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
     if detections_path is not None:
         detections = read_detections(detections_path, pitch)
         source = open_frames(frames_path, start, end) if frames_path is not None else None

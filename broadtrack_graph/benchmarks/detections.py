@@ -24,7 +24,8 @@ One synthetic clip (rendered once into ``--clip``, reused when it is already the
   frames where the per-frame fit fails grossly (mean error above ``--kp-gross-px``),
   since a few such frames dominate an RMS.
 
-``--plot DIR`` writes ``detections_files.png`` and ``detections_keypoints.png``.
+``--plot [DIR]`` writes ``detections_files.png`` and ``detections_keypoints.png`` (into
+``runs/bench-detections`` without a DIR).
 """
 
 from __future__ import annotations
@@ -41,6 +42,9 @@ from broadtrack_graph.track.config import TrackingConfig
 HELP = "tracking from detections files: detect -> file -> track, and keypoints-only smoothing vs per-frame fits"
 
 log = logging.getLogger(__name__)
+
+
+DEFAULT_PLOT_DIR = Path("runs/bench-detections")  # scratch folder of --plot without a DIR
 
 
 def add_arguments(parser) -> None:
@@ -63,7 +67,9 @@ def add_arguments(parser) -> None:
                         help="keypoints: a per-frame fit whose mean marking error exceeds this is a gross failure; "
                              "jitter is also reported without those frames (default 50)")
     parser.add_argument("--kp-seed", type=int, default=0, help="keypoints: noise seed (default 0)")
-    parser.add_argument("--plot", type=Path, default=None, help="write the PNGs into this folder")
+    parser.add_argument("--plot", type=Path, nargs="?", default=None, const=DEFAULT_PLOT_DIR, metavar="DIR",
+                        help=f"write the PNGs into DIR (--plot alone: the scratch folder {DEFAULT_PLOT_DIR}, "
+                             "so that a run never overwrites the images kept in the repository)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
 
 

@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 import json
+import logging
 from pathlib import Path
 
 from broadtrack_graph.actions.calibrate import PREVIEW_FRAMES, calibrate_folder
+from broadtrack_graph.commands.console import EXIT_NO_CAMERA
+from broadtrack_graph.commands.validate import int_at_least
+
+log = logging.getLogger(__name__)
 
 HELP = "single-frame calibration: treat each annotation file's line points as detections, write camera files"
 
@@ -14,9 +19,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--annotations", required=True, type=Path,
                         help="folder of per-image NNNNN.json annotations, or a Labels-GameState.json (or its folder)")
     parser.add_argument("--out", required=True, type=Path, help="folder for camera_NNNNN.json files (created)")
-    parser.add_argument("--width", type=int, default=960, help="image width in pixels the cameras are for (default 960)")
-    parser.add_argument("--height", type=int, default=540, help="image height in pixels (default 540)")
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument("--width", type=int_at_least(2), default=960, help="image width in pixels the cameras are for (default 960)")
+    parser.add_argument("--height", type=int_at_least(2), default=540, help="image height in pixels (default 540)")
+    parser.add_argument("--jobs", type=int_at_least(1), default=1, help="worker processes (default 1)")
     parser.add_argument("--preview", type=Path, default=None,
                         help=f"write a PNG mosaic of {PREVIEW_FRAMES} evenly spaced frames: template, points within "
                              "5 px green, others red")
@@ -28,4 +33,8 @@ def run(args) -> int:
                                preview_path=args.preview, progress=not args.no_progress)
     missing = summary.pop("missing")
     print(json.dumps({**summary, "missing_count": len(missing), "missing": dict(list(missing.items())[:20])}, indent=2))
+    if summary["cameras"] == 0:
+        log.error("no frame of %d could be calibrated (see \"missing\" above); exit code %d", summary["frames"],
+                  EXIT_NO_CAMERA)
+        return EXIT_NO_CAMERA
     return 0

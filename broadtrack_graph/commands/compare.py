@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
+
+from broadtrack_graph.commands.validate import finite_float, int_at_least
+
+log = logging.getLogger(__name__)
 
 HELP = "compare camera runs (filter vs smoother, ...): JaC, MRE, completeness, jitter, focal point spread, plots"
 
@@ -17,9 +22,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--names", nargs="+", default=None, help="a display name per run")
     parser.add_argument("--out", type=Path, default=None,
                         help="write compare.json, compare.md, series.png, focal_points.png here")
-    parser.add_argument("--tripod-position", type=float, nargs=3, default=None, metavar=("X", "Y", "Z"),
+    parser.add_argument("--tripod-position", type=finite_float, nargs=3, default=None, metavar=("X", "Y", "Z"),
                         help="tripod point T (metres, pitch frame, z down) to mark on the focal point plot")
-    parser.add_argument("--eval-size", type=int, nargs=2, default=None, metavar=("W", "H"),
+    parser.add_argument("--eval-size", type=int_at_least(2), nargs=2, default=None, metavar=("W", "H"),
                         help="evaluation resolution (default: the annotations' image size, else the run's)")
 
 
@@ -30,9 +35,11 @@ def run(args) -> int:
                           args.tripod_position, tuple(args.eval_size) if args.eval_size else None)
     print(report["table_markdown"])
     for name, stats in report["runs"].items():
+        if stats.get("path"):
+            print(f"run '{name}' read from {stats['path']}")
         metrics = stats.get("metrics")
         if metrics and metrics["frames_matched"] == 0:
-            print(f"warning: run '{name}': none of the {metrics['frames_annotated']} annotated frame ids is in the run")
+            log.warning("run '%s': none of the %d annotated frame ids is in the run", name, metrics["frames_annotated"])
     if report.get("files"):
         print("\n".join(f"wrote {path}" for path in report["files"].values()))
     return 0

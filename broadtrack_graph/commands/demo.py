@@ -5,17 +5,18 @@ from __future__ import annotations
 from pathlib import Path
 
 from broadtrack_graph.actions.demo import DemoSettings, run_demo
+from broadtrack_graph.commands.validate import image_side, int_at_least
 
 HELP = "render the embedded synthetic clip, track it online and smoothed, evaluate, draw and compare"
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
-    parser.add_argument("--frames", type=int, default=DemoSettings.frames,
+    parser.add_argument("--frames", type=int_at_least(2), default=DemoSettings.frames,
                         help=f"clip length (default {DemoSettings.frames})")
-    parser.add_argument("--width", type=int, default=DemoSettings.width_px,
+    parser.add_argument("--width", type=image_side, default=DemoSettings.width_px,
                         help=f"frame width (default {DemoSettings.width_px})")
-    parser.add_argument("--height", type=int, default=DemoSettings.height_px,
+    parser.add_argument("--height", type=image_side, default=DemoSettings.height_px,
                         help=f"frame height (default {DemoSettings.height_px})")
     parser.add_argument("--seed", type=int, default=DemoSettings.seed, help=f"clip seed (default {DemoSettings.seed})")
     parser.add_argument("--no-overlay", action="store_true", help="skip the overlay video")

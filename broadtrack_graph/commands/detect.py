@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from broadtrack_graph.commands.console import warning_count
 from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
     config_from_args,
     detector_options,
     tripod_from_args,
 )
+from broadtrack_graph.commands.validate import frame_index, int_at_least
 from broadtrack_graph.errors import InputError
 
 HELP = ("write a detections file (JSON lines) from frames with the project's detector, from SoccerNet annotations, "
@@ -31,9 +33,9 @@ def add_arguments(parser) -> None:
                         help="--import: the clip to import when the folder holds several (file stem without IMG_<n>)")
     parser.add_argument("--units", choices=["normalized", "px"], default="normalized",
                         help="--import: keypoint coordinates normalised by the image size (default) or pixels")
-    parser.add_argument("--width", type=int, help="--annotations / --import: image width the coordinates refer to")
-    parser.add_argument("--height", type=int, help="--annotations / --import: image height")
-    parser.add_argument("--first-number", type=int, default=None,
+    parser.add_argument("--width", type=int_at_least(2), help="--annotations / --import: image width the coordinates refer to")
+    parser.add_argument("--height", type=int_at_least(2), help="--annotations / --import: image height")
+    parser.add_argument("--first-number", type=frame_index, default=None,
                         help="--annotations folder: number of the file of frame 0 (default 1, or 0 if a file 0 exists)")
     parser.add_argument("--no-masks", action="store_true", help="do not write the marking masks")
     parser.add_argument("--track-out", type=Path, default=None,
@@ -57,16 +59,17 @@ def run(args) -> int:
     if args.annotations is not None:
         summary = import_annotations(args.annotations, args.out, args.width, args.height, args.first_number)
         print(f"imported {summary.records} annotated frames into {summary.path}"
-              + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else ""))
+              + (f" ({len(summary.skipped)} items left out, see the warnings)" if summary.skipped else "")
+              + f", {warning_count()} warnings")
         return 0
     config = config_from_args(args)
     if config.mode != "online":
         raise InputError(None, "detect names the markings with the online tracker; --mode must be online")
     tripod, position = tripod_from_args(args)
     summary = export_detections(args.input, args.out, config, detector_options(args), tripod=tripod,
-                                tripod_position=position, start=args.start, end=args.end,
+                                reinit_position=position, start=args.start, end=args.end,
                                 write_masks=not args.no_masks, track_dir=args.track_out, progress=not args.no_progress)
     print(f"wrote {summary.records} of {summary.frames} frames to {summary.path} in {summary.seconds:.1f} s "
           f"({summary.frames_with_lines} with named lines, {summary.masks} masks"
-          + (f" in {summary.mask_dir}" if summary.mask_dir else "") + ")")
+          + (f" in {summary.mask_dir}" if summary.mask_dir else "") + f"), {warning_count()} warnings")
     return 0

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from broadtrack_graph.commands.validate import image_side, int_at_least, int_between
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.synth.motion import PRESETS
 
@@ -12,14 +13,14 @@ HELP = "render a synthetic broadcast clip (frames, cameras, SoccerNet annotation
 
 def add_arguments(parser) -> None:
     parser.add_argument("--preset", default="main", choices=sorted(PRESETS), help="camera and play preset (default main)")
-    parser.add_argument("--frames", type=int, default=750, help="number of frames (default 750, 30 s at 25 fps); with --cameras at most this many")
-    parser.add_argument("--width", type=int, default=1920, help="image width in pixels (default 1920)")
-    parser.add_argument("--height", type=int, default=1080, help="image height in pixels (default 1080)")
+    parser.add_argument("--frames", type=int_at_least(1), default=750, help="number of frames (default 750, 30 s at 25 fps); with --cameras at most this many")
+    parser.add_argument("--width", type=image_side, default=1920, help="image width in pixels (default 1920)")
+    parser.add_argument("--height", type=image_side, default=1080, help="image height in pixels (default 1080)")
     parser.add_argument("--seed", type=int, default=0, help="random seed; same seed, same clip (default 0)")
     parser.add_argument("--out", type=Path, required=True, help="output folder (SoccerNet game-state layout)")
     parser.add_argument("--cameras", type=Path, default=None,
                         help="render along this folder of camera_NNNNN.json files instead of a generated track")
-    parser.add_argument("--jpeg-quality", type=int, default=90, help="JPEG quality of the frames (default 90)")
+    parser.add_argument("--jpeg-quality", type=int_between(1, 100), default=90, help="JPEG quality of the frames (default 90)")
     parser.add_argument("--mp4", action="store_true", help="also write clip.mp4 (mp4v)")
     parser.add_argument("--no-masks", action="store_true", help="do not write the per-class line masks")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from broadtrack_graph.actions.track import track_input
+from broadtrack_graph.commands.console import finish_run, print_interrupted_summary
 from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
     config_from_args,
@@ -46,18 +47,19 @@ def run(args) -> int:
         from broadtrack_graph.actions.players import PlayersOptions
 
         players_options = PlayersOptions(pixel_sigma_px=args.pixel_sigma)
-    result = track_input(frames, args.out, config, detector, tripod=tripod, tripod_position=position,
-                         detections_path=args.detections, start=args.start, end=args.end, progress=not args.no_progress,
-                         players=args.players, players_options=players_options)
+    try:
+        result = track_input(frames, args.out, config, detector, tripod=tripod, reinit_position=position,
+                             detections_path=args.detections, start=args.start, end=args.end,
+                             progress=not args.no_progress, players=args.players, players_options=players_options)
+    except KeyboardInterrupt:
+        print_interrupted_summary("track", args.out)
+        raise
     summary = result.summary
-    print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps', 0):.1f} fps)")
-    counts = summary.get("status_counts", {})
-    if counts:
-        print("  " + ", ".join(f"{k}: {v}" for k, v in counts.items() if v))
+    print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps') or 0:.1f} fps)")
     players = summary.get("players")
     if players:
         print(f"  players: {players['located']} of {players['boxes']} boxes located (players.jsonl)")
     if result.tripod is not None:
         print(f"  tripod T = {[round(v, 2) for v in result.tripod.T_w]} m, delta = {result.tripod.delta_m:.3f} m "
               f"(written to {result.out_dir / TRIPOD_FILE})")
-    return 0
+    return finish_run("track", summary)

@@ -7,9 +7,11 @@ settings as a ``[flow]`` table; flags given on the command line override the fil
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 from broadtrack_graph.actions.track import DetectorOptions
+from broadtrack_graph.commands.validate import finite_float, frame_index, int_at_least, unit_interval
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.config_file import read_config_file
@@ -20,28 +22,40 @@ _DEFAULT = TrackingConfig()
 _DETECTOR = DetectorOptions()
 
 
+class _Renamed(argparse.Action):
+    """``--tripod-position`` was a re-initialisation guess, never a known tripod: it is now ``--reinit-position``."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.error("--tripod-position is renamed --reinit-position X Y Z (a re-initialisation guess of the camera "
+                     "position, not a known tripod); for a known tripod give --tripod tripod.json")
+
+
 def add_tracking_arguments(parser) -> None:
     """Options shared by track and detect (config-backed flags default to None: "not given")."""
     parser.add_argument("--config", type=Path, default=None,
                         help="TOML file of tracking options (TrackingConfig fields, [flow] table); flags given here override it")
     parser.add_argument("--mode", choices=MODES, default=None,
                         help=f"online (iSAM2), fixed-lag, or batch (default {_DEFAULT.mode})")
-    parser.add_argument("--lag", type=int, default=None,
+    parser.add_argument("--lag", type=int_at_least(1), default=None,
                         help=f"fixed-lag: frames of future used (default {_DEFAULT.lag_frames})")
     tripod = parser.add_mutually_exclusive_group()
     tripod.add_argument("--tripod", type=Path, help="tripod.json of an earlier run of this camera")
-    tripod.add_argument("--tripod-position", type=float, nargs=3, metavar=("X", "Y", "Z"),
-                        help="known pan/tilt centre in metres (SoccerNet frame, z down); delta is fitted")
+    tripod.add_argument("--reinit-position", type=finite_float, nargs=3, metavar=("X", "Y", "Z"),
+                        help="a guess of the camera position in metres (SoccerNet frame, z down, so Z < 0) tried "
+                             "when a frame is re-initialised from its markings; not a tripod constraint (for that "
+                             "give --tripod FILE). Frames with named lines or keypoints (e.g. a detections file) "
+                             "usually re-initialise without it")
+    parser.add_argument("--tripod-position", nargs="*", action=_Renamed, help=argparse.SUPPRESS)
     parser.add_argument("--detector", choices=("weightfree", "onnx"), default=_DETECTOR.kind,
                         help=f"field detector (default {_DETECTOR.kind})")
     parser.add_argument("--segmentation-model", type=Path, help="ONNX line-segmentation model (with its .json contract)")
     parser.add_argument("--keypoint-model", type=Path, help="ONNX keypoint-heatmap model (with its .json contract)")
-    parser.add_argument("--start", type=int, default=None, help="first frame index (0-based, inclusive)")
-    parser.add_argument("--end", type=int, default=None, help="last frame index (exclusive)")
+    parser.add_argument("--start", type=frame_index, default=None, help="first frame index (0-based, inclusive)")
+    parser.add_argument("--end", type=frame_index, default=None, help="last frame index (exclusive)")
     parser.add_argument("--no-flow", action="store_true", help="switch the optical-flow factor off")
     parser.add_argument("--no-tripod", action="store_true", help="switch the tripod factor off")
     parser.add_argument("--no-k1", action="store_true", help="hold radial distortion k1 at 0")
-    parser.add_argument("--confidence-threshold", type=float, default=None,
+    parser.add_argument("--confidence-threshold", type=unit_interval, default=None,
                         help=f"re-initialise below this (default {_DEFAULT.confidence_threshold:g})")
     parser.add_argument("--batch-tripod", choices=("fixed", "joint"), default=None,
                         help="batch: hold the first pass's tripod fixed in the refinement or re-estimate it jointly "
@@ -72,11 +86,19 @@ def config_from_args(args) -> TrackingConfig:
 
 
 def tripod_from_args(args) -> tuple[Tripod | None, tuple | None]:
-    """(known tripod from --tripod FILE, known position only from --tripod-position)."""
+    """(known tripod from --tripod FILE, re-initialisation position guess from --reinit-position).
+
+    Raises:
+        InputError: a --reinit-position on or under the pitch (z must be negative: the camera is above it).
+    """
     if args.tripod is not None:
         return read_tripod(args.tripod), None
-    if args.tripod_position is not None:
-        return None, tuple(args.tripod_position)
+    if args.reinit_position is not None:
+        x, y, z = args.reinit_position
+        if z >= 0 or abs(x) > 500 or abs(y) > 500 or z < -200:
+            raise InputError(None, f"--reinit-position {x:g} {y:g} {z:g} is not a camera position above the pitch; "
+                                   "give metres in the SoccerNet frame with z < 0 (up is negative), e.g. 0 55 -12")
+        return None, (x, y, z)
     return None, None
 
 

@@ -52,3 +52,29 @@ def list_camera_files(folder: str | Path) -> dict[str, Path]:
         if match:
             files[match.group(1)] = path
     return files
+
+
+def resolve_camera_folder(folder: str | Path) -> tuple[Path, dict[str, Path]]:
+    """The folder of camera files meant by ``folder``: itself, or its ``cameras/`` (a run folder).
+
+    A run folder (cameras/ inside, no camera file at its top) is the natural thing to pass
+    where a cameras folder is expected; both are accepted and the folder used is returned
+    so that the caller can say which.
+
+    Returns:
+        (the folder read, frame id -> path of its camera files).
+
+    Raises:
+        InputError: the folder does not exist, or holds no camera_<id>.json file (nor its cameras/).
+    """
+    folder = Path(folder)
+    files = list_camera_files(folder)
+    if not files and (folder / "cameras").is_dir():
+        inner = folder / "cameras"
+        files = list_camera_files(inner)
+        if files:
+            return inner, files
+    if not files:
+        raise InputError(folder, "no camera_<id>.json file in this folder (nor in its cameras/ subfolder); give a "
+                                 "run folder or a folder of camera files")
+    return folder, files

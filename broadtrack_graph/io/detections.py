@@ -105,7 +105,7 @@ def parse_detection_record(
     if size is None:
         raise ValueError("no 'image_size' (and none given to the reader)")
     width, height = int(size[0]), int(size[1])
-    if width < 2 or height < 2:
+    if len(size) != 2 or width < 2 or height < 2 or width > 100_000 or height > 100_000:
         raise ValueError(f"bad image_size {size!r}")
     units = record.get("units", "px")
     if units not in ("px", "normalized"):
@@ -113,7 +113,10 @@ def parse_detection_record(
     scale = np.array([width - 1.0, height - 1.0]) if units == "normalized" else np.ones(2)
 
     lines_px: dict[str, np.ndarray] = {}
-    for raw_name, points in (record.get("lines") or {}).items():
+    raw_lines = record.get("lines") or {}
+    if not isinstance(raw_lines, dict):
+        raise ValueError(f"'lines' must be an object of class name -> points, got {type(raw_lines).__name__}")
+    for raw_name, points in raw_lines.items():
         name = str(raw_name).strip()
         if name not in LINE_CLASSES:
             issues.append(f"{where}: unknown line class '{raw_name}' skipped")
@@ -135,8 +138,14 @@ def parse_detection_record(
 
     uv_list, world_list, confidence_list, names = [], [], [], []
     seen: set[tuple] = set()
-    for index, keypoint in enumerate(record.get("keypoints") or []):
+    raw_keypoints = record.get("keypoints") or []
+    if not isinstance(raw_keypoints, list):
+        raise ValueError(f"'keypoints' must be a list, got {type(raw_keypoints).__name__}")
+    for index, keypoint in enumerate(raw_keypoints):
         label = f"{where}: keypoint {index}"
+        if not isinstance(keypoint, dict):
+            issues.append(f"{label}: expected an object with 'xy'; skipped")
+            continue
         try:
             uv = np.array(_xy(keypoint["xy"])) * scale
             confidence = float(keypoint.get("confidence", 1.0))
@@ -228,8 +237,8 @@ def read_detections(
             continue
         try:
             observations, issues = parse_detection_record(record, where, pitch, result.image_size, min_confidence)
-        except (ValueError, TypeError) as exc:
-            result.issues.append(f"{where}: {exc}; frame skipped")
+        except (ValueError, TypeError, KeyError, IndexError, AttributeError, OverflowError) as exc:
+            result.issues.append(f"{where}: {' '.join(str(exc).split()) or type(exc).__name__}; frame skipped")
             continue
         if result.image_size is None:
             result.image_size = (observations.width_px, observations.height_px)
@@ -240,12 +249,35 @@ def read_detections(
         if "frame_id" in record:
             result.frame_ids[observations.frame_index] = str(record["frame_id"])
         if record.get("mask"):
-            result.mask_paths[observations.frame_index] = (path.parent / str(record["mask"])).resolve()
+            try:
+                result.mask_paths[observations.frame_index] = (path.parent / str(record["mask"])).resolve()
+            except (ValueError, OSError) as exc:
+                result.issues.append(f"{where}: mask path {str(record['mask'])[:40]!r}: {exc}; mask ignored")
     if not result.frames:
         raise InputError(path, "no usable detection record" if text.strip() else "empty file")
-    for issue in result.issues:
-        log.warning(issue)
+    unknown = sorted({issue.split("'")[1] for issue in result.issues if ": unknown line class '" in issue})
+    if unknown and all(obs.is_empty for obs in result.frames.values()):
+        raise InputError(path, f"no record has a usable detection: line class names such as '{unknown[0]}' are not "
+                               f"SoccerNet classes (e.g. 'Side line top', 'Middle line', 'Circle central')")
+    _report(path, result.issues)
     return result
+
+
+MAX_ISSUES_SHOWN = 10  # issues logged one by one; the rest are summed up in one warning
+
+
+def _report(path: Path, issues: list[str]) -> None:
+    """Log the first issues one by one, then one line counting the rest by kind."""
+    for issue in issues[:MAX_ISSUES_SHOWN]:
+        log.warning(issue)
+    rest = issues[MAX_ISSUES_SHOWN:]
+    if rest:
+        kinds: dict[str, int] = {}
+        for issue in rest:
+            kind = issue.split(": ", 1)[-1].split("'")[0].split(":")[0].strip()
+            kinds[kind] = kinds.get(kind, 0) + 1
+        common = ", ".join(f"{count} x '{kind}'" for kind, count in sorted(kinds.items(), key=lambda kv: -kv[1])[:3])
+        log.warning("%s: %d more issues (%s); every issue is counted in the run summary", path, len(rest), common)
 
 
 def observations_to_record(observations: FrameObservations, frame_id: str | None = None,

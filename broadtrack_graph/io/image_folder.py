@@ -14,6 +14,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.frame_size import clip_size
 from broadtrack_graph.io.frame_source import DEFAULT_FPS, Frame, FrameSource, frame_window
 
 logger = logging.getLogger(__name__)
@@ -71,8 +72,8 @@ def list_image_files(folder: Path) -> list[Path]:
 class ImageFolderSource(FrameSource):
     """A folder of numbered images (``000001.jpg``, ``frame_2.png``, ...) in numeric order.
 
-    The clip size is the size of the first readable image in the window; images of
-    another size are yielded as missing.
+    The clip size is the most common size among the first readable images of the window
+    (:func:`broadtrack_graph.io.frame_size.clip_size`); images of another size are yielded as missing.
 
     Args:
         folder: the folder.
@@ -101,11 +102,10 @@ class ImageFolderSource(FrameSource):
         self._first = self._first_readable()
 
     def _first_readable(self) -> tuple[int, np.ndarray]:
-        for index in range(self.start, self.end):
-            image, _ = decode_image_file(self.files[index])
-            if image is not None:
-                self.height_px, self.width_px = image.shape[:2]
-                return index, image
+        found = clip_size(self.files, self.start, self.end, decode_image_file)  # the most common early size
+        if found is not None:
+            self.height_px, self.width_px = found[1].shape[:2]
+            return found
         raise InputError(self.path, f"none of the {len(self)} images in frames {self.start}..{self.end - 1} can be decoded")
 
     def __iter__(self) -> Iterator[Frame]:

@@ -10,6 +10,11 @@ Layout of a run folder (written frame by frame by :class:`~broadtrack_graph.io.t
       summary.json                            run summary (rewritten periodically and at the end)
       tripod.json                             the tripod the run fitted or used (:mod:`broadtrack_graph.io.tripod_file`)
       pass1/                                  batch mode: the online first pass, itself a run folder
+      shots.json                              shot boundaries (when the run writes them)
+
+A new run into an existing folder first removes all of these (:meth:`RunFolder.clear`) and
+nothing else. ``summary.json`` says ``"complete": true`` at the end of a run, and
+``"interrupted": true`` (with counts matching the files) when Ctrl-C or SIGTERM stopped it.
 
 ``summary.json`` records what the run was made from under ``"run"`` (``input``, and
 ``detections``: the detections file it tracked from, or null).
@@ -46,6 +51,9 @@ SUMMARY_FILE = "summary.json"
 CAMERA_DIR = "cameras"
 CAMERA_DIR_960 = "cameras_960x540"
 PASS1_DIR = "pass1"
+SHOTS_FILE = "shots.json"
+RUN_ENTRIES = (CAMERA_DIR, CAMERA_DIR_960, PASS1_DIR, TRIPOD_FILE, SHOTS_FILE, SUMMARY_FILE, TRACK_FILE)
+"""Everything a tracking run owns in its folder: a new run into the folder removes these and nothing else."""
 
 
 class RunFolder:
@@ -116,6 +124,33 @@ class RunFolder:
                 self.camera_dir_960.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise InputError(self.path, f"cannot create output folder: {exc.strerror or exc}") from None
+
+    def clear(self) -> list[str]:
+        """Remove every entry a run owns (:data:`RUN_ENTRIES`) before a new run; returns the names removed.
+
+        Other files in the folder (the user's) are left alone.
+
+        Raises:
+            InputError: an entry cannot be removed.
+        """
+        import shutil
+
+        removed = []
+        for name in RUN_ENTRIES:
+            path = self.path / name
+            try:
+                if path.is_dir() and not path.is_symlink():
+                    shutil.rmtree(path)
+                elif path.exists() or path.is_symlink():
+                    path.unlink()
+                else:
+                    continue
+            except OSError as exc:
+                raise InputError(path, f"cannot remove the earlier run's file: {exc.strerror or exc}") from None
+            removed.append(name)
+        if removed:
+            logger.info("%s: removed the earlier run's %s", self.path, ", ".join(removed))
+        return removed
 
     def remove_camera_files(self) -> int:
         """Delete the camera files of an earlier run (both camera folders); returns how many."""

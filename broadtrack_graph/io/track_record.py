@@ -23,8 +23,20 @@ STATUS_NO_PITCH = "no-pitch"
 STATUS_NO_DETECTIONS = "no-detections"
 STATUS_MISSING_FRAME = "missing-frame"
 STATUS_FAILED = "failed"
-STATUSES = (STATUS_TRACKED, STATUS_REINITIALISED, STATUS_NO_PITCH, STATUS_NO_DETECTIONS, STATUS_MISSING_FRAME, STATUS_FAILED)
-"""Frame statuses. A record has a camera exactly when its status is tracked or reinitialised."""
+STATUS_MOTION_PRIOR = "motion-prior"  # no detections: the solver carried the track on, but no camera is claimed
+STATUSES = (
+    # one line per status (a record's status is one of these)
+    STATUS_TRACKED,
+    STATUS_REINITIALISED,
+    STATUS_NO_PITCH,
+    STATUS_NO_DETECTIONS,
+    STATUS_MISSING_FRAME,
+    STATUS_FAILED,
+    STATUS_MOTION_PRIOR,
+)
+"""Frame statuses. A record has a camera exactly when its status is tracked or reinitialised: a
+``motion-prior`` frame (carried by the motion prior alone, for at most ``max_motion_prior_frames``)
+has none, and never counts toward completeness."""
 STATUSES_WITH_CAMERA = (STATUS_TRACKED, STATUS_REINITIALISED)
 
 STD_KEYS = ("pan_std_deg", "tilt_std_deg", "roll_std_deg", "focal_std_px", "k1_std", "position_std_m")

@@ -117,6 +117,7 @@ class TrackWriter:
         with_camera = sum(self._status_counts[s] for s in STATUSES_WITH_CAMERA)
         return {
             "complete": bool(complete),
+            "interrupted": False,  # True (set by interrupt()) when Ctrl-C or SIGTERM stopped the run
             "started_utc": self._started_utc,
             "updated_utc": datetime.now(timezone.utc).isoformat(timespec="seconds"),
             "width_px": self.width_px,
@@ -148,12 +149,23 @@ class TrackWriter:
         self.closed = True
         return self._write_summary(complete=True, extra=extra_summary)
 
+    def interrupt(self, reason: str = "interrupted") -> dict:
+        """Stop after Ctrl-C / SIGTERM: close track.jsonl and rewrite summary.json with ``"interrupted": true``
+        and the counts of the frames actually written (files written so far are kept); returns the summary."""
+        if self.closed:
+            return self.folder.read_summary()
+        self._track.close()
+        self.closed = True
+        return self._write_summary(complete=False, extra={"interrupted": True, "error": reason})
+
     def __enter__(self) -> "TrackWriter":
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:
         if exc_type is None:
             self.close()
+        elif issubclass(exc_type, KeyboardInterrupt):
+            self.interrupt()
         else:
             # Keep what was written; the summary says the run did not finish.
             self._track.close()

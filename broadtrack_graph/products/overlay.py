@@ -327,4 +327,4 @@ def write_overlay(
                 writer.release()
     if counts["frames"] and not counts["with_camera"]:
         logger.warning("%s: no input frame matched a camera of the run (frame ids differ?)", run_dir)
-    return {"out": str(out_path), **counts}
+    return {"out": str(out_path), "cameras_from": str(track.path), **counts}

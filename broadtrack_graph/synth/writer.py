@@ -37,9 +37,10 @@ from tqdm import tqdm
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.annotations import GAMESTATE_FILE, write_annotation_file, write_gamestate_labels
-from broadtrack_graph.io.cameras import camera_file_name, list_camera_files, read_camera_file, write_camera_file
+from broadtrack_graph.io.cameras import camera_file_name, read_camera_file, resolve_camera_folder, write_camera_file
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 from broadtrack_graph.synth.clip import clip_scene, iter_clip_frames
+from broadtrack_graph.synth.clip_folder import prepare_clip_folder
 
 logger = logging.getLogger(__name__)
 
@@ -65,9 +66,8 @@ def read_camera_track(folder: str | Path, width_px: int, height_px: int, frame_c
     Raises:
         InputError: the folder is missing, holds no camera file, or a file is malformed.
     """
-    files = list_camera_files(folder)
-    if not files:
-        raise InputError(folder, "no camera_NNNNN.json files in folder")
+    folder, files = resolve_camera_folder(folder)
+    logger.info("rendering along the cameras in %s", folder)
     paths = [files[key] for key in sorted(files, key=lambda k: int(k))]
     if frame_count is not None:
         paths = paths[:frame_count]
@@ -94,7 +94,8 @@ def write_synthetic_clip(
     """Render a synthetic clip and write it (see the module docstring for the layout).
 
     Args:
-        out_dir: output folder (created; existing files of the same names are replaced).
+        out_dir: output folder (created; an earlier synthetic clip in it is replaced whole, a file or a
+            non-empty folder that is not a clip is refused: :mod:`broadtrack_graph.synth.clip_folder`).
         preset: motion / play preset (broadtrack_graph.synth.motion.PRESETS).
         frame_count: frames to render (with cameras_dir: at most that many of its cameras).
         width_px, height_px: image size.
@@ -115,6 +116,7 @@ def write_synthetic_clip(
         frame_count = len(cameras)
     if frame_count < 1:
         raise ValueError(f"frame_count must be >= 1, got {frame_count}")
+    prepare_clip_folder(out)  # an earlier clip here is replaced whole; a file or a foreign folder is refused
     cams, tripod, lambdas, players = clip_scene(preset, frame_count, width_px, height_px, seed, cameras)
     for sub in ("img1", "annotations", "cameras", "keypoints") + (("masks",) if write_masks else ()):
         (out / sub).mkdir(parents=True, exist_ok=True)

@@ -30,6 +30,9 @@ class TrackingConfig:
     # focal point's place on the axis keeps its prior; "joint" re-estimates T and delta with the track
     # (16m seed 2: T 0.28 m off fixed vs 0.81 m joint; the height of T and delta trade freely there).
     batch_tripod: str = "fixed"
+    # frames without detections in a row that the solver carries on the motion prior (status "motion-prior",
+    # no camera written) before the track is dropped and the next detections re-initialise it (25 = 1 s at 25 fps)
+    max_motion_prior_frames: int = 25
     min_marking_points: int = 12  # fewer marking points (or too little grass): "no pitch"
     min_grass_share: float = 0.05  # share of the image that must be playing surface
     write_960x540: bool = False  # also write cameras at the calibration benchmark's resolution
@@ -45,6 +48,10 @@ class TrackingConfig:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
         if self.recover_max_frames < 0:
             raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
+        if not 0.0 <= self.confidence_threshold <= 1.0:
+            raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
+        if self.max_motion_prior_frames < 0:
+            raise ValueError(f"max_motion_prior_frames must be >= 0, got {self.max_motion_prior_frames}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
 

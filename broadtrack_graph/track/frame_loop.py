@@ -46,6 +46,7 @@ from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.track_record import (
     STATUS_FAILED,
     STATUS_MISSING_FRAME,
+    STATUS_MOTION_PRIOR,
     STATUS_NO_DETECTIONS,
     STATUS_NO_PITCH,
     STATUS_REINITIALISED,
@@ -145,6 +146,7 @@ class TrackingRun:
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
         self._lost = True
+        self._carried = 0  # frames in a row carried on the motion prior alone
         self._prev_grey: np.ndarray | None = None
         self._prev_keep_mask: np.ndarray | None = None
         self.timings = {"detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
@@ -211,9 +213,12 @@ class TrackingRun:
             observations = observations.rescaled(self.W, self.H)
 
         if self._no_pitch(observations, detections):
-            if detections is None and not self._lost and self._history:
-                # A detections-file frame with (almost) nothing: tracked through on the motion prior.
-                return self._track(frame, observations, None, note="no detections; carried by the motion prior")
+            if detections is None and not self._lost and self._history \
+                    and self._carried < self.config.max_motion_prior_frames:
+                # A detections-file frame with (almost) nothing: carried on the motion prior, no camera claimed.
+                self._carried += 1
+                return self._track(frame, observations, None, note=f"no detections; carried by the motion prior "
+                                   f"({self._carried} of at most {self.config.max_motion_prior_frames}); no camera")
             status = STATUS_NO_PITCH if detections is not None else STATUS_NO_DETECTIONS
             reason = "no pitch in view" if detections is not None else "no detections for this frame"
             self._emit_now(frame, status, reason)
@@ -272,6 +277,10 @@ class TrackingRun:
 
         entry = _Pending(frame, STATUS_REINITIALISED if reinitialised else STATUS_TRACKED, note, reinitialised,
                          detections, observations)
+        if note is not None:
+            entry.status, entry.suppress_camera = STATUS_MOTION_PRIOR, True
+        else:
+            self._carried = 0
         self._pending.append(entry)
         if self.keep_observations:
             self.kept[frame.frame_index] = replace(observations, marking_mask=None)
@@ -332,7 +341,7 @@ class TrackingRun:
         for entry in self._pending:
             if entry.frame.frame_index == estimate.frame_index and entry.record is None:
                 camera = None if entry.suppress_camera else (entry.override_camera or estimate.camera)
-                status = entry.status if camera is not None else STATUS_FAILED
+                status = entry.status if (camera is not None or entry.status == STATUS_MOTION_PRIOR) else STATUS_FAILED
                 reason = entry.reason if (camera is not None or entry.suppress_camera) else (estimate.reason or "solver failed")
                 confidence = None
                 if camera is not None and entry.confidence_camera is not None and \
@@ -360,6 +369,7 @@ class TrackingRun:
         self._lost = True
         self._prev_grey = None
         self._history.clear()
+        self._carried = 0
 
     def _flush(self) -> None:
         """Write the final records at the head of the queue (frame order)."""

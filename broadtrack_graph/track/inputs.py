@@ -12,6 +12,7 @@ from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.io.frame_source import FrameSource
+from broadtrack_graph.track.detection_frames import bound_by_gap, bound_to_window
 
 log = logging.getLogger(__name__)
 
@@ -39,12 +40,23 @@ def frames_from_detections(detections: DetectionsFile, fps: float = 25.0, start:
                            end: int | None = None, source: FrameSource | None = None) -> Iterator[FrameInput]:
     """Detections-file input, optionally with the frames (which turn optical flow on).
 
-    Frames the file does not mention get empty observations (tracked through on the
-    motion prior and reported). With a frame source, its frames set the range and ids.
+    Frames the file does not mention get empty observations (carried on the motion prior for
+    a bounded number of frames, status ``motion-prior``, then ``no-detections``). With a frame
+    source, its frames set the range and ids and records outside them are dropped with a
+    warning; without, records more than a sane gap away from the file's other frames are
+    (:mod:`broadtrack_graph.track.detection_frames`).
     """
     if detections.image_size is None:
         raise InputError(None, "detections file states no image size")
     width, height = detections.image_size
+    if source is not None:
+        bound_to_window(detections, source.start, source.end)
+    else:
+        bound_by_gap(detections)
+        if start is not None or end is not None:
+            bound_to_window(detections, start or 0, end if end is not None else detections.last_frame + 1)
+        if not detections.frames:
+            raise InputError(None, f"no detection record in the frames {start or 0}..{end}; check --start/--end")
     if source is not None:
         if (source.width_px, source.height_px) != (width, height):
             log.warning("detections are for %dx%d, frames are %dx%d: coordinates are rescaled",

@@ -69,6 +69,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     (:data:`~broadtrack_graph.track.frame_loop.FrameDone`), e.g. to collect the detector's player boxes.
     """
     out_dir = Path(out_dir)
+    RunFolder(out_dir).clear()  # nothing of an earlier run into this folder survives (tripod.json, pass1/, ...)
     recover = config.mode != "online" and config.recover_max_frames > 0
     given: dict[int, FrameObservations] = {}
     if recover:
@@ -231,5 +232,10 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
             if progress:
                 bar.set_postfix(run.writer.progress_postfix() if hasattr(run.writer, "progress_postfix") else {},
                                 refresh=False)
+    except KeyboardInterrupt:
+        # Ctrl-C or SIGTERM (the command line turns it into KeyboardInterrupt): the summary tells the truth.
+        if hasattr(run.writer, "interrupt"):
+            run.writer.interrupt()
+        raise
     finally:
         bar.close()

@@ -17,3 +17,15 @@ def test_suite_report_is_printed_and_written(monkeypatch, tmp_path, capsys):
     assert printed == written
     assert written["suite"] == "render" and written["frames"] == 3 and written["value"] == 1.5
     assert set(written["machine"]) == {"python", "platform", "processor"} and written["wall_time_s"] >= 0
+
+
+def test_detections_plot_defaults_to_a_scratch_folder():
+    from pathlib import Path
+
+    from broadtrack_graph.cli import build_parser
+
+    parser = build_parser()
+    args = parser.parse_args(["bench", "detections", "--plot"])
+    assert args.plot == Path("runs/bench-detections")  # never docs/images (tracked in the repository)
+    assert parser.parse_args(["bench", "detections"]).plot is None
+    assert parser.parse_args(["bench", "detections", "--plot", "/tmp/p"]).plot == Path("/tmp/p")

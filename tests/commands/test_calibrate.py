@@ -33,4 +33,4 @@ def test_calibrate_command_writes_camera_files(tmp_path, capsys):
     assert np.max(np.linalg.norm(uv_true - uv_est, axis=1)) < 5.0
     assert main(["calibrate", "--annotations", str(tmp_path / "nowhere"), "--out", str(out)]) == 2
     assert main(["calibrate", "--annotations", str(tmp_path / "annotations"), "--out", str(out), "--width", "1"]) == 2
-    assert capsys.readouterr().err.strip().endswith("resolution must be at least 2x2, got 1x540")
+    assert capsys.readouterr().err.strip().endswith("argument --width: 1 is too small; give an integer >= 2 (see broadtrack-graph calibrate --help)")

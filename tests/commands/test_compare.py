@@ -20,8 +20,9 @@ def test_arguments_reach_the_action(monkeypatch, capsys):
     assert main(["compare", "r1", "r2", "--names", "a", "b", "--annotations", "ann", "--out", "cmp",
                  "--tripod-position", "0", "55", "-12", "--eval-size", "960", "540"]) == 0
     assert seen == [([Path("r1"), Path("r2")], ["a", "b"], Path("ann"), None, Path("cmp"), [0.0, 55.0, -12.0], (960, 540))]
-    out = capsys.readouterr().out
-    assert "| metric |" in out and "none of the 5 annotated frame ids" in out and "wrote cmp/compare.json" in out
+    captured = capsys.readouterr()
+    assert "| metric |" in captured.out and "wrote cmp/compare.json" in captured.out
+    assert "none of the 5 annotated frame ids" in captured.err  # warnings go to stderr
 
 
 def test_missing_run_exits_2_with_one_line(tmp_path, capsys):

@@ -18,6 +18,7 @@ def test_settings_reach_the_action(monkeypatch, capsys):
                 "clip_reused": True, "disk_mb": 12.0, "clip_disk_mb": 10.0}
 
     monkeypatch.setattr(demo_command, "run_demo", fake_run_demo)
+    monkeypatch.setattr("broadtrack_graph.cli._stderr_is_terminal", lambda: True)  # bars only show on a terminal
     assert main(["demo", "--no-progress"]) == 0
     assert seen[0] == (Path("runs/demo"), DemoSettings(), False)
     assert main(["demo", "--out", "d", "--frames", "30", "--width", "640", "--height", "360", "--seed", "4",

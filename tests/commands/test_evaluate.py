@@ -18,8 +18,10 @@ def test_arguments_reach_the_action(monkeypatch, capsys):
     monkeypatch.setattr(evaluate_command, "evaluate_folders", lambda *a, **k: seen.append((a, k)) or REPORT)
     assert main(["evaluate", "--annotations", "ann", "--cameras", "cams", "--json", "r.json", "--no-progress"]) == 0
     assert seen == [((Path("ann"), Path("cams"), 960, 540, list(DEFAULT_TAUS)), {"progress": False, "json_path": Path("r.json")})]
-    out = capsys.readouterr().out.splitlines()
-    assert out[0] == "warning: camera_00002.json: empty file"
+    captured = capsys.readouterr()
+    out = captured.out.splitlines()
+    assert captured.err == "WARNING broadtrack_graph.commands.evaluate: camera_00002.json: empty file\n"  # stderr, not stdout
+    assert out[0] == "cameras read from cams"
     assert out[1] == "frames 4  with camera 3  resolution 960x540"
     assert out[3].split() == ["5", "0.5000", "0.7500", "0.6000", "0.7000", "0.8000", "1.23", "-"]
     assert out[4] == "report written to r.json"
@@ -28,4 +30,25 @@ def test_arguments_reach_the_action(monkeypatch, capsys):
 def test_bad_resolution_exits_2_with_one_line(tmp_path, capsys):
     assert main(["evaluate", "--annotations", str(tmp_path), "--cameras", str(tmp_path), "--width", "1"]) == 2
     err = capsys.readouterr().err
-    assert err == "broadtrack-graph evaluate: error: evaluation resolution must be at least 2x2, got 1x540\n"
+    assert err == ("broadtrack-graph evaluate: error: argument --width: 1 is too small; give an integer >= 2 "
+                   "(see broadtrack-graph evaluate --help)\n")
+
+
+def test_a_run_folder_is_read_through_its_cameras_and_named(tmp_path, capsys):
+    import json
+
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.io.cameras import write_camera_file
+
+    (tmp_path / "ann").mkdir()
+    (tmp_path / "ann" / "00001.json").write_text(json.dumps({"Middle line": [{"x": 0.5, "y": 0.2}, {"x": 0.5, "y": 0.8}]}))
+    write_camera_file(tmp_path / "run" / "cameras" / "camera_00001.json",
+                      Camera(1500.0, 0.0, 0.0, 1.3, 0.0, (0.0, 55.0, -12.0), 960, 540))
+    assert main(["evaluate", "--annotations", str(tmp_path / "ann"), "--cameras", str(tmp_path / "run"),
+                 "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert f"cameras read from {tmp_path / 'run' / 'cameras'}" in out and "with camera 1" in out
+    (tmp_path / "empty").mkdir()
+    assert main(["evaluate", "--annotations", str(tmp_path / "ann"), "--cameras", str(tmp_path / "empty")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no camera_<id>.json file in this folder" in err

@@ -28,4 +28,4 @@ def test_arguments_reach_the_writer(monkeypatch, capsys):
 def test_bad_size_exits_2_with_one_line(capsys):
     assert main(["synth", "--out", "clip", "--width", "8"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "the size at least 16x16" in err
+    assert err.count("\n") == 1 and "argument --width: 8 px is not a usable image side; give 16 .. 16384" in err

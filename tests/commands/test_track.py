@@ -32,7 +32,7 @@ def test_defaults_are_the_config_defaults(calls, capsys):
     assert main(["track", "clip.mp4", "--out", "run", "--no-progress"]) == 0
     call = calls[0]
     assert call["config"] == TrackingConfig() and call["detector"] == DetectorOptions()
-    assert (call["frames"], call["out"], call["tripod"], call["tripod_position"]) == (Path("clip.mp4"), Path("run"), None, None)
+    assert (call["frames"], call["out"], call["tripod"], call["reinit_position"]) == (Path("clip.mp4"), Path("run"), None, None)
     assert (call["detections_path"], call["start"], call["end"], call["progress"]) == (None, None, None, False)
     assert "tracked 3 frames into run (2.0 fps)" in capsys.readouterr().out
 
@@ -48,8 +48,8 @@ def test_flags_give_the_config(calls, tmp_path):
     assert call["frames"] == Path("clip") and call["detections_path"] == Path("d.jsonl")
     assert tuple(call["tripod"].T_w) == (1.0, 55.0, -12.0) and call["tripod"].delta_m == 0.25
     assert (call["start"], call["end"]) == (5, 9)
-    assert main(["track", "clip", "--out", "run", "--tripod-position", "0", "50", "-10"]) == 0
-    assert calls[1]["tripod"] is None and calls[1]["tripod_position"] == (0.0, 50.0, -10.0)
+    assert main(["track", "clip", "--out", "run", "--reinit-position", "0", "50", "-10"]) == 0
+    assert calls[1]["tripod"] is None and calls[1]["reinit_position"] == (0.0, 50.0, -10.0)
 
 
 def test_config_file_and_flags_given_override_it(calls, tmp_path):
@@ -65,7 +65,7 @@ def test_config_file_and_flags_given_override_it(calls, tmp_path):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--lag", "0"], "lag_frames must be >= 1, got 0"),
+    (["--lag", "0"], "argument --lag: 0 is too small; give an integer >= 1"),
     (["--detector", "onnx"], "--detector onnx needs --segmentation-model and/or --keypoint-model"),
     (["--config", "missing.toml"], "missing.toml: config file not found"),
 ])

@@ -80,3 +80,24 @@ def test_annotation_import_uses_soccernet_pixel_rule():
                                       7, 1920, 1080)
     np.testing.assert_allclose(obs.lines_px["Middle line"], [[959.5, 1079.0]])
     assert "Line unknown" not in obs.lines_px and obs.frame_index == 7
+
+
+def test_all_unknown_class_names_is_one_error_not_hundreds_of_warnings(tmp_path):
+    path = tmp_path / "det.jsonl"
+    path.write_text("".join(json.dumps({"frame": i, "image_size": [100, 50], "lines": {"Foo": [[1, 2], [3, 4]]}}) + "\n"
+                            for i in range(260)), encoding="utf-8")
+    with pytest.raises(InputError, match="line class names such as 'Foo' are not SoccerNet classes"):
+        read_detections(path)
+
+
+def test_many_issues_are_summed_up(tmp_path, caplog):
+    import logging
+
+    path = tmp_path / "det.jsonl"
+    path.write_text("".join(json.dumps({"frame": i, "image_size": [100, 50],
+                                        "lines": {"Foo": [[1, 2]], "Middle line": [[10, 10], [10, 40]]}}) + "\n"
+                            for i in range(60)), encoding="utf-8")
+    with caplog.at_level(logging.WARNING):
+        result = read_detections(path)
+    assert len(result.issues) == 60 and len(caplog.records) == 11
+    assert "50 more issues (50 x 'unknown line class')" in caplog.records[-1].getMessage()

@@ -121,3 +121,19 @@ def test_read_track_errors(tmp_path):
         read_track(tmp_path / "nope")
     with pytest.raises(InputError, match="neither track.jsonl nor camera"):
         read_track(tmp_path)
+
+
+def test_clear_removes_what_a_run_owns_and_nothing_else(tmp_path):
+    from broadtrack_graph.io.run_folder import RUN_ENTRIES
+
+    folder = RunFolder(tmp_path / "run")
+    folder.create(also_960x540=True)
+    for name in ("tripod.json", "shots.json", "summary.json", "track.jsonl", "notes.txt"):
+        (folder.path / name).write_text("{}", encoding="utf-8")
+    (folder.path / "pass1" / "cameras").mkdir(parents=True)
+    (folder.path / "cameras" / "camera_00001.json").write_text("{}", encoding="utf-8")
+    (folder.path / "mine").mkdir()
+    removed = folder.clear()
+    assert sorted(removed) == sorted(RUN_ENTRIES)
+    assert sorted(p.name for p in folder.path.iterdir()) == ["mine", "notes.txt"]
+    assert folder.clear() == []  # nothing left to remove; no error

@@ -157,3 +157,26 @@ def test_exception_inside_writer_keeps_frames_and_marks_summary(tmp_path):
     track = read_track(tmp_path)
     assert len(track) == 1
     assert track.summary["complete"] is False and "solver exploded" in track.summary["error"]
+
+
+def test_interrupt_rewrites_the_summary_with_counts_matching_the_files(tmp_path):
+    writer = TrackWriter(tmp_path / "run", W, H, summary_every=100)
+    for record in records()[:3]:
+        writer.write(record)
+    stale = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert stale["frames_written"] == 0  # the periodic summary lags behind
+    summary = writer.interrupt()
+    on_disk = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert on_disk == summary and on_disk["interrupted"] is True and on_disk["complete"] is False
+    lines = (tmp_path / "run" / "track.jsonl").read_text().splitlines()
+    assert on_disk["frames_written"] == len(lines) == 3
+    assert on_disk["frames_with_camera"] == len(list((tmp_path / "run" / "cameras").glob("camera_*.json"))) == 2
+
+
+def test_keyboard_interrupt_inside_the_writer_marks_interrupted(tmp_path):
+    with pytest.raises(KeyboardInterrupt):
+        with TrackWriter(tmp_path / "run", W, H) as writer:
+            writer.write(records()[0])
+            raise KeyboardInterrupt
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert summary["interrupted"] is True and summary["frames_written"] == 1

@@ -222,3 +222,44 @@ def test_detector_frames_prediction_no_pitch_and_the_observer(tmp_path):
     assert handed[1].lines_px.keys() == LINES.keys() and handed[1].flow is None
     detections = {i: d for i, _, d in done}
     assert detections[5] is None and detections[2] is not None and detections[3] is not None
+
+
+def test_frames_without_detections_are_motion_prior_then_dropped(tmp_path):
+    solver = FakeSolver()
+    config = TrackingConfig(max_motion_prior_frames=3)
+    run = run_of(tmp_path, solver, Scripted(), config=config)
+    for i in range(10):
+        empty = 2 <= i <= 7
+        run.process(FrameInput(i, f"{i + 1:06d}", i / 25.0,
+                               observations=FrameObservations(i, W, H, lines_px={} if empty else dict(LINES))))
+    result = run.finish()
+    got = [(index, status) for index, status, _ in statuses(tmp_path)]
+    assert got == [(0, "reinitialised"), (1, "tracked"), (2, "motion-prior"), (3, "motion-prior"), (4, "motion-prior"),
+                   (5, "no-detections"), (6, "no-detections"), (7, "no-detections"), (8, "reinitialised"),
+                   (9, "tracked")]
+    records = read_track(tmp_path / "run").records
+    assert all(r.camera is None for r in records[2:5]) and "carried by the motion prior (1 of at most 3)" in records[2].reason
+    counts = result.summary["status_counts"]
+    assert counts["motion-prior"] == 3 and result.summary["frames_with_camera"] == 4
+    assert result.summary["completeness"] == 0.4  # motion-prior frames never count toward completeness
+    assert sorted(p.name for p in (tmp_path / "run" / "cameras").iterdir()) == [
+        "camera_000001.json", "camera_000002.json", "camera_000009.json", "camera_000010.json"]
+
+
+def test_interrupted_loop_leaves_a_truthful_summary(tmp_path):
+    import json
+
+    from broadtrack_graph.track.passes import run_loop
+
+    def frames():
+        for i in range(5):
+            yield frame(i)
+        raise KeyboardInterrupt
+
+    run = run_of(tmp_path, FakeSolver(), Scripted())
+    with pytest.raises(KeyboardInterrupt):
+        run_loop(run, frames(), progress=False)
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    lines = (tmp_path / "run" / "track.jsonl").read_text().splitlines()
+    assert summary["interrupted"] is True and summary["complete"] is False
+    assert summary["frames_written"] == len(lines) == 5 and summary["frames_with_camera"] == 5
