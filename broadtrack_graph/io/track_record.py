@@ -23,7 +23,9 @@ STATUS_NO_PITCH = "no-pitch"
 STATUS_NO_DETECTIONS = "no-detections"
 STATUS_MISSING_FRAME = "missing-frame"
 STATUS_FAILED = "failed"
-STATUSES = (STATUS_TRACKED, STATUS_REINITIALISED, STATUS_NO_PITCH, STATUS_NO_DETECTIONS, STATUS_MISSING_FRAME, STATUS_FAILED)
+STATUS_OTHER_VIEW = "other-view"  # a close-up, crowd or other shot that is not the tracked camera's view
+STATUSES = (STATUS_TRACKED, STATUS_REINITIALISED, STATUS_NO_PITCH, STATUS_NO_DETECTIONS, STATUS_MISSING_FRAME, STATUS_FAILED,
+            STATUS_OTHER_VIEW)
 """Frame statuses. A record has a camera exactly when its status is tracked or reinitialised."""
 STATUSES_WITH_CAMERA = (STATUS_TRACKED, STATUS_REINITIALISED)
 

@@ -27,6 +27,8 @@ class FrameInput:
     observations: FrameObservations | None = None  # from a detections file
     problem: str | None = None  # why the frame is missing
     flow_frame: object | None = None  # prepared for optical flow (frontend.flow.prepare), when done ahead
+    shot: object | None = None  # shots.segmenter.FrameShot: cut, view kind and camera id, when shots are detected
+    graphics_mask: np.ndarray | None = None  # (h, w) bool static broadcast graphics at any size, or None
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:
