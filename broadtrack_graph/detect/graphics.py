@@ -40,7 +40,7 @@ class GraphicsConfig:
     persistence: float = 0.8  # share of static votes that makes a pixel graphics
     recent_samples: int = 15  # a pixel without a static vote in this many samples is not graphics (any more)
     vote_weight: float = 0.08  # weight of a new vote in the running share (a plain mean for the first votes)
-    close_px: int = 5  # closing (working pixels) that joins an overlay's letters into one blob
+    close_px: int = 9  # closing (working pixels) that joins an overlay's letters into one blob
     max_blob_share: float = 0.08  # a blob larger than this share of the image is not filled to its box
     dilate_px: int = 1  # margin added around the mask (working pixels)
 

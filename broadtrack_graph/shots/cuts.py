@@ -109,7 +109,7 @@ class CutDetector:
         median_c = float(np.median(self._changes)) if self._changes else 0.0
         self._since_cut += 1
         kind = None
-        if self._since_cut >= c.min_shot_frames or len(self._distances) < 2:
+        if self._since_cut >= c.min_shot_frames:
             if distance >= max(c.cut_min_distance, c.cut_median_factor * median_d):
                 kind = "hard"
             elif change >= max(c.pixel_cut_min, c.pixel_median_factor * median_c) and \
