@@ -58,6 +58,7 @@ def track_input(
     end: int | None = None,
     progress: bool = True,
     pitch: PitchTemplate | None = None,
+    tripods: dict[str, Tripod] | None = None,
 ) -> RunResult:
     """Track a video / frame folder / game-state sequence, or a detections file (with or without frames).
 
@@ -69,6 +70,7 @@ def track_input(
         tripod: known tripod, or None; tripod_position: known pan/tilt centre only (metres).
         detections_path: a detections file (JSON lines) to track from instead of a detector.
         start, end: frame range (0-based, end exclusive).
+        tripods: known tripods by camera id of the shots (image input), e.g. {"main": ...}.
     """
     pitch = pitch or PitchTemplate()
     run_info = {"input": None if frames_path is None else str(frames_path),
@@ -94,4 +96,4 @@ def track_input(
         run_info["source"] = source.describe()
         return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, config,
                           make_detector(detector, pitch), tripod, pitch, run_info, progress, len(source),
-                          reinit_positions=positions)
+                          reinit_positions=positions, tripods=tripods)

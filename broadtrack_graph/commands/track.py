@@ -10,6 +10,7 @@ from broadtrack_graph.commands.tracking_options import (
     config_from_args,
     detector_options,
     tripod_from_args,
+    tripods_from_args,
 )
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE
@@ -36,9 +37,12 @@ def run(args) -> int:
     detector = detector_options(args)
     tripod, position = tripod_from_args(args)
     result = track_input(frames, args.out, config, detector, tripod=tripod, tripod_position=position,
+                         tripods=tripods_from_args(args),
                          detections_path=args.detections, start=args.start, end=args.end, progress=not args.no_progress)
     summary = result.summary
     print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps', 0):.1f} fps)")
+    if summary.get("note"):
+        print(f"  {summary['note']}")
     counts = summary.get("status_counts", {})
     if counts:
         print("  " + ", ".join(f"{k}: {v}" for k, v in counts.items() if v))

@@ -10,6 +10,7 @@ import numpy as np
 
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.decode_summary import drop_undecodable_tail
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.io.frames import FrameSource
 
@@ -32,8 +33,15 @@ class FrameInput:
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:
-    """Image input: one FrameInput per frame of the source (missing frames carry their problem)."""
-    for frame in source:
+    """Image input: one FrameInput per frame of the source (missing frames carry their problem).
+
+    A video's undecodable tail (a container stating more frames than it holds) is dropped with
+    one summary line (:func:`~broadtrack_graph.io.decode_summary.drop_undecodable_tail`).
+    """
+    frames = source
+    if getattr(source, "kind", None) == "video":
+        frames = drop_undecodable_tail(source, str(getattr(source, "path", "video")), len(source))
+    for frame in frames:
         yield FrameInput(frame.frame_index, frame.frame_id, frame.time_s, frame.image_bgr, None, frame.problem)
 
 
