@@ -10,11 +10,16 @@ from __future__ import annotations
 import logging
 from typing import Iterable, Iterator
 
+import cv2
+
 from broadtrack_graph.detect.graphics import GraphicsConfig, StaticGraphics
 from broadtrack_graph.shots.segmenter import ShotConfig, ShotSegmenter
 from broadtrack_graph.track.inputs import FrameInput
 
 log = logging.getLogger(__name__)
+
+WORK_WIDTH_PX = 160
+"""Width (pixels) the frame is reduced to before the shot step and the graphics mask (both work at <= 160)."""
 
 
 class ShotStream:
@@ -35,10 +40,14 @@ class ShotStream:
     def __iter__(self) -> Iterator[FrameInput]:
         for frame in self.frames:
             if frame.image is not None:
+                # Both steps work on small images: reduce the frame once (area averaging).
+                H, W = frame.image.shape[:2]
+                width = min(W, WORK_WIDTH_PX)
+                small = cv2.resize(frame.image, (width, max(1, int(round(H * width / W)))), interpolation=cv2.INTER_AREA)
                 if self.segmenter is not None:
-                    frame.shot = self.segmenter.update(frame.frame_index, frame.image)
+                    frame.shot = self.segmenter.update(frame.frame_index, small)
                 if self.graphics is not None:
-                    frame.graphics_mask = self.graphics.update(frame.image)
+                    frame.graphics_mask = self.graphics.update(small)
             elif self.segmenter is not None:
                 self.segmenter.update(frame.frame_index, None)
             yield frame
