@@ -57,7 +57,7 @@ def run_video_clips(args) -> dict:
         run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
         if args.runs is None:
             track_input(video, run_dir, TrackingConfig(mode="online"), end=args.end, progress=not args.no_progress)
-        report[video.stem] = score_clip(video, run_dir, args.score_every)
+        report[video.stem] = score_clip(video, run_dir, args.score_every, end=args.end)
         if not args.no_overlay:
             from broadtrack_graph.products.overlay import write_overlay
 
@@ -67,10 +67,11 @@ def run_video_clips(args) -> dict:
     return {"clips": report}
 
 
-def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig()) -> dict:
-    """The figures of one tracked clip (module docstring), from its run folder and its frames."""
+def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),
+               end: int | None = None) -> dict:
+    """The figures of one tracked clip (module docstring), from its run folder and its frames (those before ``end``)."""
     folder = RunFolder(run_dir)
-    records = {r.frame_index: r for r in folder.read_track().records}
+    records = {r.frame_index: r for r in folder.read_track().records if end is None or r.frame_index < end}
     summary = folder.read_summary() if folder.has_summary() else {}
     known = KNOWN_OTHER_VIEWS.get(video.stem, [])
     other_known = {i for a, b in known for i in range(a, b)}
@@ -94,7 +95,7 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         index += 1
     capture.release()
     decoded = index
-    main = [i for i in range(decoded) if i not in other_known and i not in other_found]
+    main = [i for i in range(decoded) if i not in other_known and i not in other_found and i in records]
     main_scored = [i for i in main if i % max(1, score_every) == 0]
     aligned_main = sum(1 for i in main_scored if shares.get(i, 0.0) >= config.aligned_share)
     with_camera = sum(1 for r in records.values() if r.camera is not None)
