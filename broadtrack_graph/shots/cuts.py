@@ -37,7 +37,8 @@ class CutConfig:
     dissolve_frames: int = 6  # span of a dissolve check (frames)
     dissolve_min_distance: float = 0.35  # histogram distance over the span
     dissolve_blend_ratio: float = 0.5  # middle-to-mean change below this share of the end-to-end change
-    min_shot_frames: int = 5  # no second boundary closer than this to the previous one
+    min_shot_frames: int = 2  # no second boundary closer than this to the previous one (a flash is one cut) ...
+    strong_cut_distance: float = 0.6  # ... unless the histogram distance is at least this (a short cut-away)
 
 
 @dataclass(frozen=True)
@@ -109,7 +110,7 @@ class CutDetector:
         median_c = float(np.median(self._changes)) if self._changes else 0.0
         self._since_cut += 1
         kind = None
-        if self._since_cut >= c.min_shot_frames:
+        if self._since_cut >= c.min_shot_frames or distance >= c.strong_cut_distance:
             if distance >= max(c.cut_min_distance, c.cut_median_factor * median_d):
                 kind = "hard"
             elif change >= max(c.pixel_cut_min, c.pixel_median_factor * median_c) and \

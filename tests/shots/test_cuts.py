@@ -43,3 +43,9 @@ def test_a_dissolve_is_found_once_near_its_end():
     assert len(found) == 1, found
     index, kind = found[0]
     assert kind in ("dissolve", "hard") and 30 <= index < 50  # one boundary inside the blend
+
+
+def test_a_short_cut_away_and_back_gives_two_cuts():
+    a = panning_clip(1, 30, (60, 140, 60))
+    b = panning_clip(2, 3, (120, 90, 160))
+    assert cuts_of(a[:15] + b + a[15:]) == [(15, "hard"), (18, "hard")]
