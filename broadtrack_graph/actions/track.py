@@ -63,6 +63,7 @@ def track_input(
     pitch: PitchTemplate | None = None,
     players: str | Path | None = None,
     players_options=None,
+    tripods: dict[str, Tripod] | None = None,
 ) -> RunResult:
     """Track a video / frame folder / game-state sequence, or a detections file (with or without frames).
 
@@ -79,10 +80,11 @@ def track_input(
             linked into tracks by :func:`~broadtrack_graph.detect.player_ids.link_track_ids`);
             written to the run folder once the cameras are final (:mod:`broadtrack_graph.actions.players`).
         players_options: a :class:`~broadtrack_graph.actions.players.PlayersOptions` (default options).
+        tripods: known tripods by camera id of the shots (image input), e.g. {"main": ...}.
     """
     if players is None:
         return _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
-                      progress, pitch, None)
+                      progress, pitch, None, tripods)
     from broadtrack_graph.actions.players import PlayersOptions, players_from_run
     from broadtrack_graph.io.player_boxes import PlayerBoxes
 
@@ -96,7 +98,7 @@ def track_input(
             collected.add_frame(frame.frame_index, frame.frame_id, boxes)
 
     result = _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
-                    progress, pitch, collect if collected is not None else None)
+                    progress, pitch, collect if collected is not None else None, tripods)
     if collected is not None:
         from broadtrack_graph.detect.player_ids import link_track_ids
 
@@ -108,7 +110,7 @@ def track_input(
 
 
 def _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end, progress,
-           pitch, on_frame_done) -> RunResult:
+           pitch, on_frame_done, tripods=None) -> RunResult:
     pitch = pitch or PitchTemplate()
     run_info = {"input": None if frames_path is None else str(frames_path),
                 "detections": None if detections_path is None else str(detections_path),
@@ -134,4 +136,4 @@ def _track(frames_path, out_dir, config, detector, tripod, reinit_position, dete
         run_info["source"] = source.describe()
         return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, config,
                           make_detector(detector, pitch), tripod, pitch, run_info, progress, len(source),
-                          reinit_positions=positions, on_frame_done=on_frame_done)
+                          reinit_positions=positions, on_frame_done=on_frame_done, tripods=tripods)

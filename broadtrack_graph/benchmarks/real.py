@@ -12,6 +12,10 @@ report merges them under their names; a section whose data is not given is skipp
   RANSAC homography fitted to each frame's keypoints alone. The ratios to the baseline and
   the targets (completeness 1.0, reprojection <= 0.8x, jitter <= 0.5x, IoU_part >= the
   baseline's) are reported per clip and mode.
+- ``video`` (``--video-dir DIR``): every ``*.mp4`` in DIR tracked online end to end and scored
+  by :mod:`broadtrack_graph.benchmarks.real_video` (frames with a camera, alignment with the
+  visible lines measured without the tracker's detector, re-initialisations, other-view
+  frames, cuts, fps, stage timings, overlay videos).
 
 Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
 repository. Wall times are of the whole run on the machine as it was (upper bounds on a
@@ -26,7 +30,8 @@ from pathlib import Path
 
 from broadtrack_graph.track.config import MODES
 
-HELP = "the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a per-frame fit"
+HELP = ("the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a "
+        "per-frame fit, and real broadcast videos (alignment, re-initialisations, other views, cuts, fps)")
 
 log = logging.getLogger(__name__)
 
@@ -41,6 +46,12 @@ def add_arguments(parser) -> None:
     parser.add_argument("--clips", nargs="+", default=None, help="only these clip folder names")
     parser.add_argument("--out", type=Path, default=Path("bench-real"), help="folder for the runs (default ./bench-real)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+    parser.add_argument("--video-dir", type=Path, default=None, help="folder of real broadcast videos (*.mp4)")
+    parser.add_argument("--runs", type=Path, default=None,
+                        help="video: score existing run folders <RUNS>/<clip> instead of tracking again")
+    parser.add_argument("--end", type=int, default=None, help="video: track only the first END frames of each clip")
+    parser.add_argument("--score-every", type=int, default=1, help="video: score the alignment of every Nth frame")
+    parser.add_argument("--no-overlay", action="store_true", help="video: do not write overlay videos")
 
 
 def tsworldcup_section(args) -> dict | None:
@@ -107,7 +118,23 @@ def score_tsworldcup_clip(clip: Path, modes, out_dir: Path, progress: bool = Fal
     return result
 
 
-SECTIONS = {"tsworldcup": tsworldcup_section}
+def video_section(args) -> dict | None:
+    """Real broadcast videos (``--video-dir``), runs under ``--out``/video."""
+    from argparse import Namespace
+
+    from broadtrack_graph.benchmarks import real_video
+
+    if args.video_dir is None:
+        return None
+    video_args = Namespace(**{**vars(args), "out": Path(args.out) / "video"})
+    if not real_video.has_video_data(video_args):
+        from broadtrack_graph.errors import InputError
+
+        raise InputError(args.video_dir, "no *.mp4 video in this folder")
+    return real_video.run_video_clips(video_args)
+
+
+SECTIONS = {"tsworldcup": tsworldcup_section, "video": video_section}
 """Section name -> function(args) -> dict or None (skipped). Other real-data sections are added here."""
 
 
@@ -120,7 +147,7 @@ def run(args) -> dict:
     if not report["sections"]:
         from broadtrack_graph.errors import InputError
 
-        raise InputError(None, "bench real: give at least one data folder (e.g. --tsworldcup DIR)")
+        raise InputError(None, "bench real: give at least one data folder (--tsworldcup DIR and/or --video-dir DIR)")
     return report
 
 

@@ -11,6 +11,7 @@ from broadtrack_graph.commands.tracking_options import (
     config_from_args,
     detector_options,
     tripod_from_args,
+    tripods_from_args,
 )
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE
@@ -49,13 +50,16 @@ def run(args) -> int:
         players_options = PlayersOptions(pixel_sigma_px=args.pixel_sigma)
     try:
         result = track_input(frames, args.out, config, detector, tripod=tripod, reinit_position=position,
-                             detections_path=args.detections, start=args.start, end=args.end,
-                             progress=not args.no_progress, players=args.players, players_options=players_options)
+                             tripods=tripods_from_args(args), detections_path=args.detections, start=args.start,
+                             end=args.end, progress=not args.no_progress, players=args.players,
+                             players_options=players_options)
     except KeyboardInterrupt:
         print_interrupted_summary("track", args.out)
         raise
     summary = result.summary
     print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps') or 0:.1f} fps)")
+    if summary.get("note"):
+        print(f"  {summary['note']}")
     players = summary.get("players")
     if players:
         print(f"  players: {players['located']} of {players['boxes']} boxes located (players.jsonl)")

@@ -39,7 +39,9 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--lag", type=int_at_least(1), default=None,
                         help=f"fixed-lag: frames of future used (default {_DEFAULT.lag_frames})")
     tripod = parser.add_mutually_exclusive_group()
-    tripod.add_argument("--tripod", type=Path, help="tripod.json of an earlier run of this camera")
+    tripod.add_argument("--tripod", action="append", metavar="[CAMERA_ID=]FILE",
+                        help="tripod.json of an earlier run of this camera; repeat as CAMERA_ID=FILE for one tripod per "
+                             "camera id of the shots (shots.json; a bare FILE is the main camera's)")
     tripod.add_argument("--reinit-position", type=finite_float, nargs=3, metavar=("X", "Y", "Z"),
                         help="a guess of the camera position in metres (SoccerNet frame, z down, so Z < 0) tried "
                              "when a frame is re-initialised from its markings; not a tripod constraint (for that "
@@ -85,14 +87,37 @@ def config_from_args(args) -> TrackingConfig:
     return read_config_file(getattr(args, "config", None), TrackingConfig, overrides)
 
 
+def tripods_from_args(args) -> dict[str, Tripod]:
+    """The known tripods of ``--tripod [CAMERA_ID=]FILE`` (repeatable) by camera id ("main" for a bare FILE).
+
+    Raises:
+        InputError: a camera id given twice, or a tripod file that cannot be read.
+    """
+    from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
+
+    tripods: dict[str, Tripod] = {}
+    for value in args.tripod or ():
+        camera_id, sep, path = str(value).partition("=")
+        if not sep or Path(value).is_file():
+            camera_id, path = MAIN_CAMERA_ID, str(value)
+        if camera_id in tripods:
+            raise InputError(Path(path), f"a second tripod for camera '{camera_id}'")
+        tripods[camera_id] = read_tripod(Path(path))
+    return tripods
+
+
 def tripod_from_args(args) -> tuple[Tripod | None, tuple | None]:
-    """(known tripod from --tripod FILE, re-initialisation position guess from --reinit-position).
+    """(known tripod of the main camera (or the first given) from --tripod, re-initialisation position guess
+    from --reinit-position).
 
     Raises:
         InputError: a --reinit-position on or under the pitch (z must be negative: the camera is above it).
     """
-    if args.tripod is not None:
-        return read_tripod(args.tripod), None
+    if args.tripod:
+        from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
+
+        tripods = tripods_from_args(args)
+        return tripods.get(MAIN_CAMERA_ID, next(iter(tripods.values()))), None
     if args.reinit_position is not None:
         x, y, z = args.reinit_position
         if z >= 0 or abs(x) > 500 or abs(y) > 500 or z < -200:

@@ -24,6 +24,7 @@ STATUS_NO_DETECTIONS = "no-detections"
 STATUS_MISSING_FRAME = "missing-frame"
 STATUS_FAILED = "failed"
 STATUS_MOTION_PRIOR = "motion-prior"  # no detections: the solver carried the track on, but no camera is claimed
+STATUS_OTHER_VIEW = "other-view"  # a close-up, crowd or other shot that is not the tracked camera's view
 STATUSES = (
     # one line per status (a record's status is one of these)
     STATUS_TRACKED,
@@ -33,10 +34,12 @@ STATUSES = (
     STATUS_MISSING_FRAME,
     STATUS_FAILED,
     STATUS_MOTION_PRIOR,
+    STATUS_OTHER_VIEW,
 )
 """Frame statuses. A record has a camera exactly when its status is tracked or reinitialised: a
 ``motion-prior`` frame (carried by the motion prior alone, for at most ``max_motion_prior_frames``)
-has none, and never counts toward completeness."""
+has none and never counts toward completeness; an ``other-view`` frame (a close-up, crowd or
+another camera's shot) has none either."""
 STATUSES_WITH_CAMERA = (STATUS_TRACKED, STATUS_REINITIALISED)
 
 STD_KEYS = ("pan_std_deg", "tilt_std_deg", "roll_std_deg", "focal_std_px", "k1_std", "position_std_m")

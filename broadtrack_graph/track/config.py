@@ -20,6 +20,8 @@ class TrackingConfig:
     confidence_threshold: float = DEFAULT_THRESHOLD  # below: re-initialise and distrust flow from this frame
     lost_confidence: float = 0.2  # below this (after a failed re-initialisation): lost, search globally
     use_flow: bool = True  # optical-flow factor between consecutive frames
+    detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
+    mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow
     use_tripod: bool = True  # tripod factor (known, fitted online, or estimated in batch)
     estimate_k1: bool = True  # False: k1 held at 0
     tripod_fit_frames: int = 150  # online without a tripod: confident frames tracked before fitting it

@@ -14,6 +14,11 @@ detections file alone, or a detections file with frames (flow on). Per frame:
    the agreement of labelled detections when there is no map) is checked: below the
    threshold the frame is re-initialised and the next frame does not trust flow
    from it;
+Frames annotated by the shot step (:mod:`broadtrack_graph.track.shot_stream`): a cut
+breaks the chain (no flow, no motion prior across it: the next frame is re-initialised);
+a frame of another view (close-up, crowd) gets no camera and the status ``other-view``;
+the static graphics mask is taken out of the detections (and so out of flow's keep mask).
+
 5. each finished frame is written at once (camera file + a flushed track line), in
    frame order, so an interrupted run keeps every frame it finished.
 
@@ -33,6 +38,7 @@ import numpy as np
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera
 from broadtrack_graph.detect.flow import grid_flow, prepare
+from broadtrack_graph.detect.graphics import mask_graphics
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -49,6 +55,7 @@ from broadtrack_graph.io.track_record import (
     STATUS_MOTION_PRIOR,
     STATUS_NO_DETECTIONS,
     STATUS_NO_PITCH,
+    STATUS_OTHER_VIEW,
     STATUS_REINITIALISED,
     STATUS_TRACKED,
     TrackRecord,
@@ -112,6 +119,8 @@ class TrackingRun:
         confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
             (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
         on_frame_done: observer called after every processed frame (:data:`FrameDone`).
+        tripods: known tripods by camera id (the shot step's camera ids, e.g. "main"), used when that
+            camera's shots come; ``tripod`` is the one of the first camera.
     """
 
     def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
@@ -119,7 +128,7 @@ class TrackingRun:
                  graph_config: GraphConfig | None = None, run_info: dict | None = None,
                  keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
                  solver_factory=streaming_solver_for, reinitialise=reinitialise, confidence=frame_confidence,
-                 on_frame_done: FrameDone | None = None) -> None:
+                 on_frame_done: FrameDone | None = None, tripods: dict[str, Tripod] | None = None) -> None:
         self.W, self.H = int(width_px), int(height_px)
         self.config = config
         self.detector = detector
@@ -136,7 +145,7 @@ class TrackingRun:
         use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
         self.solver: StreamingSolver = solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
                                                       use_tripod_now)
-        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, tripod)
+        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, tripod, tripods)
         self.out_dir = Path(out_dir)
         self.writer = TrackWriter(self.out_dir, self.W, self.H, also_960x540=config.write_960x540,
                                   run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
@@ -149,6 +158,8 @@ class TrackingRun:
         self._carried = 0  # frames in a row carried on the motion prior alone
         self._prev_grey: np.ndarray | None = None
         self._prev_keep_mask: np.ndarray | None = None
+        self.cuts = 0  # cuts that broke the chain
+        self.camera_id: str | None = None  # camera id of the current shot (None: no shot information)
         self.timings = {"detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0}
 
@@ -174,6 +185,18 @@ class TrackingRun:
             self._emit_now(frame, STATUS_MISSING_FRAME, frame.problem or "frame could not be read")
             self._prev_grey = None
             return None, None
+        shot = frame.shot
+        if shot is not None:
+            if shot.cut and shot.shot_index > 0:
+                self._break_chain()  # nothing is linked across a cut
+                self.cuts += 1
+            if shot.camera_id != self.camera_id and shot.camera_id is not None:
+                self.online_tripod.switch(self.solver, shot.camera_id)
+                self.camera_id = shot.camera_id
+            if shot.is_other_view:
+                self._emit_now(frame, STATUS_OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
+                self._break_chain()
+                return None, None
         detections = None
         grey = None
         observations = frame.observations
@@ -182,7 +205,7 @@ class TrackingRun:
                 started = time.perf_counter()
                 predicted = None if self._lost else predicted_camera(self._history, self._last_std, self.W)
                 try:
-                    detections = self.detector.detect(frame.image, predicted)
+                    detections = mask_graphics(self.detector.detect(frame.image, predicted), frame.graphics_mask)
                 except ValueError as exc:
                     self._emit_now(frame, STATUS_FAILED, f"detector: {exc}")
                     self._break_chain()
@@ -267,7 +290,8 @@ class TrackingRun:
             if (self.detector is not None and frame.image is not None and detections is not None
                     and detections.marking_mask is not None and not observations.lines_px):
                 # Name the markings with the re-initialised camera so the first frame has line factors.
-                redetected = self.detector.detect(frame.image, PredictedCamera(guess, 3.0))
+                redetected = mask_graphics(self.detector.detect(frame.image, PredictedCamera(guess, 3.0)),
+                                           frame.graphics_mask)
                 observations = redetected.to_observations(frame.frame_index, None)
                 detections = redetected
         started = time.perf_counter()
@@ -398,5 +422,6 @@ class TrackingRun:
             extra["tripod_fit"] = fit_info
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
         extra["solver_restarts"] = self.solver.rebuilds
+        extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod)

@@ -10,6 +10,7 @@ import numpy as np
 
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.decode_summary import drop_undecodable_tail
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.io.frame_source import FrameSource
 from broadtrack_graph.track.detection_frames import bound_by_gap, bound_to_window
@@ -28,11 +29,20 @@ class FrameInput:
     observations: FrameObservations | None = None  # from a detections file
     problem: str | None = None  # why the frame is missing
     flow_frame: object | None = None  # prepared for optical flow (frontend.flow.prepare), when done ahead
+    shot: object | None = None  # shots.segmenter.FrameShot: cut, view kind and camera id, when shots are detected
+    graphics_mask: np.ndarray | None = None  # (h, w) bool static broadcast graphics at any size, or None
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:
-    """Image input: one FrameInput per frame of the source (missing frames carry their problem)."""
-    for frame in source:
+    """Image input: one FrameInput per frame of the source (missing frames carry their problem).
+
+    A video's undecodable tail (a container stating more frames than it holds) is dropped with
+    one summary line (:func:`~broadtrack_graph.io.decode_summary.drop_undecodable_tail`).
+    """
+    frames = source
+    if getattr(source, "kind", None) == "video":
+        frames = drop_undecodable_tail(source, str(getattr(source, "path", "video")), len(source))
+    for frame in frames:
         yield FrameInput(frame.frame_index, frame.frame_id, frame.time_s, frame.image_bgr, None, frame.problem)
 
 

@@ -37,6 +37,11 @@ class OnlineTripod:
         graph: solver settings (delta prior; lambda of the provisional tripod).
         pitch: the template (where a tripod may not be).
         known_tripod: a tripod given to the run; the policy then does nothing.
+        known_tripods: tripods given per camera id (the shot step's ids); a camera with one is not fitted.
+
+    One tripod per camera: when the shots switch to another camera (:meth:`switch`), the
+    tripod fitted or given for the camera left is kept, and the one of the camera coming
+    back is put in the solver (or a new fit starts for a camera seen the first time).
 
     Attributes:
         info: what the last provisional tripod or fit reported (written to the run summary
@@ -46,14 +51,32 @@ class OnlineTripod:
     """
 
     def __init__(self, config: TrackingConfig, graph: GraphConfig, pitch: PitchTemplate,
-                 known_tripod: Tripod | None) -> None:
+                 known_tripod: Tripod | None, known_tripods: dict[str, Tripod] | None = None) -> None:
         self.config = config
+        self.tripods: dict[str, Tripod] = dict(known_tripods or {})  # camera id -> its tripod
+        self.camera_id: str | None = None
         self.graph = graph
         self.pitch = pitch
         self.known_tripod = known_tripod
         self.cameras: list[Camera] = []
         self.provisional = False
         self.info: dict | None = None
+
+    def switch(self, solver, camera_id: str) -> None:
+        """The shots moved to camera ``camera_id``: keep the tripod of the camera left, put this one's in the solver."""
+        if camera_id == self.camera_id:
+            return
+        if self.camera_id is not None and solver.tripod is not None and not self.provisional:
+            self.tripods[self.camera_id] = solver.tripod
+        if self.camera_id is None and camera_id not in self.tripods and self.known_tripod is not None:
+            self.tripods[camera_id] = self.known_tripod  # the run's tripod is the first camera's
+        self.camera_id = camera_id
+        tripod = self.tripods.get(camera_id)
+        if tripod is not None or self.config.use_tripod:
+            solver.tripod = tripod if self.config.use_tripod else None
+        self.known_tripod = tripod
+        self.provisional = False
+        self.cameras = []
 
     def update(self, solver, camera: Camera | None, confidence: float | None) -> None:
         """Add one frame's camera (None: not trusted) and set ``solver.tripod`` when due.

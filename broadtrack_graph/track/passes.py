@@ -16,6 +16,7 @@ either side (only the recovered frames' cameras are replaced). The online mode s
 
 from __future__ import annotations
 
+import logging
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -23,6 +24,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from broadtrack_graph.detect.flow import prepare
+from broadtrack_graph.detect.graphics import GraphicsConfig
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
@@ -33,14 +35,19 @@ from broadtrack_graph.graph.estimates import FrameEstimate, Track
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
+from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_record import TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
+from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.recover import recover_gaps
 from broadtrack_graph.track.result import RunResult, std_fields
+from broadtrack_graph.track.shot_stream import ShotStream
+
+log = logging.getLogger(__name__)
 
 _WRITER_KEYS = ("complete", "started_utc", "updated_utc", "width_px", "height_px", "frames_written",
                 "frames_with_camera", "completeness", "status_counts", "mean_confidence", "last_frame_index",
@@ -52,7 +59,8 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
                run_info: dict | None = None, progress: bool = True, total: int | None = None,
                graph_config: GraphConfig | None = None, reinit_positions=None,
-               mask_paths: dict | None = None, on_frame_done=None) -> RunResult:
+               mask_paths: dict | None = None, on_frame_done=None,
+               tripods: dict[str, Tripod] | None = None) -> RunResult:
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
     In batch mode this is the paper's two-pass offline workflow: an online first pass
@@ -67,6 +75,11 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
 
     ``on_frame_done`` observes every processed frame of the (first) pass
     (:data:`~broadtrack_graph.track.frame_loop.FrameDone`), e.g. to collect the detector's player boxes.
+
+    With a detector (image input), the shot step runs on the frames as they are decoded
+    (:class:`~broadtrack_graph.track.shot_stream.ShotStream`): ``shots.json`` is written to the
+    run folder, and a clip with no shot of the main camera says so in one line (summary
+    ``note``). ``tripods``: known tripods by camera id (see :class:`TrackingRun`).
     """
     out_dir = Path(out_dir)
     RunFolder(out_dir).clear()  # nothing of an earlier run into this folder survives (tripod.json, pass1/, ...)
@@ -74,13 +87,20 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     given: dict[int, FrameObservations] = {}
     if recover:
         frames = _capturing(frames, given)
+    stream = None
+    if detector is not None and (config.detect_shots or config.mask_graphics):
+        # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
+        stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,
+                            GraphicsConfig() if config.mask_graphics else None)
+        frames = stream
     if config.mode != "batch":
         # Fixed-lag keeps no per-frame observations of its own (a long run would grow without
         # bound): the recovery works on the observations a detections file brought.
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
-                          reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done)
+                          reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
+                          tripods=tripods)
         run_loop(run, frames, progress, total, config.mode)
-        result = run.finish()
+        result = run.finish(_shots_summary(stream, out_dir))
         if not recover or not given:
             return result
         return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
@@ -88,9 +108,12 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     first = replace(config, mode="online")
     run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True,
-                      reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done)
+                      reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
+                      tripods=tripods)
     run_loop(run, frames, progress, total, "pass 1 (online)")
-    pass1 = run.finish()
+    pass1 = run.finish(_shots_summary(stream, out_dir))
+    if not any(r.camera is not None for r in pass1.records) and stream is not None and stream.shots:
+        return pass1
     observations = run.kept
     if recover:
         observations = {**given, **run.kept}
@@ -100,6 +123,21 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                           pass1.tripod)
     return refine_run(pass1, observations, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
                       graph_config)
+
+
+def _shots_summary(stream: ShotStream | None, out_dir: Path) -> dict:
+    """Write shots.json (when shots were detected) and the summary fields about them."""
+    if stream is None or stream.segmenter is None:
+        return {}
+    shots = stream.shots
+    write_shots(out_dir / SHOTS_FILE, shots)
+    extra = {"shots": len(shots), "other_view_shots": sum(s.camera_id is None for s in shots)}
+    if shots and all(s.camera_id is None for s in shots):
+        kinds = sorted({s.kind for s in shots})
+        extra["note"] = (f"no shot of the main (wide) camera in the input ({len(shots)} shot(s) of {', '.join(kinds)}): "
+                         "no camera written")
+        log.warning("%s", extra["note"])
+    return extra
 
 
 def _capturing(frames, store: dict[int, FrameObservations]):

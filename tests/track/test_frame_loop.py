@@ -263,3 +263,29 @@ def test_interrupted_loop_leaves_a_truthful_summary(tmp_path):
     lines = (tmp_path / "run" / "track.jsonl").read_text().splitlines()
     assert summary["interrupted"] is True and summary["complete"] is False
     assert summary["frames_written"] == len(lines) == 5 and summary["frames_with_camera"] == 5
+
+
+def test_a_cut_breaks_the_chain_and_other_views_get_no_camera(tmp_path):
+    from broadtrack_graph.shots.segmenter import FrameShot
+
+    solver = FakeSolver()
+    script = Scripted()
+    run = run_of(tmp_path, solver, script)
+    shots = {0: FrameShot(0, True, "main", "main", ""), 3: FrameShot(1, True, "main", "main", ""),
+             5: FrameShot(2, True, "close-up", None, "huge blob"), 6: FrameShot(2, False, "close-up", None, "huge blob"),
+             7: FrameShot(3, True, "main", "main", "")}
+    for i in range(9):
+        f = frame(i)
+        f.shot = shots.get(i, FrameShot(0, False, "main", "main", ""))
+        run.process(f)
+    result = run.finish()
+    got = statuses(tmp_path)
+    assert [s for _, s, _ in got] == ["reinitialised", "tracked", "tracked", "reinitialised", "tracked",
+                                      "other-view", "other-view", "reinitialised", "tracked"]
+    assert got[5][2].startswith("other view (close-up)")
+    # Frames 3 and 7 start shots: a fresh start with a guess, not linked to the frame before, no flow.
+    by_frame = {p[0]: p for p in solver.pushed}
+    assert by_frame[3] == (3, True, False, False) and by_frame[7] == (7, True, False, False)
+    assert 5 not in by_frame and 6 not in by_frame
+    assert result.summary["cuts"] == 3
+    assert not (tmp_path / "run" / "cameras" / "camera_000006.json").exists()

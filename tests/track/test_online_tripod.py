@@ -107,3 +107,27 @@ def test_known_tripod_batch_mode_or_no_tripod_term_leave_the_solver_alone():
         for _ in range(40):
             online.update(solver, camera, 1.0)
         assert solver.tripod is None and online.cameras == [] and online.info is None
+
+
+def test_one_tripod_per_camera_id_is_kept_and_put_back():
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.tripod import Tripod
+    from broadtrack_graph.graph.config import GraphConfig
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.track.online_tripod import OnlineTripod
+
+    class Holder:
+        tripod = None
+
+    main, other = Tripod((0.0, 60.0, -15.0), 0.2), Tripod((-30.0, 55.0, -10.0), 0.3)
+    policy = OnlineTripod(TrackingConfig(mode="online"), GraphConfig(), PitchTemplate(), None, {"main": main})
+    solver = Holder()
+    policy.switch(solver, "main")
+    assert solver.tripod is main
+    policy.switch(solver, "cam2")
+    assert solver.tripod is None  # a new camera: fitted from its own frames
+    solver.tripod = other  # (as a fit would set it)
+    policy.switch(solver, "main")
+    assert solver.tripod is main
+    policy.switch(solver, "cam2")
+    assert solver.tripod is other

@@ -1,0 +1,107 @@
+"""The real-video section of ``bench real``: every video of a folder tracked online end to end.
+
+Per clip: frames, frames with a camera, the alignment of those cameras with the visible
+lines by a check that does not use the tracker's detector
+(:mod:`broadtrack_graph.metrics.line_alignment`), the share of the main-camera frames with
+an aligned camera, re-initialisations (per 100 frames), other-view frames, cuts, cameras
+written on frames known to be another view, fps and stage timings; an overlay video per
+clip is written beside the runs (never inside the repository).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from broadtrack_graph.actions.track import track_input
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.io.run_folder import RunFolder
+from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
+from broadtrack_graph.io.track_record import STATUS_OTHER_VIEW
+from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment
+from broadtrack_graph.track.config import TrackingConfig
+
+KNOWN_OTHER_VIEWS = {"jpn-tjk-360p-with-cut": [(480, 586)]}
+"""Frames known not to show the main camera in the shared clips (start, end exclusive), by clip name."""
+
+
+def has_video_data(args) -> bool:
+    return Path(args.video_dir).is_dir() and any(Path(args.video_dir).glob("*.mp4"))
+
+
+def run_video_clips(args) -> dict:
+    """Track (or re-score) every clip and return {"clips": {name: figures}}; see the module docstring."""
+    clips = sorted(Path(args.video_dir).glob("*.mp4"))
+    if args.clips:
+        clips = [c for c in clips if c.stem in set(args.clips)]
+    report = {}
+    for video in clips:
+        run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
+        if args.runs is None:
+            track_input(video, run_dir, TrackingConfig(mode="online"), end=args.end, progress=not args.no_progress)
+        report[video.stem] = score_clip(video, run_dir, args.score_every, end=args.end)
+        if not args.no_overlay:
+            from broadtrack_graph.products.overlay import write_overlay
+
+            overlay = Path(args.out) / f"{video.stem}_overlay.mp4"
+            write_overlay(run_dir, video, overlay, end=args.end, progress=not args.no_progress)
+            report[video.stem]["overlay"] = str(overlay)
+    return {"clips": report}
+
+
+def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),
+               end: int | None = None) -> dict:
+    """The figures of one tracked clip (module docstring), from its run folder and its frames (those before ``end``)."""
+    folder = RunFolder(run_dir)
+    records = {r.frame_index: r for r in folder.read_track().records if end is None or r.frame_index < end}
+    summary = folder.read_summary() if folder.has_summary() else {}
+    known = KNOWN_OTHER_VIEWS.get(video.stem, [])
+    other_known = {i for a, b in known for i in range(a, b)}
+    other_found = {i for i, r in records.items() if r.status == STATUS_OTHER_VIEW}
+    curves = TemplateCurves(PitchTemplate(), line_step_m=1.0, circle_step_m=0.5)
+    capture = cv2.VideoCapture(str(video))
+    shares, aligned, scored = {}, 0, 0
+    index = 0
+    last = max(records) if records else -1
+    while index <= last:
+        ok, image = capture.read()
+        if not ok:
+            break
+        record = records.get(index)
+        if record is not None and record.camera is not None and index % max(1, score_every) == 0:
+            share, _ = line_alignment(image, record.camera, curves, config)
+            scored += 1
+            if share is not None:
+                shares[index] = share
+                aligned += share >= config.aligned_share
+        index += 1
+    capture.release()
+    decoded = index
+    main = [i for i in range(decoded) if i not in other_known and i not in other_found and i in records]
+    main_scored = [i for i in main if i % max(1, score_every) == 0]
+    aligned_main = sum(1 for i in main_scored if shares.get(i, 0.0) >= config.aligned_share)
+    with_camera = sum(1 for r in records.values() if r.camera is not None)
+    reinits = sum(1 for r in records.values() if r.reinitialised)
+    frames = len(records)
+    shots = read_shots(run_dir / SHOTS_FILE) if (run_dir / SHOTS_FILE).is_file() else []
+    return {
+        "frames": frames,
+        "frames_decoded": decoded,
+        "frames_with_camera": with_camera,
+        "other_view_frames": len(other_found),
+        "cuts": max(0, len(shots) - 1) if shots else summary.get("cuts"),
+        "shots": [[s.start, s.end, s.kind] for s in shots],
+        "reinitialisations": reinits,
+        "reinit_per_100_frames": round(100.0 * reinits / max(frames, 1), 2),
+        "alignment_mean": round(float(np.mean(list(shares.values()))), 3) if shares else None,
+        "aligned_share_of_camera_frames": round(aligned / max(scored, 1), 3),
+        "main_frames_aligned_share": round(aligned_main / max(len(main_scored), 1), 3),
+        "cameras_on_known_other_view_frames": sum(1 for i in other_known if i in records and records[i].camera is not None),
+        "status_counts": summary.get("status_counts"),
+        "fps": summary.get("fps"),
+        "timings_s": summary.get("timings_s"),
+        "solver_restarts": summary.get("solver_restarts"),
+    }

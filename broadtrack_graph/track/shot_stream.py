@@ -1,0 +1,58 @@
+"""Annotate the loop's frames with their shot (cut, view, camera id) and the static graphics mask.
+
+Runs where the frames are decoded (the prefetch thread of :func:`~broadtrack_graph.track.passes.run_loop`
+iterates it), one frame at a time in order, so it adds no latency: both the shot step and
+the graphics mask look only at the current and past frames.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Iterable, Iterator
+
+import cv2
+
+from broadtrack_graph.detect.graphics import GraphicsConfig, StaticGraphics
+from broadtrack_graph.shots.segmenter import ShotConfig, ShotSegmenter
+from broadtrack_graph.track.inputs import FrameInput
+
+log = logging.getLogger(__name__)
+
+WORK_WIDTH_PX = 160
+"""Width (pixels) the frame is reduced to before the shot step and the graphics mask (both work at <= 160)."""
+
+
+class ShotStream:
+    """Wraps an iterable of :class:`FrameInput`; :attr:`segmenter` keeps the shots seen so far.
+
+    Args:
+        frames: the loop's frames (image input; frames without an image pass through).
+        shots: shot settings, or None to skip shot detection.
+        graphics: graphics-mask settings, or None to skip it.
+    """
+
+    def __init__(self, frames: Iterable[FrameInput], shots: ShotConfig | None = ShotConfig(),
+                 graphics: GraphicsConfig | None = GraphicsConfig()) -> None:
+        self.frames = frames
+        self.segmenter = ShotSegmenter(shots) if shots is not None else None
+        self.graphics = StaticGraphics(graphics) if graphics is not None else None
+
+    def __iter__(self) -> Iterator[FrameInput]:
+        for frame in self.frames:
+            if frame.image is not None:
+                # Both steps work on small images: reduce the frame once (area averaging).
+                H, W = frame.image.shape[:2]
+                width = min(W, WORK_WIDTH_PX)
+                small = cv2.resize(frame.image, (width, max(1, int(round(H * width / W)))), interpolation=cv2.INTER_AREA)
+                if self.segmenter is not None:
+                    frame.shot = self.segmenter.update(frame.frame_index, small)
+                if self.graphics is not None:
+                    frame.graphics_mask = self.graphics.update(small)
+            elif self.segmenter is not None:
+                self.segmenter.update(frame.frame_index, None)
+            yield frame
+
+    @property
+    def shots(self) -> list:
+        """The shots so far (:class:`~broadtrack_graph.shots.segmenter.Shot`), empty without shot detection."""
+        return [] if self.segmenter is None else self.segmenter.shots

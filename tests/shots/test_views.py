@@ -1,0 +1,62 @@
+"""View classification (broadtrack_graph.shots.views) on synthetic frames."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from broadtrack_graph.shots.segmenter import ShotSegmenter
+from broadtrack_graph.shots.views import VIEW_CLOSE_UP, VIEW_CROWD, VIEW_MAIN, classify_view
+
+
+def grass(h=360, w=640, seed=0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    image = np.clip(np.array([50, 140, 60], float) + rng.normal(0, 8, (h, w, 3)), 0, 255).astype(np.uint8)
+    return image
+
+
+def wide_view() -> np.ndarray:
+    image = grass()
+    image[:60] = (90, 80, 120)  # stands at the top
+    cv2.line(image, (0, 300), (640, 250), (235, 235, 235), 2)  # a touchline
+    for x, y in ((100, 150), (300, 200), (500, 120), (420, 260)):
+        cv2.rectangle(image, (x, y), (x + 8, y + 25), (30, 30, 200), -1)  # small players
+    return image
+
+
+def test_the_wide_view_is_main():
+    result = classify_view(wide_view())
+    assert result.kind == VIEW_MAIN, result.reason
+
+
+def test_a_frame_without_grass_is_crowd():
+    rng = np.random.default_rng(3)
+    stands = rng.integers(0, 255, (360, 640, 3)).astype(np.uint8)
+    stands[..., 1] //= 3  # little green
+    result = classify_view(stands)
+    assert result.kind == VIEW_CROWD and result.grass_share < 0.25
+
+
+def test_a_huge_player_blob_on_grass_is_a_close_up():
+    image = grass()
+    cv2.ellipse(image, (320, 260), (90, 200), 0, 0, 360, (160, 60, 30), -1)  # a body filling the height
+    cv2.circle(image, (320, 70), 45, (120, 150, 200), -1)
+    result = classify_view(image)
+    assert result.kind == VIEW_CLOSE_UP, result.reason
+
+
+def test_a_caption_bar_on_grass_is_not_a_close_up():
+    image = wide_view()
+    image[280:330, 100:540] = (20, 20, 20)  # a wide, low caption graphic
+    assert classify_view(image).kind == VIEW_MAIN
+
+
+def test_the_segmenter_keeps_a_shot_s_majority_view():
+    segmenter = ShotSegmenter()
+    close = grass()
+    cv2.ellipse(close, (320, 260), (90, 200), 0, 0, 360, (230, 200, 180), -1)  # a light shirt
+    kinds = [segmenter.update(i, wide_view()).kind for i in range(6)]
+    kinds += [segmenter.update(6 + i, close).camera_id for i in range(6)]
+    assert kinds[:6] == [VIEW_MAIN] * 6 and kinds[6:] == [None] * 6
+    assert [(s.start, s.end, s.kind, s.camera_id) for s in segmenter.shots] == [(0, 6, "main", "main"),
+                                                                                (6, 12, "close-up", None)]

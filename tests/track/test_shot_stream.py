@@ -1,0 +1,32 @@
+"""Shots in whole runs (broadtrack_graph.track.shot_stream, track.passes): a clip of other views only."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.passes import run_frames
+
+
+class NeverCalled:
+    def detect(self, image, predicted=None):
+        raise AssertionError("no detection on other views")
+
+
+def test_a_clip_of_crowd_only_writes_no_camera_and_says_so(tmp_path):
+    rng = np.random.default_rng(0)
+    frames = []
+    for i in range(8):
+        image = rng.integers(0, 255, (90, 160, 3)).astype(np.uint8)
+        image[..., 1] //= 3  # stands: little green
+        frames.append(FrameInput(i, f"{i + 1:06d}", i / 25.0, image=image))
+    result = run_frames(frames, 160, 90, tmp_path / "run", TrackingConfig(mode="online"), detector=NeverCalled(),
+                        progress=False)
+    assert result.summary["note"].startswith("no shot of the main (wide) camera")
+    assert result.summary["status_counts"]["other-view"] == 8
+    assert not any((tmp_path / "run" / "cameras").glob("*.json"))
+    shots = json.loads((tmp_path / "run" / "shots.json").read_text())["shots"]
+    assert [(s["start"], s["end"], s["kind"], s["camera_id"]) for s in shots] == [(0, 8, "crowd", None)]
