@@ -22,6 +22,7 @@ COMMANDS = (
     "overlay",
     "compare",
     "track",
+    "track-many",
     "bench",
     "calibrate",
     "synth",

@@ -248,6 +248,45 @@ def read_detections(
     return result
 
 
+def detections_frame_range(path: str | Path) -> tuple[int, int]:
+    """(first frame index, last + 1) of a detections file, without parsing its detections.
+
+    Reads only each line's ``"frame"`` field (written first by :class:`DetectionsWriter`; other
+    lines are parsed as JSON). Lines that are not records are ignored, as :func:`read_detections` does.
+
+    Raises:
+        InputError: the file is missing, unreadable or holds no record with a frame index.
+    """
+    path = Path(path)
+    first, last = None, None
+    try:
+        with path.open(encoding="utf-8") as handle:
+            for line in handle:
+                frame = _frame_of_line(line)
+                if frame is not None:
+                    first = frame if first is None else min(first, frame)
+                    last = frame if last is None else max(last, frame)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, f"cannot read detections file: {exc}") from None
+    if first is None:
+        raise InputError(path, "no detection record with a frame index")
+    return first, last + 1
+
+
+def _frame_of_line(line: str) -> int | None:
+    prefix = '{"frame": '
+    if line.startswith(prefix):
+        digits = line[len(prefix):len(prefix) + 12].split(",")[0].split("}")[0].strip()
+        if digits.isdigit():
+            return int(digits)
+    try:
+        record = json.loads(line)
+    except json.JSONDecodeError:
+        return None
+    frame = record.get("frame") if isinstance(record, dict) else None
+    return frame if isinstance(frame, int) and not isinstance(frame, bool) and frame >= 0 else None
+
+
 def observations_to_record(observations: FrameObservations, frame_id: str | None = None,
                            mask_path: str | None = None) -> dict:
     """FrameObservations -> one JSON object of the detections format (pixels)."""
