@@ -24,21 +24,34 @@ INSTALL_HINT = ("track-many runs on Ray, which is not installed: pip install 'br
                 "(or pip install 'ray>=2.40,<3')")
 
 
-def import_ray():
-    """The ray module, or an InputError saying in one line how to install it."""
-    try:
-        import ray
-    except ImportError:
-        raise InputError(None, INSTALL_HINT) from None
+LOOPBACK_ENV = {
+    # Ray resolves 127.0.0.1 to this machine's network address (services.resolve_ip_for_localhost)
+    # unless clusters are switched off: then a local instance binds to loopback only.
+    "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER": "0",
+    "RAY_USAGE_STATS_ENABLED": "0",  # no usage report
+}
+
+
+def require_ray() -> None:
+    """Raise an InputError saying in one line how to install Ray when it is not importable (nothing imported)."""
+    import importlib.util
+
+    if importlib.util.find_spec("ray") is None:
+        raise InputError(None, INSTALL_HINT)
+
+
+def import_ray(loopback: bool = False):
+    """The ray module (InputError when missing); ``loopback``: set :data:`LOOPBACK_ENV` first.
+
+    The loopback settings take effect only when ray is first imported in this process.
+    """
+    require_ray()
+    if loopback:
+        for key, value in LOOPBACK_ENV.items():
+            os.environ.setdefault(key, value)
+    import ray
+
     return ray
-
-
-def ray_available() -> bool:
-    try:
-        import ray  # noqa: F401
-    except ImportError:
-        return False
-    return True
 
 
 class RayEngine:
@@ -59,13 +72,13 @@ class RayEngine:
         self._ray = None
 
     def __enter__(self) -> "RayEngine":
-        ray = import_ray()
+        ray = import_ray(loopback=self.address is None)
         if ray.is_initialized():
             ray.shutdown()
         kwargs = {"include_dashboard": False, "log_to_driver": False, "configure_logging": True,
                   "logging_level": logging.WARNING}
         if self.address is None:
-            ray.init(address="local", num_cpus=self.workers, _node_ip_address="127.0.0.1", **kwargs)
+            ray.init(address="local", num_cpus=self.workers, **kwargs)
         else:
             try:
                 ray.init(address=self.address, **({} if self.address.startswith("ray://") else kwargs))
@@ -81,9 +94,9 @@ class RayEngine:
             self._ray.shutdown()
             self._ray = None
 
-    def nodes(self) -> int:
-        """Nodes alive in the cluster."""
-        return sum(1 for node in self._ray.nodes() if node.get("Alive"))
+    def nodes(self) -> list[str]:
+        """Addresses of the nodes alive in the cluster."""
+        return [node.get("NodeManagerAddress") for node in self._ray.nodes() if node.get("Alive")]
 
     def run(self, function: Callable, calls: list[tuple[object, tuple]], on_done: Callable, on_error: Callable) -> None:
         """Submit every call at once (Ray queues them on free CPUs) and report each as it finishes."""

@@ -31,13 +31,13 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from broadtrack_graph.actions.ray_engine import RayEngine, import_ray
+    from broadtrack_graph.actions.ray_engine import RayEngine, require_ray
     from broadtrack_graph.actions.track_many import ManyOptions, summary_table, track_many
     from broadtrack_graph.io.config_file import read_config_file
     from broadtrack_graph.io.manifest import clips_from_inputs, read_manifest
     from broadtrack_graph.track.config import TrackingConfig
 
-    import_ray()  # one line on how to install it, before any work
+    require_ray()  # one line on how to install it, before any work
     if bool(args.manifest) == bool(args.inputs):
         raise InputError(None, "give INPUT... or --manifest FILE (one of the two)")
     if args.workers is not None and args.workers < 1:
