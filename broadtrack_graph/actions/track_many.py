@@ -15,6 +15,7 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import shutil
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -51,6 +52,7 @@ class ManyReport:
     skipped: list[str] = field(default_factory=list)  # unit ids already done
     failed: dict[str, str] = field(default_factory=dict)  # unit id -> one-line error
     not_run: list[str] = field(default_factory=list)  # unit ids whose inputs failed
+    stale_removed: int = 0  # temporary folders of units killed in an earlier run, removed
     results: dict[str, dict] = field(default_factory=dict)  # unit id -> its figures (this run or recorded)
     wall_s: float = 0.0
 
@@ -118,6 +120,7 @@ def track_many(clips: list[ClipSpec], out_root: str | Path, config: TrackingConf
     engine = engine or SerialEngine(options.retries)
     units = plan_units(clips, out_root, config, options)
     report = ManyReport()
+    report.stale_removed = remove_stale_temps(units)
     started = time.perf_counter()
     bar = tqdm(total=sum(u.frames for u in units), unit="frame", desc=f"track-many ({engine.name})",
                disable=not options.progress)
@@ -157,6 +160,17 @@ def track_many(clips: list[ClipSpec], out_root: str | Path, config: TrackingConf
     write_json_atomic(out_root / REPORT_FILE, {**report.as_dict(), "engine": engine.name,
                                                "workers": getattr(engine, "workers", None)}, indent=1)
     return report
+
+
+def remove_stale_temps(units: list[Unit]) -> int:
+    """Delete the temporary folders a killed run left beside the units' outputs; returns how many."""
+    removed = 0
+    for parent in {Path(u.out).parent for u in units}:
+        if parent.is_dir():
+            for stale in parent.glob(".*.tmp-*"):
+                shutil.rmtree(stale, ignore_errors=True)
+                removed += 1
+    return removed
 
 
 def clip_row(name: str, out_root: Path, units: list[Unit], report: ManyReport) -> dict:

@@ -19,6 +19,7 @@ SUITES = (
     "speed",
     "detections",
     "endurance",
+    "scale",
 )
 
 
