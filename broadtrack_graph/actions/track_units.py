@@ -99,7 +99,7 @@ def run_unit(unit: Unit, out_root: str) -> dict:
     """Run one unit on this worker: its output written atomically, then its done marker.
 
     Returns:
-        {"unit": id, "frames": n, "seconds": wall s, "rss_mb": [(s, MB), ...] samples of this
+        {"unit": id, "frames": n, "seconds": wall s, "cpu_s": this process's CPU s, "rss_mb": [(s, MB), ...] samples of this
         process's resident memory while the unit ran, plus the kind's own figures}.
 
     Raises:
@@ -113,7 +113,7 @@ def run_unit(unit: Unit, out_root: str) -> dict:
     temp = final.parent / f".{final.name}.tmp-{uuid.uuid4().hex[:8]}"
     temp.parent.mkdir(parents=True, exist_ok=True)
     sampler = _RssSampler()
-    started = time.perf_counter()
+    started, cpu_started = time.perf_counter(), time.process_time()
     try:
         with sampler:
             result = track_stages.STAGES[unit.kind](unit, temp)
@@ -124,6 +124,7 @@ def run_unit(unit: Unit, out_root: str) -> dict:
         if temp.exists():
             shutil.rmtree(temp, ignore_errors=True)
     result = {"unit": unit.id, "frames": unit.frames, "seconds": round(time.perf_counter() - started, 3),
+              "cpu_s": round(time.process_time() - cpu_started, 3),
               "rss_mb": sampler.samples, "pid": os.getpid(), "host": os.uname().nodename, **(result or {})}
     marker = done_path(Path(out_root), unit)
     marker.parent.mkdir(parents=True, exist_ok=True)
