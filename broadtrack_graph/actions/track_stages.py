@@ -71,7 +71,7 @@ def run_refine(unit, temp: Path) -> dict:
     pieces = [(Chunk(**c), d) for c, d in unit.spec["pass1"]]
     needed = [(c, d) for c, d in pieces if c.keep_lo < chunk.hi and c.keep_hi > chunk.lo]
     records = [r for r in _pass1_records(needed) if chunk.lo <= r.frame_index < chunk.hi]
-    detections = read_detections(clip["detections"])
+    detections = read_detections(clip["detections"], frame_range=(chunk.lo, chunk.hi))
     width, height = detections.image_size
     observations = {i: detections.frames[i] for i in range(chunk.lo, chunk.hi) if i in detections.frames}
     refined = refine_window_records(records, observations, width, height, config, tripod)

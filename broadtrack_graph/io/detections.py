@@ -195,6 +195,7 @@ def read_detections(
     pitch: PitchTemplate | None = None,
     image_size: tuple[int, int] | None = None,
     min_confidence: float = DEFAULT_MIN_CONFIDENCE,
+    frame_range: tuple[int | None, int | None] | None = None,
 ) -> DetectionsFile:
     """Read a detections file (JSON lines), skipping and reporting what cannot be used.
 
@@ -203,6 +204,8 @@ def read_detections(
         pitch: template for keypoint names (default 105 x 68).
         image_size: (W, H) for records that do not state it.
         min_confidence: keypoints below this confidence are skipped.
+        frame_range: (start, end) frame indices (end exclusive, None: open): records of other
+            frames are skipped before they are parsed (a window of a long match reads only its frames).
 
     Raises:
         InputError: the file is missing or holds no usable record.
@@ -212,9 +215,14 @@ def read_detections(
     text = read_text(path, "detections file")
     result = DetectionsFile(image_size=image_size)
     lines = text.splitlines()
+    low, high = frame_range if frame_range is not None else (None, None)
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
+        if frame_range is not None and line.startswith('{"frame": '):
+            frame = _frame_of_line(line)
+            if frame is not None and ((low is not None and frame < low) or (high is not None and frame >= high)):
+                continue
         where = f"{path}:{number}"
         try:
             record = json.loads(line)
