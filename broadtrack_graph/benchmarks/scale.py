@@ -150,7 +150,7 @@ def part_resume(args, out: Path, manifest: Path) -> dict:
     report = json.loads((folder / "track_many.json").read_text())
     counts = {}
     for clip in sorted(p.name for p in folder.iterdir() if p.is_dir() and not p.name.startswith(("_", "."))):
-        indices = [json.loads(line)["frame_index"] for line in (folder / clip / "track.jsonl").read_text().splitlines()
+        indices = [json.loads(line)["frame"] for line in (folder / clip / "track.jsonl").read_text().splitlines()
                    if line.strip()]
         counts[clip] = {"frames": len(indices), "unique": len(set(indices))}
     return {
