@@ -166,7 +166,9 @@ def part_resume(args, out: Path, manifest: Path) -> dict:
 
 def part_cluster(args, out: Path, manifest: Path) -> dict:
     temp = Path(f"/tmp/bt-ray-{os.getpid()}")  # short: Ray's socket paths must stay under 108 characters
-    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0"}
+    # Token authentication (Ray >= 2.5x) on every node and the driver: the head makes the token
+    # (~/.ray/auth_token) and the worker node and the job must present it.
+    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0", "RAY_AUTH_MODE": "token"}
     env.pop("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", None)  # a second node needs cluster mode on
     ray_bin = str(Path(sys.executable).with_name("ray"))
     address = f"127.0.0.1:{args.port}"
@@ -179,7 +181,7 @@ def part_cluster(args, out: Path, manifest: Path) -> dict:
                                 capture_output=True, text=True, env=env, timeout=300)
         figures["ray_start_exit"] = [head.returncode, worker.returncode]
         if head.returncode or worker.returncode:
-            figures["error"] = (head.stderr or worker.stderr).strip().splitlines()[-1:]
+            figures["error"] = [line for line in (worker.stderr + head.stderr).splitlines() if "Error" in line][-1:]
             return figures
         folder = out / "cluster"
         shutil.rmtree(folder, ignore_errors=True)
