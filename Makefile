@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	@start=$$(date +%s); \
 	$(PYTHON) -m venv $(VENV) && \
 	$(VENV)/bin/pip install --disable-pip-version-check --progress-bar on --upgrade pip | grep -v "^Requirement already" ; \
-	$(VENV)/bin/pip install --disable-pip-version-check --progress-bar on -e ".[test]" | grep -E "^(Collecting|Installing|Successfully|ERROR)" ; \
+	$(VENV)/bin/pip install --disable-pip-version-check --progress-bar on -e ".[test,scale]" | grep -E "^(Collecting|Installing|Successfully|ERROR)" ; \
 	status=$${PIPESTATUS[0]}; \
 	echo "make: $(VENV) ready in $$(( $$(date +%s) - start )) s"; \
 	exit $$status

@@ -37,6 +37,7 @@ COMMANDS = (
     "overlay",
     "compare",
     "track",
+    "track-many",
     "bench",
     "calibrate",
     "synth",

@@ -98,3 +98,44 @@ def _guarded(function: Callable, item) -> tuple[bool, object]:
         except Exception:  # noqa: BLE001 -- an exception that cannot cross processes
             exc = RuntimeError(f"{type(exc).__name__}: {exc}")
         return False, exc
+
+
+class SerialEngine:
+    """The engine interface of track-many run in this process, one call after the other.
+
+    An engine runs ``function(*args)`` for each call and reports each outcome as it comes:
+    ``on_done(key, result)`` or, after ``retries`` more attempts, ``on_error(key, message)``
+    with a one-line message. :class:`~broadtrack_graph.actions.ray_engine.RayEngine` is the
+    distributed one; this one is the one-process reference (and what tests use without Ray).
+    """
+
+    name = "serial"
+    workers = 1
+
+    def __init__(self, retries: int = 0) -> None:
+        self.retries = max(0, int(retries))
+
+    def __enter__(self) -> "SerialEngine":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        return None
+
+    def run(self, function: Callable, calls: list[tuple[object, tuple]], on_done: Callable, on_error: Callable) -> None:
+        """calls: (key, args) pairs; the key identifies the call in the callbacks."""
+        for key, args in calls:
+            for attempt in range(self.retries + 1):
+                try:
+                    result = function(*args)
+                except Exception as exc:  # noqa: BLE001 -- reported per call, the others go on
+                    if attempt == self.retries:
+                        on_error(key, one_line(exc))
+                    continue
+                on_done(key, result)
+                break
+
+
+def one_line(exc: BaseException) -> str:
+    """``Type: message`` of an exception on one line (the first line of its message)."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0] if text else ''}".rstrip(": ")

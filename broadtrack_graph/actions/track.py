@@ -117,7 +117,8 @@ def _track(frames_path, out_dir, config, detector, tripod, reinit_position, dete
                 "detector": None if detections_path is not None else detector.kind}
     positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
     if detections_path is not None:
-        detections = read_detections(detections_path, pitch)
+        window = (start, end) if frames_path is None and (start is not None or end is not None) else None
+        detections = read_detections(detections_path, pitch, frame_range=window)
         source = open_frames(frames_path, start, end) if frames_path is not None else None
         try:
             width, height = (source.width_px, source.height_px) if source is not None else detections.image_size

@@ -21,6 +21,7 @@ SUITES = (
     "endurance",
     "real",
     "players",
+    "scale",
 )
 
 

@@ -110,6 +110,25 @@ class BatchRefiner:
         self.last_info = info
         return Track(estimates), tripod
 
+    def refine_window(self, observations: list[FrameObservations], initial: Track,
+                      tripod: Tripod | None) -> list[FrameEstimate | None]:
+        """One LM over a window of frames with the tripod held fixed and no link to a previous window.
+
+        The unit of parallel refinement (:mod:`broadtrack_graph.track.chunked`): windows of a clip
+        are independent, so they can run in any order or at once. Arguments as :meth:`refine`
+        (``initial`` a Track of the same length as ``observations``).
+
+        Returns:
+            One estimate per frame (camera None where LM gave a non-finite state).
+        """
+        frames = list(observations)
+        start = self._starting_cameras(initial, len(frames))
+        reinit = [bool(getattr(f, "reinitialised", False)) for f in initial]
+        estimates, _, info = self._refine_chunk(frames, start, reinit, tripod if self.config.use_tripod else None,
+                                                False, None)
+        self.last_info = {"chunks": [{"frames": [0, len(frames)], **info}]}
+        return estimates
+
     # ----------------------------------------------------------------- internals
 
     def _starting_cameras(self, initial, count: int) -> list[Camera]:

@@ -204,6 +204,7 @@ def read_detections(
     pitch: PitchTemplate | None = None,
     image_size: tuple[int, int] | None = None,
     min_confidence: float = DEFAULT_MIN_CONFIDENCE,
+    frame_range: tuple[int | None, int | None] | None = None,
 ) -> DetectionsFile:
     """Read a detections file (JSON lines), skipping and reporting what cannot be used.
 
@@ -212,6 +213,8 @@ def read_detections(
         pitch: template for keypoint names (default 105 x 68).
         image_size: (W, H) for records that do not state it.
         min_confidence: keypoints below this confidence are skipped.
+        frame_range: (start, end) frame indices (end exclusive, None: open): records of other
+            frames are skipped before they are parsed (a window of a long match reads only its frames).
 
     Raises:
         InputError: the file is missing or holds no usable record.
@@ -221,9 +224,14 @@ def read_detections(
     text = read_text(path, "detections file")
     result = DetectionsFile(image_size=image_size)
     lines = text.splitlines()
+    low, high = frame_range if frame_range is not None else (None, None)
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             continue
+        if frame_range is not None and line.startswith('{"frame": '):
+            frame = _frame_of_line(line)
+            if frame is not None and ((low is not None and frame < low) or (high is not None and frame >= high)):
+                continue
         where = f"{path}:{number}"
         try:
             record = json.loads(line)
@@ -278,6 +286,45 @@ def _report(path: Path, issues: list[str]) -> None:
             kinds[kind] = kinds.get(kind, 0) + 1
         common = ", ".join(f"{count} x '{kind}'" for kind, count in sorted(kinds.items(), key=lambda kv: -kv[1])[:3])
         log.warning("%s: %d more issues (%s); every issue is counted in the run summary", path, len(rest), common)
+
+
+def detections_frame_range(path: str | Path) -> tuple[int, int]:
+    """(first frame index, last + 1) of a detections file, without parsing its detections.
+
+    Reads only each line's ``"frame"`` field (written first by :class:`DetectionsWriter`; other
+    lines are parsed as JSON). Lines that are not records are ignored, as :func:`read_detections` does.
+
+    Raises:
+        InputError: the file is missing, unreadable or holds no record with a frame index.
+    """
+    path = Path(path)
+    first, last = None, None
+    try:
+        with path.open(encoding="utf-8") as handle:
+            for line in handle:
+                frame = _frame_of_line(line)
+                if frame is not None:
+                    first = frame if first is None else min(first, frame)
+                    last = frame if last is None else max(last, frame)
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, f"cannot read detections file: {exc}") from None
+    if first is None:
+        raise InputError(path, "no detection record with a frame index")
+    return first, last + 1
+
+
+def _frame_of_line(line: str) -> int | None:
+    prefix = '{"frame": '
+    if line.startswith(prefix):
+        digits = line[len(prefix):len(prefix) + 12].split(",")[0].split("}")[0].strip()
+        if digits.isdigit():
+            return int(digits)
+    try:
+        record = json.loads(line)
+    except json.JSONDecodeError:
+        return None
+    frame = record.get("frame") if isinstance(record, dict) else None
+    return frame if isinstance(frame, int) and not isinstance(frame, bool) and frame >= 0 else None
 
 
 def observations_to_record(observations: FrameObservations, frame_id: str | None = None,

@@ -101,3 +101,17 @@ def test_many_issues_are_summed_up(tmp_path, caplog):
         result = read_detections(path)
     assert len(result.issues) == 60 and len(caplog.records) == 11
     assert "50 more issues (50 x 'unknown line class')" in caplog.records[-1].getMessage()
+
+
+def test_frame_range_reads_only_a_window_and_the_range_is_found_without_parsing(tmp_path):
+    from broadtrack_graph.io.detections import detections_frame_range
+    from broadtrack_graph.synth.detections_file import write_synthetic_detections
+
+    path = write_synthetic_detections(tmp_path / "d.jsonl", 10, seed=1)
+    assert detections_frame_range(path) == (0, 10)
+    window = read_detections(path, frame_range=(3, 6))
+    assert sorted(window.frames) == [3, 4, 5]
+    whole = read_detections(path)
+    assert window.frames[4].lines_px.keys() == whole.frames[4].lines_px.keys()
+    assert all(np.array_equal(window.frames[4].lines_px[k], whole.frames[4].lines_px[k]) for k in whole.frames[4].lines_px)
+    assert sorted(read_detections(path, frame_range=(8, None)).frames) == [8, 9]
