@@ -17,7 +17,7 @@ from broadtrack_graph.errors import InputError
 logger = logging.getLogger(__name__)
 
 CLIP_ENTRIES = ("clip.json", "img1", "annotations", "cameras", "keypoints", "masks", "Labels-GameState.json",
-                "players.json", "ground_truth.json", "tripod.json", "clip.mp4")
+                "players.json", "players_pitch.json", "ground_truth.json", "tripod.json", "clip.mp4")
 """Every file and folder the clip writer creates in its output folder."""
 
 
