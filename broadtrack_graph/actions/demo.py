@@ -16,9 +16,9 @@ from pathlib import Path
 
 from broadtrack_graph.actions.compare import compare_runs
 from broadtrack_graph.actions.track import DetectorOptions, track_input
+from broadtrack_graph.errors import InputError
 from broadtrack_graph.products.compare_report import format_table
 from broadtrack_graph.products.overlay import write_overlay
-from broadtrack_graph.errors import InputError
 from broadtrack_graph.synth.writer import read_clip_info, write_synthetic_clip
 from broadtrack_graph.track.config import TrackingConfig
 

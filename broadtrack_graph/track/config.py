@@ -5,7 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from broadtrack_graph.detect.flow import FlowConfig
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
 from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD
 
 MODES = ("online", "fixed-lag", "batch")
@@ -66,3 +69,11 @@ def graph_config_for(config: TrackingConfig, base: GraphConfig | None = None) ->
     if not config.estimate_k1 and hasattr(graph.priors, "k1_fixed"):
         graph = replace(graph, priors=replace(graph.priors, k1_fixed=True))
     return graph
+
+
+def streaming_solver_for(config: TrackingConfig, graph: GraphConfig, width_px: int, height_px: int,
+                         pitch: PitchTemplate, tripod: Tripod | None) -> StreamingSolver:
+    """The streaming solver of a mode: fixed-lag for "fixed-lag", else online (batch's first pass is online)."""
+    if config.mode == "fixed-lag":
+        return FixedLagStreamingSolver(width_px, height_px, pitch, graph, tripod, lag=config.lag_frames)
+    return OnlineStreamingSolver(width_px, height_px, pitch, graph, tripod)

@@ -46,8 +46,7 @@ from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
-from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
-from broadtrack_graph.io.detections import read_mask_png
+from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.track_record import (
     STATUS_FAILED,
@@ -62,22 +61,14 @@ from broadtrack_graph.io.track_record import (
 )
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for
-from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.config import TrackingConfig, graph_config_for, streaming_solver_for
+from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
 from broadtrack_graph.track.result import RunResult, std_fields
 
 FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
 """Observer of a processed frame: (frame, what it handed the solver or None, its detections or None)."""
-
-
-def streaming_solver_for(config: TrackingConfig, graph: GraphConfig, width_px: int, height_px: int,
-                         pitch: PitchTemplate, tripod: Tripod | None) -> StreamingSolver:
-    """The streaming solver of a mode: fixed-lag for "fixed-lag", else online (batch's first pass is online)."""
-    if config.mode == "fixed-lag":
-        return FixedLagStreamingSolver(width_px, height_px, pitch, graph, tripod, lag=config.lag_frames)
-    return OnlineStreamingSolver(width_px, height_px, pitch, graph, tripod)
 
 
 @dataclass
@@ -216,7 +207,7 @@ class TrackingRun:
                 grey = frame.flow_frame if frame.flow_frame is not None else prepare(frame.image, self.config.flow)
             self.timings["flow_s"] += time.perf_counter() - started
         if detections is None and frame.frame_index in self.mask_paths and observations is not None:
-            detections = self._file_mask_detections(frame.frame_index, observations)
+            detections = mask_file_detections(self.mask_paths[frame.frame_index], observations, self.W, self.H)
         flow = None
         if grey is not None and self._prev_grey is not None and not self._lost and self._history:
             started = time.perf_counter()
@@ -248,18 +239,6 @@ class TrackingRun:
             self._break_chain()
             return None, detections
         return self._track(frame, observations, detections)
-
-    def _file_mask_detections(self, frame_index: int, observations: FrameObservations) -> Detections | None:
-        """A marking mask named by a detections file, as detections (for confidence and re-initialisation)."""
-        masks = read_mask_png(self.mask_paths[frame_index], self.W, self.H)
-        if masks is None:
-            return None
-        mask, field = masks
-        ys, xs = np.nonzero(mask)
-        keep = slice(None, None, max(1, len(xs) // 2000))
-        return Detections(self.W, self.H, lines_px=dict(observations.lines_px),
-                          marking_points_px=np.column_stack([xs[keep], ys[keep]]).astype(float),
-                          keypoints=observations.keypoints, marking_mask=mask, field_mask=field)
 
     def _no_pitch(self, observations: FrameObservations, detections: Detections | None) -> bool:
         if detections is not None:

@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Iterator
 
 import numpy as np
 
+from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.decode_summary import drop_undecodable_tail
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.io.frame_source import FrameSource
+from broadtrack_graph.io.mask_png import read_mask_png
 from broadtrack_graph.track.detection_frames import bound_by_gap, bound_to_window
 
 log = logging.getLogger(__name__)
@@ -86,3 +89,24 @@ def frames_from_detections(detections: DetectionsFile, fps: float = 25.0, start:
         yield FrameInput(index, frame_id, index / fps, None, observations)
 
 
+def mask_file_detections(mask_path: Path, observations: FrameObservations, width_px: int,
+                         height_px: int) -> Detections | None:
+    """A marking mask named by a detections file, as detections (for confidence and re-initialisation).
+
+    Args:
+        mask_path: the mask PNG (:mod:`broadtrack_graph.io.mask_png`), read at (width_px, height_px).
+        observations: the frame's observations from the file (their lines and keypoints are kept).
+
+    Returns:
+        Detections with the mask, its playing field when the PNG has one, and up to ~2000 of the
+        mask's pixels as marking points; None (with a warning) when the PNG cannot be read.
+    """
+    masks = read_mask_png(mask_path, width_px, height_px)
+    if masks is None:
+        return None
+    mask, field = masks
+    ys, xs = np.nonzero(mask)
+    keep = slice(None, None, max(1, len(xs) // 2000))
+    return Detections(width_px, height_px, lines_px=dict(observations.lines_px),
+                      marking_points_px=np.column_stack([xs[keep], ys[keep]]).astype(float),
+                      keypoints=observations.keypoints, marking_mask=mask, field_mask=field)

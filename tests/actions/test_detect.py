@@ -13,7 +13,8 @@ from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.template import distances_to_polyline, project_template_polylines
 from broadtrack_graph.io.annotations import read_annotations
 from broadtrack_graph.io.cameras import read_camera_file
-from broadtrack_graph.io.detections import MASK_FIELD_VALUE, read_detections
+from broadtrack_graph.io.detections import read_detections
+from broadtrack_graph.io.mask_png import MASK_FIELD_VALUE
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.metrics.soccernet import evaluate_cameras
 from broadtrack_graph.synth.writer import write_synthetic_clip
