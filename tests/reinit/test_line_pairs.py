@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from reinit_helpers import median_template_error_px as _median_template_error_px
 
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
@@ -10,15 +11,6 @@ from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.line_pairs import line_pair_cameras, pitch_lines
 
 PITCH = PitchTemplate()
-
-
-def _median_template_error_px(camera, truth):
-    """Median pixel distance between the ground template (1 m samples) seen by truth and by camera."""
-    samples = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
-    uv_true, front = truth.project(samples)
-    shown = front & truth.in_image(uv_true)
-    uv, _ = camera.project(samples[shown])
-    return float(np.nanmedian(np.linalg.norm(uv - uv_true[shown], axis=1)))
 
 
 def test_line_pair_cameras_contain_a_tight_roll_free_camera():

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reinit_helpers import labelled_lines as _lines
+from reinit_helpers import reference_camera as _camera
 
-from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.lines import camera_from_homography, homography_from_lines, reinit_from_lines
@@ -15,25 +16,6 @@ W, H = 960, 540
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
 SAMPLING = TemplateSampling(PITCH)
-
-
-def _camera(pan=-12.0, tilt=76.0, focal=1100.0, k1=0.0, position=(1.5, 57.0, -13.0), roll=0.3):
-    return Camera.from_degrees(focal, k1, pan, tilt, roll, position, W, H)
-
-
-def _lines(camera, rng=None, noise_px=0.0, per_class=12):
-    """Visible template classes as labelled points (like an annotation)."""
-    out = {}
-    for name, pts in PITCH.sample_uniform(0.5).items():
-        uv, front = camera.project(pts)
-        ok = front & camera.in_image(uv)
-        if ok.sum() < 4:
-            continue
-        sel = uv[ok][np.linspace(0, ok.sum() - 1, per_class).astype(int)]
-        if rng is not None:
-            sel = sel + rng.normal(0, noise_px, sel.shape)
-        out[name] = sel
-    return out
 
 
 def test_homography_decomposition_recovers_the_camera():

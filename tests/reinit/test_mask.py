@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import SHARED_DATA
+from reinit_helpers import median_template_error_px as _median_template_error_px
 
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
@@ -13,15 +14,6 @@ from broadtrack_graph.reinit.mask import reinit_from_mask
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
 REAL_FRAME = SHARED_DATA / "real-frames" / "broadcast-frame-1073x603.png"
-
-
-def _median_template_error_px(camera, truth):
-    """Median pixel distance between the ground template (1 m samples) seen by truth and by camera."""
-    samples = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
-    uv_true, front = truth.project(samples)
-    shown = front & truth.in_image(uv_true)
-    uv, _ = camera.project(samples[shown])
-    return float(np.nanmedian(np.linalg.norm(uv - uv_true[shown], axis=1)))
 
 
 @pytest.fixture(scope="module")

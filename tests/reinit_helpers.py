@@ -1,0 +1,40 @@
+"""Test helpers shared by the re-initialisation tests: a reference camera, labelled lines, template error."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+
+W, H = 960, 540
+PITCH = PitchTemplate()
+
+
+def reference_camera(pan=-12.0, tilt=76.0, focal=1100.0, k1=0.0, position=(1.5, 57.0, -13.0), roll=0.3):
+    """A main camera at 960x540 (degrees, pixels, metres)."""
+    return Camera.from_degrees(focal, k1, pan, tilt, roll, position, W, H)
+
+
+def labelled_lines(camera, rng=None, noise_px=0.0, per_class=12):
+    """Visible template classes as labelled points (like an annotation): class -> (per_class, 2) pixels."""
+    out = {}
+    for name, pts in PITCH.sample_uniform(0.5).items():
+        uv, front = camera.project(pts)
+        ok = front & camera.in_image(uv)
+        if ok.sum() < 4:
+            continue
+        sel = uv[ok][np.linspace(0, ok.sum() - 1, per_class).astype(int)]
+        if rng is not None:
+            sel = sel + rng.normal(0, noise_px, sel.shape)
+        out[name] = sel
+    return out
+
+
+def median_template_error_px(camera, truth):
+    """Median pixel distance between the ground template (1 m samples) seen by truth and by camera."""
+    samples = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
+    uv_true, front = truth.project(samples)
+    shown = front & truth.in_image(uv_true)
+    uv, _ = camera.project(samples[shown])
+    return float(np.nanmedian(np.linalg.norm(uv - uv_true[shown], axis=1)))
