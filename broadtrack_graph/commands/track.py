@@ -57,7 +57,7 @@ def run(args) -> int:
         print_interrupted_summary("track", args.out)
         raise
     summary = result.summary
-    print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps') or 0:.1f} fps)")
+    print(f"tracked {summary.get('frames_written', 0)} frames into {result.out_dir} ({summary.get('fps_two_passes') or summary.get('fps') or 0:.1f} fps)")
     if summary.get("note"):
         print(f"  {summary['note']}")
     players = summary.get("players")
