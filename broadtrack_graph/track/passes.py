@@ -36,10 +36,10 @@ from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
-from broadtrack_graph.io.track_record import TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.shots.segmenter import ShotConfig
+from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
@@ -230,16 +230,8 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
                          run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)})
     records = []
     for record in pass1.records:
-        estimate = by_index.get(record.frame_index)
-        if estimate is None or estimate.camera is None:
-            new = record
-        else:
-            obs = observations[record.frame_index]
-            confidence = frame_confidence(estimate.camera, obs, None, curves, sampling) if (obs.lines_px or obs.keypoints) \
-                else record.confidence
-            active = tuple(sorted(k for k, v in (estimate.active_factors or {}).items() if v))
-            new = TrackRecord(record.frame_index, record.frame_id, record.time_s, estimate.camera, std_fields(estimate),
-                              confidence, record.reinitialised, record.status, record.reason, active)
+        new = refined_record(record, by_index.get(record.frame_index), observations.get(record.frame_index),
+                             curves, sampling)
         writer.write(new)
         records.append(new)
     pass1_s = float(pass1.summary.get("elapsed_s") or 0.0)
