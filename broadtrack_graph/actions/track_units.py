@@ -105,8 +105,14 @@ def run_unit(unit: Unit, out_root: str) -> dict:
     Raises:
         Whatever the unit's work raises (the engine retries, then reports it).
     """
+    import cv2
+
     from broadtrack_graph.actions import track_stages  # the tracking stack: imported on the worker only
 
+    # One unit per core: OpenCV's own thread pool (as many threads as cores by default) would let a
+    # single worker spread over every core and the workers fight over them (Ray sets OMP_NUM_THREADS=1
+    # on its workers for the same reason). The frame prefetch thread stays: it overlaps decoding.
+    cv2.setNumThreads(1)
     if os.environ.get("BROADTRACK_FAIL_UNIT") == unit.id:  # tests and the bench inject a failure here
         raise RuntimeError(f"failure injected into unit {unit.id}")
     final = Path(unit.out)

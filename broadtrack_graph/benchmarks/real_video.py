@@ -10,6 +10,7 @@ clip is written beside the runs (never inside the repository).
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import cv2
@@ -23,6 +24,9 @@ from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.io.track_record import STATUS_OTHER_VIEW
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment
 from broadtrack_graph.track.config import TrackingConfig
+
+SHIFTED_TILT_DEG = 0.3
+"""Every scored camera is also scored tilted by this much: the share of those passing is the check's false-accept rate."""
 
 KNOWN_OTHER_VIEWS = {"jpn-tjk-360p-with-cut": [(480, 586)]}
 """Frames known not to show the main camera in the shared clips (start, end exclusive), by clip name."""
@@ -63,7 +67,7 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
     other_found = {i for i, r in records.items() if r.status == STATUS_OTHER_VIEW}
     curves = TemplateCurves(PitchTemplate(), line_step_m=1.0, circle_step_m=0.5)
     capture = cv2.VideoCapture(str(video))
-    shares, aligned, scored = {}, 0, 0
+    scores, shifted, scored = {}, {}, []
     index = 0
     last = max(records) if records else -1
     while index <= last:
@@ -72,17 +76,28 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
             break
         record = records.get(index)
         if record is not None and record.camera is not None and index % max(1, score_every) == 0:
-            share, _ = line_alignment(image, record.camera, curves, config)
-            scored += 1
-            if share is not None:
-                shares[index] = share
-                aligned += share >= config.aligned_share
+            scored.append(index)
+            alignment = line_alignment(image, record.camera, curves, config)
+            if alignment is not None:
+                scores[index] = alignment
+                # The check must reject wrong cameras too: the same camera tilted by SHIFTED_TILT_DEG.
+                turned = record.camera.replace(tilt_rad=record.camera.tilt_rad + math.radians(SHIFTED_TILT_DEG))
+                shifted[index] = line_alignment(image, turned, curves, config)
         index += 1
     capture.release()
     decoded = index
     main = [i for i in range(decoded) if i not in other_known and i not in other_found and i in records]
     main_scored = [i for i in main if i % max(1, score_every) == 0]
-    aligned_main = sum(1 for i in main_scored if shares.get(i, 0.0) >= config.aligned_share)
+
+    def share(selected, aligned) -> float:
+        return round(sum(1 for i in selected if aligned(i)) / max(len(selected), 1), 3)
+
+    def visible(i, table=scores) -> bool:
+        return table.get(i) is not None and table[i].aligned(config)
+
+    def all_markings(i) -> bool:
+        return i in scores and scores[i].all_markings >= config.aligned_share
+
     with_camera = sum(1 for r in records.values() if r.camera is not None)
     reinits = sum(1 for r in records.values() if r.reinitialised)
     frames = len(records)
@@ -96,9 +111,11 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         "shots": [[s.start, s.end, s.kind] for s in shots],
         "reinitialisations": reinits,
         "reinit_per_100_frames": round(100.0 * reinits / max(frames, 1), 2),
-        "alignment_mean": round(float(np.mean(list(shares.values()))), 3) if shares else None,
-        "aligned_share_of_camera_frames": round(aligned / max(scored, 1), 3),
-        "main_frames_aligned_share": round(aligned_main / max(len(main_scored), 1), 3),
+        "alignment_mean": round(float(np.mean([a.visible_markings for a in scores.values()])), 3) if scores else None,
+        "aligned_share_of_camera_frames": share(scored, visible),
+        "main_frames_aligned_share": share(main_scored, visible),
+        "main_frames_aligned_share_all_markings": share(main_scored, all_markings),
+        f"main_frames_aligned_share_tilted_{SHIFTED_TILT_DEG}deg": share(main_scored, lambda i: visible(i, shifted)),
         "cameras_on_known_other_view_frames": sum(1 for i in other_known if i in records and records[i].camera is not None),
         "status_counts": summary.get("status_counts"),
         "fps": summary.get("fps"),

@@ -33,7 +33,8 @@ class MarkingStructureConfig:
     ellipse_check_pixels: int = 1200  # support is counted on at most about this many map pixels
     ellipse_band_px: float = 1.5  # map pixels this close to an ellipse support it ...
     ellipse_min_support_px: float = 80.0  # ... and an ellipse needs this many
-    ellipse_max_ratio: float = 0.8  # minor / major axis at most (a ground circle seen from a broadcast camera)
+    ellipse_max_ratio: float = 0.8  # minor / major axis at most (a ground circle seen from a broadcast camera) ...
+    ellipse_min_ratio: float = 0.06  # ... and at least (flatter: a straight marking or the board bases, not a circle)
     ellipse_max_tilt_deg: float = 30.0  # major axis within this of the image horizontal (roll about 0)
 
 
@@ -193,7 +194,7 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
             continue
         (cx, cy), (d1, d2), angle_deg = cv2.fitEllipse(sample)
         a, b = max(d1, d2) / 2.0, min(d1, d2) / 2.0
-        if not (np.isfinite(a) and b > 1.0 and 0.03 * w < a < 3.0 * w and b / a <= config.ellipse_max_ratio):
+        if not (np.isfinite(a) and b > 1.0 and 0.03 * w < a < 3.0 * w and config.ellipse_min_ratio <= b / a <= config.ellipse_max_ratio):
             continue
         theta = math.radians(angle_deg) + (0.0 if d1 >= d2 else math.pi / 2)
         if abs(math.sin(theta)) > math.sin(math.radians(config.ellipse_max_tilt_deg)):

@@ -74,6 +74,7 @@ class WeightFreeConfig:
     class_consistency_px: float = 1.0  # band (working pixels) around a class's median distance to its prediction
     min_points_per_class: int = 4  # fewer named points: the class is dropped
     point_spacing_px: float = 3.0  # named points are averaged per cell of this size (working pixels)
+    max_points_per_class: int = 250  # more cells: the class is averaged on coarser cells (solver cost ~ points; 100 put the batch tripod of a short 1080p test clip 2.9 m off)
     template_spacing_px: float = 0.5  # densified projected template for naming (working pixels)
 
 
@@ -206,9 +207,9 @@ class WeightFreeDetector:
         norm = np.hypot(nx, ny)
         norm = np.where(norm < 1e-9, 1.0, norm)
         nx, ny = nx / norm, ny / norm
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"):  # lam = 0 (flat): t is inf, t * 0 NaN; both dropped
             t = -(gx * nx + gy * ny) / lam
-        ok = (lam < -c.ridge_min_curvature) & (np.abs(t * nx) <= 0.5) & (np.abs(t * ny) <= 0.5)
+            ok = (lam < -c.ridge_min_curvature) & (np.abs(t * nx) <= 0.5) & (np.abs(t * ny) <= 0.5)
         # Markings are long: a centre-line point needs enough other centre-line points around it
         # (a line crossing the window gives about its width); specks of grass texture do not.
         # Support counts only neighbours of about the same orientation (a line's points share it,
@@ -258,7 +259,7 @@ class WeightFreeDetector:
             spread = max(c.class_consistency_px, 2.5 * 1.4826 * np.median(np.abs(dj - median)))
             keep = np.flatnonzero(members)[np.abs(dj - median) <= spread]
             if len(keep) >= c.min_points_per_class:
-                out[LINE_CLASSES[j]] = cell_means(points_px[keep], c.point_spacing_px)
+                out[LINE_CLASSES[j]] = capped_cell_means(points_px[keep], c.point_spacing_px, c.max_points_per_class)
         return out
 
     # ----------------------------------------------------------------- detect
@@ -272,8 +273,11 @@ class WeightFreeDetector:
         if work_w == W:
             small = image_bgr
         else:
+            # Area averaging for reductions of 2x or more (fast at integer ratios); bilinear for smaller
+            # ones (1280 -> 960: area averaging at a non-integer ratio costs about 6x more for a blur of
+            # well under a pixel) and for enlargements (640x360 -> 960x540).
             small = cv2.resize(image_bgr, (work_w, work_h),
-                               interpolation=cv2.INTER_AREA if work_w < W else cv2.INTER_LINEAR)
+                               interpolation=cv2.INTER_AREA if 2 * work_w <= W else cv2.INTER_LINEAR)
         grey = cv2.cvtColor(small, cv2.COLOR_BGR2GRAY)
         sigma = presmooth_sigma(W, work_w, self.config.presmooth_sigma_px)
         if sigma > 0.05:
@@ -333,6 +337,22 @@ def cell_means(points: np.ndarray, spacing: float) -> np.ndarray:
     inverse = inverse.ravel()
     sums = np.column_stack([np.bincount(inverse, points[:, 0]), np.bincount(inverse, points[:, 1])])
     return sums / counts[:, None]
+
+
+def capped_cell_means(points: np.ndarray, spacing: float, max_points: int) -> np.ndarray:
+    """:func:`cell_means` with at most ``max_points`` cells: (M <= max_points, 2).
+
+    A marking's cells lie along a curve, so their count falls about inversely with the cell
+    size: too many cells at ``spacing`` are redone once at ``spacing * count / max_points``
+    (more averaging per point, same coverage); a rare remainder is subsampled evenly.
+    """
+    means = cell_means(points, spacing)
+    if max_points <= 0 or len(means) <= max_points:
+        return means
+    means = cell_means(points, spacing * len(means) / max_points)
+    if len(means) > max_points:
+        means = means[np.linspace(0, len(means) - 1, max_points).round().astype(int)]
+    return means
 
 
 def _grid_thin(points: np.ndarray, spacing: float) -> np.ndarray:

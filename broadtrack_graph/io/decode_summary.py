@@ -14,9 +14,9 @@ from __future__ import annotations
 import logging
 from typing import Iterable, Iterator
 
-log = logging.getLogger(__name__)
+from broadtrack_graph.io.video import logger as video_logger
 
-_SOURCE_LOGGER = "broadtrack_graph.io.frames"
+log = logging.getLogger(__name__)
 _PER_FRAME_MARKERS = ("cannot be decoded; marked missing", "video ended at frame")
 
 
@@ -35,6 +35,13 @@ class _PerFrameDecodeWarnings(logging.Filter):
         return True
 
 
+def decodable_frames(source: Iterable) -> Iterable:
+    """A frame source's frames; a video's through :func:`drop_undecodable_tail` (other sources as they are)."""
+    if getattr(source, "kind", None) != "video":
+        return source
+    return drop_undecodable_tail(source, str(getattr(source, "path", "video")), len(source))
+
+
 def drop_undecodable_tail(frames: Iterable, name: str, stated_frames: int | None = None) -> Iterator:
     """Yield ``frames`` (objects with ``frame_index`` and ``problem``), without an undecodable tail.
 
@@ -46,7 +53,7 @@ def drop_undecodable_tail(frames: Iterable, name: str, stated_frames: int | None
     held = []
     last_good = -1
     filter_ = _PerFrameDecodeWarnings()
-    source_logger = logging.getLogger(_SOURCE_LOGGER)
+    source_logger = video_logger
     source_logger.addFilter(filter_)
     try:
         for frame in frames:

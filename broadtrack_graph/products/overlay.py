@@ -272,6 +272,7 @@ def write_overlay(
     from tqdm import tqdm
 
     from broadtrack_graph.errors import InputError
+    from broadtrack_graph.io.decode_summary import decodable_frames
     from broadtrack_graph.io.frames import open_frames
     from broadtrack_graph.io.run_folder import read_track
     from broadtrack_graph.products.birdseye import BirdseyeView
@@ -305,7 +306,7 @@ def write_overlay(
             except OSError as exc:
                 raise InputError(out_path, f"cannot create output folder: {exc.strerror or exc}") from None
         try:
-            for frame in tqdm(source, total=len(source), desc="overlay", unit="frame", disable=not progress):
+            for frame in tqdm(decodable_frames(source), total=len(source), desc="overlay", unit="frame", disable=not progress):
                 record = records.get(frame.frame_id)
                 if frame.image_bgr is None:
                     image = np.zeros((source.height_px, source.width_px, 3), dtype=np.uint8)

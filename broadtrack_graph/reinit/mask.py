@@ -57,7 +57,7 @@ def reinit_from_mask(
     2. Every hypothesis gets one score, -F_beta of the template found in the map (recall) and the
        marking points explained by the template (precision, through the pitch plane)
        (:class:`MapScorer`); the first candidate position is preferred on near ties.
-    3. The best distinct hypotheses are fitted in turn (:func:`_refine_on_map`: name the marking
+    3. The best distinct hypotheses are fitted in turn (:func:`refine_on_map`: name the marking
        points by the nearest projected class, :func:`fit_camera_to_lines`, shrinking gate; the
        wide schedule as well on poorly scoring ones) and ranked by a fine fit score; the
        best-scoring hypothesis is kept unless a later one fits ``switch_margin`` better.
@@ -128,14 +128,14 @@ def reinit_from_mask(
         start = Camera(hypothesis.focal_px, 0.0, hypothesis.pan_rad, hypothesis.tilt_rad, 0.0, C, W, H)
         if any(_image_distance_px(start, other, check_w) < config.distinct_per_width * W for other in refined):
             continue  # a fit already landed here
-        camera = _refine_on_map(start, points, C, curves, config, config.schedule)
+        camera = refine_on_map(start, points, C, curves, config, config.schedule)
         refined.append(camera)
         score = -fine.camera_cost(camera, config.fit_hit_px, config.fit_point_px)
         if (config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
                 and len(refined) < config.max_fits):
             # A poor fit at the guessed focal point: the camera may stand metres away, leaving the hypothesis
             # 10-20 px off, out of reach of the tight fit; one whose robust scale starts wide reaches it.
-            wide = _refine_on_map(start, points, C, curves, config, config.wide_schedule)
+            wide = refine_on_map(start, points, C, curves, config, config.wide_schedule)
             refined.append(wide)
             wide_score = -fine.camera_cost(wide, config.fit_hit_px, config.fit_point_px)
             if wide_score > score:
@@ -151,11 +151,20 @@ def reinit_from_mask(
         return ReinitResult(None, None, "", "no hypothesis could be fitted", len(hypotheses))
     _, camera, position, _ = best
     jac = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
-    return ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
-                        f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
+    result = ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
+                          f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
+    if positions_w is None and config.far_positions_w and jac < config.far_retry_below:
+        # The fitted camera is not confident: a camera further back, seen as a nearer one with a shorter
+        # focal length, fits the centre circle and halfway line and misses both touchlines. The far
+        # positions get a search of their own (the first of them preferred); the better camera wins.
+        far = reinit_from_mask(marking_mask, marking_points_px, frame_size, pitch, config.far_positions_w, config,
+                               curves, field_mask)
+        if far.camera is not None and far.score.jaccard > jac:
+            return replace(far, tried=far.tried + len(hypotheses))
+    return result
 
 
-def _refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: TemplateCurves,
+def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: TemplateCurves,
                    config: MaskSearchConfig, schedule: RefineSchedule) -> Camera:
     """Label-and-fit rounds with a shrinking gate and a robust scale tied to it (:class:`RefineSchedule`)."""
     W = camera.width_px

@@ -77,6 +77,7 @@ class MaskSearchConfig:
     other_position_factor: float = 0.95  # scores at focal points other than the first candidate count this much
     poor_score: float = 0.35  # when no hypothesis at the default tripods scores this well, these are tried too:
     far_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 75.0, -16.5), (0.0, 100.0, -22.0))
+    far_retry_below: float = 0.5  # ... and searched on their own when the best fitted camera's confidence is below this
     # Refinement: name the marking points by the nearest projected class, fit, shrink the gate (RefineSchedule).
     refine_top_k: int = 6  # at most this many distinct hypotheses are refined (best score first) ...
     refine_cost_share: float = 0.88  # ... after the first, only those scoring this share of its score ...

@@ -60,11 +60,13 @@ from broadtrack_graph.io.track_record import (
     TrackRecord,
 )
 from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.reinit.cheap import refine_guesses
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for, streaming_solver_for
 from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
+from broadtrack_graph.track.reinit_policy import CheapFirstReinit
 from broadtrack_graph.track.result import RunResult, std_fields
 
 FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
@@ -106,7 +108,8 @@ class TrackingRun:
         solver_factory: ``(config, graph_config, width_px, height_px, pitch, tripod) -> StreamingSolver``
             (default :func:`streaming_solver_for`).
         reinitialise: ``(observations, detections, pitch, positions, curves, sampling) -> ReinitResult``
-            (default :func:`broadtrack_graph.reinit.frame.reinitialise`).
+            (default :func:`broadtrack_graph.reinit.frame.reinitialise`); the loop calls it behind the
+            cheap guesses of :class:`~broadtrack_graph.track.reinit_policy.CheapFirstReinit`.
         confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
             (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
         on_frame_done: observer called after every processed frame (:data:`FrameDone`).
@@ -130,7 +133,7 @@ class TrackingRun:
         self.known_tripod = tripod
         self.reinit_positions = reinit_positions
         self.mask_paths = mask_paths or {}
-        self.reinitialise = reinitialise
+        self.reinitialise = CheapFirstReinit(reinitialise, refine_guesses)
         self.confidence = confidence
         self.on_frame_done = on_frame_done
         use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
@@ -147,6 +150,7 @@ class TrackingRun:
         self._last_std: np.ndarray | None = None
         self._lost = True
         self._carried = 0  # frames in a row carried on the motion prior alone
+        self._chain_confident = False  # a frame of the current chain reached the confidence threshold
         self._prev_grey: np.ndarray | None = None
         self._prev_keep_mask: np.ndarray | None = None
         self.cuts = 0  # cuts that broke the chain
@@ -183,6 +187,7 @@ class TrackingRun:
                 self.cuts += 1
             if shot.camera_id != self.camera_id and shot.camera_id is not None:
                 self.online_tripod.switch(self.solver, shot.camera_id)
+                self.reinitialise.switch(shot.camera_id)
                 self.camera_id = shot.camera_id
             if shot.is_other_view:
                 self._emit_now(frame, STATUS_OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
@@ -324,6 +329,19 @@ class TrackingRun:
             elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
                 lost_now = True
         entry.confidence, entry.confidence_camera = confidence, camera
+        if entry.reinitialised:
+            self._chain_confident = False  # a new chain starts at this frame
+        if confidence is not None and confidence >= self.config.confidence_threshold:
+            self._chain_confident = True
+        elif (not lost_now and camera is not None and confidence is not None and not self._chain_confident
+              and detections is not None and detections.marking_mask is not None):
+            # A chain started from the unlabelled marking map without one confident frame since: the camera
+            # seeds the next frame, it is not written (a map search can settle on a wrong camera that still
+            # explains part of the map; labelled lines and keypoints name what they show).
+            entry.status = STATUS_FAILED
+            entry.reason = (f"confidence {confidence:.2f} below {self.config.confidence_threshold:.2f} and no "
+                            "confident frame since the re-initialisation; camera not written")
+            entry.suppress_camera = True
         if lost_now and camera is not None and confidence is not None:
             entry.status = STATUS_FAILED
             entry.reason = f"confidence {confidence:.2f} below {self.config.lost_confidence:.2f} and re-initialisation failed"
@@ -335,6 +353,8 @@ class TrackingRun:
             self._history.append(camera)
             self._last_std = current.std
             self._lost = False
+            if confidence is not None and confidence >= self.config.confidence_threshold and not entry.suppress_camera:
+                self.reinitialise.confident(entry.frame.frame_index, camera)
         self.online_tripod.update(self.solver, None if (lost_now or entry.suppress_camera) else camera, confidence)
 
     # ----------------------------------------------------------------- records
@@ -373,6 +393,7 @@ class TrackingRun:
         self._prev_grey = None
         self._history.clear()
         self._carried = 0
+        self._chain_confident = False
 
     def _flush(self) -> None:
         """Write the final records at the head of the queue (frame order)."""
@@ -401,6 +422,8 @@ class TrackingRun:
             extra["tripod_fit"] = fit_info
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
         extra["solver_restarts"] = self.solver.rebuilds
+        extra["reinit_searches"] = {"cheap_guess_used": self.reinitialise.cheap_successes,
+                                    "global": self.reinitialise.global_searches}
         extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod)

@@ -12,7 +12,7 @@ import numpy as np
 from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.decode_summary import drop_undecodable_tail
+from broadtrack_graph.io.decode_summary import decodable_frames
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.io.frame_source import FrameSource
 from broadtrack_graph.io.mask_png import read_mask_png
@@ -42,10 +42,7 @@ def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:
     A video's undecodable tail (a container stating more frames than it holds) is dropped with
     one summary line (:func:`~broadtrack_graph.io.decode_summary.drop_undecodable_tail`).
     """
-    frames = source
-    if getattr(source, "kind", None) == "video":
-        frames = drop_undecodable_tail(source, str(getattr(source, "path", "video")), len(source))
-    for frame in frames:
+    for frame in decodable_frames(source):
         yield FrameInput(frame.frame_index, frame.frame_id, frame.time_s, frame.image_bgr, None, frame.problem)
 
 

@@ -53,3 +53,19 @@ def test_marking_structures_recover_two_drawn_lines_and_an_ellipse():
     on = 2 * np.column_stack([centre[0] + axes[0] * np.cos(t), centre[1] + axes[1] * np.sin(t)])
     assert found.distances_px(on).max() < 3.0
     assert found.distances_px(2 * np.array([centre], float))[0] > 100.0
+
+
+def test_a_long_straight_marking_is_not_taken_for_a_flat_ellipse():
+    # A 360p-like map: the near touchline and the board bases just below it, bent by the lens, lie on a
+    # very flat ellipse with much more support than the small centre circle; the circle must come first.
+    mask = np.zeros((540, 960), np.uint8)
+    cv2.ellipse(mask, (480, 510), (470, 12), 0, 185, 355, 1, 1)
+    cv2.ellipse(mask, (480, 510), (470, 12), 0, 5, 175, 1, 1)
+    cv2.ellipse(mask, (480, 220), (140, 38), 0, 0, 150, 1, 1)
+    cv2.ellipse(mask, (480, 220), (140, 38), 0, 170, 360, 1, 1)
+    ellipses = marking_ellipses(mask.astype(bool), 960)
+    assert ellipses, "no ellipse found"
+    first = ellipses[0]
+    assert np.linalg.norm(first.centre_px - (480, 220)) < 3
+    assert abs(first.semi_axes_px[0] - 140) < 3 and abs(first.semi_axes_px[1] - 38) < 3
+    assert all(e.semi_axes_px[1] / e.semi_axes_px[0] >= 0.06 for e in ellipses)

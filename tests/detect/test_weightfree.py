@@ -14,6 +14,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
 from broadtrack_graph.reinit.confidence import camera_confidence, needs_reinit
+from drawn_frames import draw_frame
 
 W, H = 640, 360
 PITCH = PitchTemplate()
@@ -22,33 +23,6 @@ FINE = TemplateCurves(PITCH, line_step_m=0.1, circle_step_m=0.05)
 
 def _truth():
     return Camera.from_degrees(700.0, 0.0, -8.0, 74.0, 0.0, (0.0, 55.0, -12.0), W, H)
-
-
-def _draw(camera, seed=0, players=12):
-    """Green striped grass, white markings 2 px wide (supersampled), dark stands above, players."""
-    rng = np.random.default_rng(seed)
-    scale = 4
-    big = np.zeros((H * scale, W * scale, 3), np.uint8)
-    big[:] = (40, 40, 40)
-    hi = camera.rescaled(W * scale, H * scale)
-    outline, _ = hi.project(np.vstack([PITCH.outline_w * 1.15]))
-    cv2.fillPoly(big, [np.round(outline).astype(np.int32)], (40, 140, 50))
-    for name, pts in FINE.samples_w.items():
-        if not PITCH.is_on_ground(name):
-            continue
-        uv, front = hi.project(pts)
-        ok = front & np.all(np.abs(uv) < 1e5, axis=1)
-        if ok.sum() > 1:
-            cv2.polylines(big, [np.round(uv[ok] * 16).astype(np.int32)], False, (235, 235, 235), 2 * scale, cv2.LINE_AA, 4)
-    image = cv2.resize(big, (W, H), interpolation=cv2.INTER_AREA).astype(np.int16)
-    image += rng.normal(0, 3, image.shape).astype(np.int16)
-    image = np.clip(image, 0, 255).astype(np.uint8)
-    boxes = []
-    for _ in range(players):
-        x, y = int(rng.uniform(20, W - 20)), int(rng.uniform(H * 0.45, H - 30))
-        cv2.rectangle(image, (x, y), (x + 8, y + 22), (30, 30, 200), -1)
-        boxes.append((x, y, x + 8, y + 22))
-    return image, np.array(boxes, float)
 
 
 def test_mean_shift_thins_a_thick_band_to_its_centre():
@@ -66,7 +40,7 @@ def test_mean_shift_thins_a_thick_band_to_its_centre():
 
 def test_detector_names_markings_within_a_pixel_and_finds_players():
     truth = _truth()
-    image, boxes = _draw(truth)
+    image, boxes = draw_frame(truth)
     detector = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W))
     predicted = truth.replace(pan_rad=truth.pan_rad + 0.004)  # ~3 px off
     det = detector.detect(image, PredictedCamera(predicted, uncertainty_px=3.0))
@@ -99,7 +73,7 @@ def test_detector_names_markings_within_a_pixel_and_finds_players():
 
 def test_confidence_high_for_the_true_camera_low_for_a_wrong_one():
     truth = _truth()
-    image, _ = _draw(truth, players=0)
+    image, _ = draw_frame(truth, players=0)
     det = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W)).detect(image)
     curves = TemplateCurves(PITCH)
     good = camera_confidence(truth, det.marking_mask, curves, field_mask=det.field_mask)
@@ -143,7 +117,7 @@ def test_reinit_from_the_marking_map_alone_finds_the_camera():
     from broadtrack_graph.reinit.mask import reinit_from_mask
 
     truth = _truth()
-    image, _ = _draw(truth, seed=5, players=6)
+    image, _ = draw_frame(truth, seed=5, players=6)
     det = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W)).detect(image)
     result = reinit_from_mask(det.marking_mask, det.marking_points_px, (W, H), PITCH,
                               positions_w=[(0.0, 55.0, -12.0), (36.0, 55.0, -12.0)], field_mask=det.field_mask)

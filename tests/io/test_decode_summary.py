@@ -6,6 +6,7 @@ import logging
 from dataclasses import dataclass
 
 from broadtrack_graph.io.decode_summary import drop_undecodable_tail
+from broadtrack_graph.io.video import logger as video_logger
 
 BAD = "video frame cannot be decoded"
 
@@ -18,7 +19,7 @@ class F:
 
 def test_the_tail_is_dropped_with_one_line_and_gaps_are_kept(caplog):
     frames = [F(0), F(1, BAD), F(2)] + [F(i, BAD) for i in range(3, 10)]
-    source_log = logging.getLogger("broadtrack_graph.io.frames")
+    source_log = video_logger  # the video source's own logger: its per-frame lines are counted, not shown
 
     def source():
         for frame in frames:

@@ -179,8 +179,9 @@ def test_a_frame_never_released_is_failed_at_the_end(tmp_path):
 class FakeDetector:
     """Returns scripted detections per call; records the predicted camera it was given."""
 
-    def __init__(self, empty=(), broken=()) -> None:
+    def __init__(self, empty=(), broken=(), with_map: bool = False) -> None:
         self.empty, self.broken = set(empty), set(broken)
+        self.with_map = with_map  # detections carry a marking map (as the weight-free detector's do)
         self.predicted = []
 
     def detect(self, image, predicted=None):
@@ -190,7 +191,8 @@ class FakeDetector:
             raise ValueError("image is not BGR")
         points = np.zeros((0, 2)) if i in self.empty else np.zeros((20, 2))
         lines = {} if i in self.empty else dict(LINES)
-        return Detections(W, H, lines_px=lines, marking_points_px=points)
+        return Detections(W, H, lines_px=lines, marking_points_px=points,
+                          marking_mask=np.ones((9, 16), bool) if self.with_map else None)
 
 
 def test_detector_frames_prediction_no_pitch_and_the_observer(tmp_path):
@@ -289,3 +291,33 @@ def test_a_cut_breaks_the_chain_and_other_views_get_no_camera(tmp_path):
     assert 5 not in by_frame and 6 not in by_frame
     assert result.summary["cuts"] == 3
     assert not (tmp_path / "run" / "cameras" / "camera_000006.json").exists()
+
+
+def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_chain(tmp_path):
+    script = Scripted(confidence={0: 0.3, 1: 0.4, 3: 0.4}, reinit_confidence={1: 0.35, 3: 0.3})
+
+    def run_with(with_map: bool, folder):
+        solver = FakeSolver()
+        run = TrackingRun(W, H, folder, TrackingConfig(use_flow=False), detector=FakeDetector(with_map=with_map),
+                          solver_factory=lambda *args: solver, reinitialise=script.reinitialise,
+                          confidence=script.confidence)
+        for i in range(5):
+            run.process(frame(i, observations=False, image=np.full((4, 4, 3), i, np.uint8)))
+        run.finish()
+        return read_track(folder).records, solver
+
+    records, solver = run_with(True, tmp_path / "map")
+    assert [(r.frame_index, r.status, r.camera is not None) for r in records] == [
+        (0, "failed", False),  # re-initialised at 0.3: it seeds frame 1, it is not written
+        (1, "failed", False),  # 0.4, the search finds no better (0.35): still no confident frame
+        (2, "tracked", True),  # 0.9: the chain is trusted from here
+        (3, "tracked", True),  # 0.4 in a trusted chain: written, with its confidence
+        (4, "tracked", True),
+    ]
+    assert records[0].reason.endswith("no confident frame since the re-initialisation; camera not written")
+    assert records[1].reason.startswith("confidence 0.40 below 0.50")
+    assert records[3].confidence == pytest.approx(0.4)
+    assert [p[0] for p in solver.pushed] == [0, 1, 2, 3, 4]  # the unwritten cameras still seeded the solver
+    # Labelled lines without a marking map: the same confidences are written (lines name what they show).
+    records, _ = run_with(False, tmp_path / "lines")
+    assert all(r.camera is not None for r in records)

@@ -1,0 +1,43 @@
+"""Cheap re-initialisation (broadtrack_graph.reinit.cheap): guesses refined on the marking map of a rendered frame."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.cheap import refine_guesses
+from broadtrack_graph.synth.clip import render_clip
+
+PITCH = PitchTemplate()
+CURVES = TemplateCurves(PITCH)
+GROUND = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
+
+
+def _median_error_px(camera, truth) -> float:
+    uv_true, front = truth.project(GROUND)
+    ok = front & truth.in_image(uv_true)
+    uv_est, _ = camera.project(GROUND[ok])
+    return float(np.nanmedian(np.linalg.norm(uv_est - uv_true[ok], axis=1)))
+
+
+def test_a_nearby_guess_is_refined_onto_the_markings_and_the_best_guess_wins():
+    frame = render_clip("main", 1, 960, 540, seed=2).frames[0]
+    truth = frame.camera
+    det = WeightFreeDetector(PITCH).detect(frame.image)
+    near = truth.replace(pan_rad=truth.pan_rad + math.radians(0.6), tilt_rad=truth.tilt_rad - math.radians(0.3),
+                         focal_px=truth.focal_px * 1.03)
+    far = truth.replace(pan_rad=truth.pan_rad + math.radians(25.0))
+    assert _median_error_px(near, truth) > 5.0
+    result = refine_guesses([("far", far), ("near", near)], det, CURVES)
+    assert result.hypothesis == "refined near"
+    assert result.score.jaccard > 0.6
+    assert _median_error_px(result.camera, truth) < 1.5
+    # Guesses at another resolution are rescaled to the frame's.
+    rescaled = refine_guesses([("near", near.rescaled(1920, 1080))], det, CURVES)
+    assert (rescaled.camera.width_px, rescaled.camera.height_px) == (960, 540)
+    assert refine_guesses([], det, CURVES).camera is None
+    assert refine_guesses([("near", near)], None, CURVES).camera is None
