@@ -1,4 +1,5 @@
-"""Players on the pitch from a run's cameras (the ``players`` command, and ``track --players``).
+"""Players on the pitch from a run's cameras (the ``players`` command; ``track --players`` locates each frame with
+:func:`frame_lines` as it is written, :mod:`broadtrack_graph.actions.players_live`).
 
 For every frame of the boxes, the frame's camera (matched by frame id, else by frame
 index) back-projects each box's bottom middle and bottom corners to the ground
@@ -31,7 +32,7 @@ from tqdm import tqdm
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.ground import DEFAULT_MAX_DISTANCE_M, GROUND_OK, foot_positions
 from broadtrack_graph.io.jsonfile import write_json_atomic
-from broadtrack_graph.io.player_boxes import PlayerBoxes, read_player_boxes
+from broadtrack_graph.io.player_boxes import PlayerBoxes, PlayerFrame, read_player_boxes
 from broadtrack_graph.io.players_file import (
     PLAYERS_FILE,
     PREDICTIONS_FILE,
@@ -41,7 +42,7 @@ from broadtrack_graph.io.players_file import (
     write_gamestate_predictions,
 )
 from broadtrack_graph.io.run_folder import Track, read_track
-from broadtrack_graph.io.track_record import covariance_from_std
+from broadtrack_graph.io.track_record import TrackRecord, covariance_from_std
 from broadtrack_graph.metrics.players import AnalyticsConfig, analytics_summary, fps_from_times, track_analytics
 
 log = logging.getLogger(__name__)
@@ -75,6 +76,13 @@ class PlayersResult:
     summary: dict = field(default_factory=dict)
     lines: list[dict] = field(default_factory=list)
 
+    def add(self, located: "FrameLines") -> None:
+        """Count one located box frame and keep its lines and issues."""
+        self.lines.extend(located.lines)
+        self.issues.extend(located.issues)
+        self.located += located.located
+        self.no_camera += located.no_camera
+
 
 def clip_fps(track: Track, default: float = 25.0) -> float:
     """Frames per second of a run from its records' times (:func:`~broadtrack_graph.metrics.players.fps_from_times`)."""
@@ -104,35 +112,61 @@ def locate_players(track: Track, boxes: PlayerBoxes, options: PlayersOptions = P
             record = by_index.get(frame.frame_index)
         result.boxes += len(frame)
         if record is None:
-            name = frame.frame_id if frame.frame_id is not None else f"index {frame.frame_index}"
-            result.issues.append(f"{boxes.source}: frame {name} is not in the run; its {len(frame)} box(es) skipped")
+            result.issues.append(not_in_run_issue(boxes.source, frame))
             continue
-        lines = []
-        if record.camera is None:
-            result.no_camera += len(frame)
-            for i in range(len(frame)):
-                lines.append(player_line(record.frame_index, record.frame_id, frame.track_ids[i], frame.boxes_px[i],
+        located = frame_lines(record, frame, boxes.source, options)
+        result.add(located)
+        if writer is not None:
+            writer.write_frame(located.lines)
+    return result
+
+
+@dataclass
+class FrameLines:
+    """The ``players.jsonl`` objects of one box frame located with one record, and what was counted."""
+
+    lines: list[dict]
+    issues: list[str]
+    located: int = 0  # boxes with a position
+    no_camera: int = 0  # boxes of a frame without a camera
+
+
+def not_in_run_issue(source: str, frame: PlayerFrame) -> str:
+    """The one-line issue of a box frame no record of the run matches."""
+    name = frame.frame_id if frame.frame_id is not None else f"index {frame.frame_index}"
+    return f"{source}: frame {name} is not in the run; its {len(frame)} box(es) skipped"
+
+
+def frame_lines(record: TrackRecord, frame: PlayerFrame, source: str, options: PlayersOptions) -> FrameLines:
+    """Locate one frame's boxes with its record's camera and marginal standard deviations (see the module docstring).
+
+    Args:
+        record: the frame's record as ``track.jsonl`` holds it (camera at the run's resolution, or None).
+        frame: its boxes (N, 4) pixels at the run's resolution.
+        source: the boxes' source, named in the issue lines.
+    """
+    out = FrameLines([], [])
+    if record.camera is None:
+        out.no_camera = len(frame)
+        for i in range(len(frame)):
+            out.lines.append(player_line(record.frame_index, record.frame_id, frame.track_ids[i], frame.boxes_px[i],
                                          frame.roles[i], frame.teams[i], None, None, None, None, record.status,
                                          record.reason or f"no camera ({record.status})"))
-        else:
-            located = foot_positions(record.camera, frame.boxes_px, covariance_from_std(record.std),
-                                     options.pixel_sigma_px, options.max_distance_m)
-            for i in range(len(frame)):
-                reason = located["reasons"][i]
-                ok = reason == GROUND_OK
-                if not ok:
-                    result.issues.append(f"{boxes.source}: frame {record.frame_id} track {frame.track_ids[i]} box "
-                                         f"{np.round(frame.boxes_px[i], 1).tolist()}: foot {reason}; no position")
-                result.located += int(ok)
-                lines.append(player_line(record.frame_index, record.frame_id, frame.track_ids[i], frame.boxes_px[i],
-                                         frame.roles[i], frame.teams[i],
-                                         located["xy_m"][i] if ok else None, located["std_m"][i],
-                                         located["left_m"][i], located["right_m"][i], record.status,
-                                         None if ok else str(reason)))
-        if writer is not None:
-            writer.write_frame(lines)
-        result.lines.extend(lines)
-    return result
+        return out
+    located = foot_positions(record.camera, frame.boxes_px, covariance_from_std(record.std),
+                             options.pixel_sigma_px, options.max_distance_m)
+    for i in range(len(frame)):
+        reason = located["reasons"][i]
+        ok = reason == GROUND_OK
+        if not ok:
+            out.issues.append(f"{source}: frame {record.frame_id} track {frame.track_ids[i]} box "
+                              f"{np.round(frame.boxes_px[i], 1).tolist()}: foot {reason}; no position")
+        out.located += int(ok)
+        out.lines.append(player_line(record.frame_index, record.frame_id, frame.track_ids[i], frame.boxes_px[i],
+                                     frame.roles[i], frame.teams[i], located["xy_m"][i] if ok else None,
+                                     located["std_m"][i], located["left_m"][i], located["right_m"][i], record.status,
+                                     None if ok else str(reason)))
+    return out
 
 
 def players_from_run(run_dir: str | Path, boxes: str | Path | PlayerBoxes, out_dir: str | Path | None = None,
@@ -159,6 +193,22 @@ def players_from_run(run_dir: str | Path, boxes: str | Path | PlayerBoxes, out_d
     with PlayersWriter(out / PLAYERS_FILE) as writer:
         result = locate_players(track, boxes, options, writer, progress)
     result.out_dir = out
+    write_players_outputs(track, boxes, result, options, str(run_dir), progress)
+    return result
+
+
+def write_players_outputs(track: Track, boxes: PlayerBoxes, result: PlayersResult, options: PlayersOptions,
+                          run_label: str, progress: bool = True) -> None:
+    """Everything but ``players.jsonl`` from the located lines: the game-state predictions, the summary (stored in
+    ``result.summary``), the video on request; written to ``result.out_dir``.
+
+    Args:
+        track: the run whose cameras located the boxes (its frame times give the fps).
+        boxes: the boxes located (source, kind, the image ids of game-state labels).
+        result: the lines, counts and issues, in the order of the box frames.
+        run_label: the run named in the summary.
+    """
+    out = result.out_dir
     predictions = write_gamestate_predictions(out / PREDICTIONS_FILE, result.lines, boxes.image_ids)
     for issue in result.issues[:MAX_LOGGED_ISSUES]:
         log.warning(issue)
@@ -170,7 +220,7 @@ def players_from_run(run_dir: str | Path, boxes: str | Path | PlayerBoxes, out_d
                                 AnalyticsConfig(fps=fps, smooth_frames=options.smooth_frames))
     std = positions.std_m[positions.has_position]
     result.summary = {
-        "run": str(run_dir), "boxes_source": boxes.source, "boxes_kind": boxes.kind, "fps": round(fps, 3),
+        "run": run_label, "boxes_source": boxes.source, "boxes_kind": boxes.kind, "fps": round(fps, 3),
         "pixel_sigma_px": options.pixel_sigma_px, "boxes": result.boxes, "located": result.located,
         "no_camera": result.no_camera, "predictions": predictions,
         "median_std_m": None if not len(std) else [round(float(v), 4) for v in np.median(std, axis=0)],
@@ -187,4 +237,3 @@ def players_from_run(run_dir: str | Path, boxes: str | Path | PlayerBoxes, out_d
         from broadtrack_graph.products.players_view import write_players_birdseye
 
         write_players_birdseye(track, positions, out / VIDEO_FILE, fps, options.video_width_px, progress)
-    return result

@@ -77,40 +77,36 @@ def track_input(
         start, end: frame range (0-based, end exclusive).
         players: put players on the pitch too: a box file (game-state labels, MOT, detections), or
             :data:`DETECTOR_BOXES` for the player blobs the detector finds (or the detections file holds;
-            linked into tracks by :func:`~broadtrack_graph.detect.player_ids.link_track_ids`);
-            written to the run folder once the cameras are final (:mod:`broadtrack_graph.actions.players`).
+            linked into tracks as they come); each frame's players are located and appended to
+            ``players.jsonl`` as its record is written, beside every ``track.jsonl`` the run writes, and the
+            game-state predictions and players summary come from the final cameras at the end
+            (:mod:`broadtrack_graph.actions.players_live`).
         players_options: a :class:`~broadtrack_graph.actions.players.PlayersOptions` (default options).
         tripods: known tripods by camera id of the shots (image input), e.g. {"main": ...}.
     """
-    if players is None:
-        return _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
-                      progress, pitch, None, tripods)
-    from broadtrack_graph.actions.players import PlayersOptions, players_from_run
-    from broadtrack_graph.io.player_boxes import PlayerBoxes
+    live = None
+    if players is not None:
+        from broadtrack_graph.actions.players import PlayersOptions
+        from broadtrack_graph.actions.players_live import LivePlayers
 
-    collected = PlayerBoxes(source="detector", kind="detector") if str(players) == DETECTOR_BOXES else None
-
-    def collect(frame, handed, detections) -> None:
-        boxes = detections.player_boxes_px if detections is not None else None
-        if boxes is None and frame.observations is not None:
-            boxes = frame.observations.player_boxes_px
-        if boxes is not None and len(boxes):
-            collected.add_frame(frame.frame_index, frame.frame_id, boxes)
-
-    result = _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
-                    progress, pitch, collect if collected is not None else None, tripods)
-    if collected is not None:
-        from broadtrack_graph.detect.player_ids import link_track_ids
-
-        collected = link_track_ids(collected)  # the detector's blobs have no identities
-    located = players_from_run(out_dir, collected if collected is not None else Path(players), out_dir,
-                               players_options or PlayersOptions(), progress)
-    result.summary["players"] = {k: located.summary[k] for k in ("boxes", "located", "no_camera", "analytics")}
+        live = LivePlayers(None if str(players) == DETECTOR_BOXES else Path(players), players_options or PlayersOptions())
+    try:
+        result = _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
+                        progress, pitch, live, tripods)
+    except BaseException:
+        if live is not None:
+            live.close()  # an interrupted or failed run keeps the players of every frame it wrote
+        raise
+    if live is not None:
+        located = live.finish(result.out_dir, progress)
+        result.summary["players"] = {k: located.summary[k] for k in ("boxes", "located", "no_camera", "analytics")}
     return result
 
 
 def _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end, progress,
-           pitch, on_frame_done, tripods=None) -> RunResult:
+           pitch, players, tripods=None) -> RunResult:
+    """Open the input and run the passes; ``players`` (a LivePlayers, or None) locates the players as records are
+    written (its box file is read before the first frame)."""
     pitch = pitch or PitchTemplate()
     run_info = {"input": None if frames_path is None else str(frames_path),
                 "detections": None if detections_path is None else str(detections_path),
@@ -127,7 +123,7 @@ def _track(frames_path, out_dir, config, detector, tripod, reinit_position, dete
             run_info["detection_issues"] = len(detections.issues)
             return run_frames(frames, width, height, out_dir, config, None, tripod, pitch, run_info, progress, total,
                               reinit_positions=positions, mask_paths=detections.mask_paths,
-                              on_frame_done=on_frame_done)
+                              **_player_observers(players, width, height, out_dir))
         finally:
             if source is not None:
                 source.close()
@@ -135,6 +131,16 @@ def _track(frames_path, out_dir, config, detector, tripod, reinit_position, dete
         raise InputError(None, "no input frames given")
     with open_frames(frames_path, start, end) as source:
         run_info["source"] = source.describe()
+        observers = _player_observers(players, source.width_px, source.height_px, out_dir)
         return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, config,
                           make_detector(detector, pitch), tripod, pitch, run_info, progress, len(source),
-                          reinit_positions=positions, on_frame_done=on_frame_done, tripods=tripods)
+                          reinit_positions=positions, tripods=tripods, **observers)
+
+
+def _player_observers(players, width_px: int, height_px: int, out_dir) -> dict:
+    """The run_frames observers that locate the players as the run goes (none without players); reads the boxes."""
+    if players is None:
+        return {}
+    players.start(width_px, height_px, out_dir)
+    return {"record_observer": players.observer_for,
+            "on_frame_done": players.frame_done if players.from_detector else None}

@@ -27,7 +27,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--frames", type=Path, help="with --detections: the frames too (turns optical flow on)")
     parser.add_argument("--write-960x540", action="store_true", help="also write cameras at 960x540")
     parser.add_argument("--players", default=None, metavar="FILE|detector",
-                        help="also put players on the pitch (players.jsonl, game-state predictions in the run folder): "
+                        help="also put players on the pitch as the run goes (players.jsonl beside track.jsonl, frame "
+                             "by frame; game-state predictions and players_summary.json at the end): "
                              "a box file (Labels-GameState.json, MOT .txt, detections .jsonl) or 'detector' for the "
                              "detector's own player blobs")
     parser.add_argument("--pixel-sigma", type=float, default=2.0,

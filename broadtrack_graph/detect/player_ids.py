@@ -26,26 +26,33 @@ def box_iou(a_px: np.ndarray, b_px: np.ndarray) -> np.ndarray:
     return inter / np.maximum(area_a + area_b - inter, 1e-9)
 
 
-def link_track_ids(boxes: PlayerBoxes, min_iou: float = 0.3, max_gap_frames: int = 1) -> PlayerBoxes:
-    """A copy of ``boxes`` whose boxes without an id get one by IoU linking (frames in index order).
+class TrackIdLinker:
+    """The IoU linking one frame at a time (frames in index order), for boxes that arrive as a run goes.
 
-    Boxes that already have an id keep it; frames without an index keep their order.
+    Args:
+        next_id: the first id given to a new track.
+        min_iou, max_gap_frames: see :func:`link_track_ids`.
     """
-    frames = sorted(boxes.frames, key=lambda f: (f.frame_index is None, f.frame_index or 0))
-    out = PlayerBoxes(source=boxes.source, kind=boxes.kind, image_size=boxes.image_size, issues=list(boxes.issues),
-                      image_ids=dict(boxes.image_ids))
-    prev_boxes, prev_ids, prev_index = np.zeros((0, 4)), np.zeros(0, dtype=int), None
-    next_id = 1 + max((int(f.track_ids.max()) for f in frames if len(f)), default=0)
-    for frame in frames:
+
+    def __init__(self, next_id: int = 0, min_iou: float = 0.3, max_gap_frames: int = 1) -> None:
+        self.next_id = int(next_id)
+        self.min_iou = min_iou
+        self.max_gap_frames = max_gap_frames
+        self._prev_boxes, self._prev_ids, self._prev_index = np.zeros((0, 4)), np.zeros(0, dtype=int), None
+
+    def link(self, frame: PlayerFrame) -> PlayerFrame:
+        """The frame with an id on every box: the previous frame's id it overlaps most, else a new one."""
         ids = frame.track_ids.copy()
         todo = np.flatnonzero(ids == NO_TRACK_ID)
-        gap_ok = prev_index is not None and frame.frame_index is not None and frame.frame_index - prev_index <= max_gap_frames
+        prev_boxes, prev_ids, prev_index = self._prev_boxes, self._prev_ids, self._prev_index
+        gap_ok = (prev_index is not None and frame.frame_index is not None
+                  and frame.frame_index - prev_index <= self.max_gap_frames)
         if len(todo) and gap_ok and len(prev_boxes):
             iou = box_iou(frame.boxes_px[todo], prev_boxes)
             used_prev, used_new = set(), set()
             for flat in np.argsort(-iou, axis=None):
                 i, j = np.unravel_index(flat, iou.shape)
-                if iou[i, j] < min_iou:
+                if iou[i, j] < self.min_iou:
                     break
                 if i in used_new or j in used_prev:
                     continue
@@ -53,9 +60,23 @@ def link_track_ids(boxes: PlayerBoxes, min_iou: float = 0.3, max_gap_frames: int
                 used_new.add(i)
                 used_prev.add(j)
         for k in np.flatnonzero(ids == NO_TRACK_ID):
-            ids[k] = next_id
-            next_id += 1
-        out.frames.append(PlayerFrame(frame.frame_index, frame.frame_id, ids, frame.boxes_px, frame.roles, frame.teams,
-                                      frame.confidences))
-        prev_boxes, prev_ids, prev_index = frame.boxes_px, ids, frame.frame_index
+            ids[k] = self.next_id
+            self.next_id += 1
+        self._prev_boxes, self._prev_ids, self._prev_index = frame.boxes_px, ids, frame.frame_index
+        return PlayerFrame(frame.frame_index, frame.frame_id, ids, frame.boxes_px, frame.roles, frame.teams,
+                           frame.confidences)
+
+
+def link_track_ids(boxes: PlayerBoxes, min_iou: float = 0.3, max_gap_frames: int = 1) -> PlayerBoxes:
+    """A copy of ``boxes`` whose boxes without an id get one by IoU linking (frames in index order).
+
+    Boxes that already have an id keep it; new ids start above the largest given one; frames without an
+    index keep their order.
+    """
+    frames = sorted(boxes.frames, key=lambda f: (f.frame_index is None, f.frame_index or 0))
+    out = PlayerBoxes(source=boxes.source, kind=boxes.kind, image_size=boxes.image_size, issues=list(boxes.issues),
+                      image_ids=dict(boxes.image_ids))
+    linker = TrackIdLinker(1 + max((int(f.track_ids.max()) for f in frames if len(f)), default=0), min_iou,
+                           max_gap_frames)
+    out.frames = [linker.link(frame) for frame in frames]
     return out

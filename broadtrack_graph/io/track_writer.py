@@ -13,11 +13,16 @@ import math
 import time
 from datetime import datetime, timezone
 from pathlib import Path
+from typing import Callable
 
 from broadtrack_graph.io.run_folder import CAMERA_DIR, CAMERA_DIR_960, TRACK_FILE, RunFolder
 from broadtrack_graph.io.track_record import STATUSES, STATUSES_WITH_CAMERA, TrackRecord
 
 logger = logging.getLogger(__name__)
+
+RecordWritten = Callable[[TrackRecord, dict], None]
+"""Observer of a written record: (the record as written, camera at the writer's resolution; its ``track.jsonl``
+object). Called after the line is flushed, so whatever it writes follows the frame's line."""
 
 
 class TrackWriter:
@@ -30,6 +35,8 @@ class TrackWriter:
         also_960x540: also write cameras_960x540/ (the calibration benchmark's resolution).
         run_info: plain data stored in summary.json under "run" (input, mode, options).
         summary_every: rewrite summary.json every this many frames.
+        on_write: observer of every written record (:data:`RecordWritten`), or None; may be set later
+            (``writer.on_write = ...``) before the first record.
 
     Use as a context manager, or call :meth:`close` at the end; a run that is not
     closed leaves ``"complete": false`` in its last summary.
@@ -43,6 +50,7 @@ class TrackWriter:
         also_960x540: bool = False,
         run_info: dict | None = None,
         summary_every: int = 100,
+        on_write: RecordWritten | None = None,
     ) -> None:
         if width_px <= 0 or height_px <= 0:
             raise ValueError(f"image size must be positive, got {width_px}x{height_px}")
@@ -52,6 +60,7 @@ class TrackWriter:
         self.also_960x540 = also_960x540
         self.run_info = dict(run_info or {})
         self.summary_every = max(1, int(summary_every))
+        self.on_write = on_write
         self.folder.create(also_960x540)
         removed = self.folder.remove_camera_files()
         if removed:
@@ -73,7 +82,7 @@ class TrackWriter:
     # ----------------------------------------------------------------- per frame
 
     def write(self, record: TrackRecord) -> None:
-        """Write one finished frame: its camera file(s), then its track line (flushed)."""
+        """Write one finished frame: its camera file(s), then its track line (flushed), then tell the observer."""
         if self.closed:
             raise RuntimeError("TrackWriter is closed")
         camera_file = None
@@ -83,7 +92,8 @@ class TrackWriter:
                 camera = camera.rescaled(self.width_px, self.height_px)
             camera_file = self.folder.write_camera(record.frame_id, camera, self.also_960x540)
             record = TrackRecord(**{**record.__dict__, "camera": camera})
-        self._track.write(json.dumps(record.to_json(camera_file), allow_nan=False) + "\n")
+        line = record.to_json(camera_file)
+        self._track.write(json.dumps(line, allow_nan=False) + "\n")
         self._track.flush()
         self._frames += 1
         self._status_counts[record.status] += 1
@@ -96,6 +106,8 @@ class TrackWriter:
         self._recent_write_times.append(time.perf_counter())
         if self._frames % self.summary_every == 0:
             self._write_summary(complete=False)
+        if self.on_write is not None:
+            self.on_write(record, line)
 
     def progress_postfix(self) -> dict[str, str]:
         """Fields for a tqdm bar (``bar.set_postfix(writer.progress_postfix(), refresh=False)``):

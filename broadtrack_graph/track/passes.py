@@ -20,6 +20,7 @@ import logging
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
+from typing import Callable
 
 from tqdm import tqdm
 
@@ -36,7 +37,7 @@ from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
-from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.chunked import refined_record
@@ -54,13 +55,19 @@ _WRITER_KEYS = ("complete", "started_utc", "updated_utc", "width_px", "height_px
                 "elapsed_s", "fps", "files", "run")
 """Summary keys a TrackWriter computes itself (the rest of a summary is carried over on a rewrite)."""
 
+RecordObserver = Callable[[Path, int, int], RecordWritten]
+"""Called with (run folder, width_px, height_px) whenever a pass starts writing a run folder (the online or
+fixed-lag pass, batch mode's ``pass1/``, a rewrite of the folder); returns the observer of the records written
+there (:data:`~broadtrack_graph.io.track_writer.RecordWritten`). The last folder it is called with holds the run's
+final records."""
+
 
 def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
                detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
                run_info: dict | None = None, progress: bool = True, total: int | None = None,
                graph_config: GraphConfig | None = None, reinit_positions=None,
                mask_paths: dict | None = None, on_frame_done=None,
-               tripods: dict[str, Tripod] | None = None) -> RunResult:
+               tripods: dict[str, Tripod] | None = None, record_observer: RecordObserver | None = None) -> RunResult:
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
     In batch mode this is the paper's two-pass offline workflow: an online first pass
@@ -80,6 +87,8 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     (:class:`~broadtrack_graph.track.shot_stream.ShotStream`): ``shots.json`` is written to the
     run folder, and a clip with no shot of the main camera says so in one line (summary
     ``note``). ``tripods``: known tripods by camera id (see :class:`TrackingRun`).
+    ``record_observer`` (:data:`RecordObserver`) sees every record of every run folder as it is written
+    (e.g. to put the players on the pitch as the run goes).
     """
     out_dir = Path(out_dir)
     RunFolder(out_dir).clear()  # nothing of an earlier run into this folder survives (tripod.json, pass1/, ...)
@@ -99,17 +108,19 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
                           reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
                           tripods=tripods)
+        _observe(run.writer, record_observer)
         run_loop(run, frames, progress, total, config.mode)
         result = run.finish(_shots_summary(stream, out_dir))
         if not recover or not given:
             return result
         return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
-                                 graph_config_for(config, graph_config))
+                                 graph_config_for(config, graph_config), record_observer)
     first = replace(config, mode="online")
     run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True,
                       reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
                       tripods=tripods)
+    _observe(run.writer, record_observer)
     run_loop(run, frames, progress, total, "pass 1 (online)")
     pass1 = run.finish(_shots_summary(stream, out_dir))
     if not any(r.camera is not None for r in pass1.records) and stream is not None and stream.shots:
@@ -122,7 +133,14 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
         pass1 = RunResult(pass1.out_dir, {**pass1.summary, "offline_recovery": recovery.info()}, recovery.records,
                           pass1.tripod)
     return refine_run(pass1, observations, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
-                      graph_config)
+                      graph_config, record_observer)
+
+
+def _observe(writer: TrackWriter, record_observer: RecordObserver | None) -> TrackWriter:
+    """Hand the writer's records to the observer of its folder (nothing without one); returns the writer."""
+    if record_observer is not None:
+        writer.on_write = record_observer(writer.out_dir, writer.width_px, writer.height_px)
+    return writer
 
 
 def _shots_summary(stream: ShotStream | None, out_dir: Path) -> dict:
@@ -150,9 +168,10 @@ def _capturing(frames, store: dict[int, FrameObservations]):
 
 def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
                       config: TrackingConfig, pitch: PitchTemplate | None, run_info: dict | None,
-                      graph: GraphConfig) -> RunResult:
+                      graph: GraphConfig, record_observer: RecordObserver | None = None) -> RunResult:
     """Fixed-lag mode: recover the frames without a camera, smooth each recovered stretch with up to
-    ``lag_frames`` good frames on either side (batch LM, tripod held), and rewrite the run folder."""
+    ``lag_frames`` good frames on either side (batch LM, tripod held), and rewrite the run folder
+    (``record_observer``: see :func:`run_frames`)."""
     pitch = pitch or PitchTemplate()
     recovery = recover_gaps(result.records, observations, pitch, graph, config.confidence_threshold,
                             config.recover_max_frames, result.tripod)
@@ -184,8 +203,8 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
                                  confidence=frame_confidence(estimate.camera, obs, None, curves, sampling))
     extra = {k: v for k, v in result.summary.items() if k not in _WRITER_KEYS}
     extra["offline_recovery"] = recovery.info()
-    writer = TrackWriter(result.out_dir, width_px, height_px, also_960x540=config.write_960x540,
-                         run_info=result.summary.get("run", run_info or {}))
+    writer = _observe(TrackWriter(result.out_dir, width_px, height_px, also_960x540=config.write_960x540,
+                                  run_info=result.summary.get("run", run_info or {})), record_observer)
     for record in records:
         writer.write(record)
     summary = writer.close(extra)
@@ -195,8 +214,9 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
 def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
                out_dir: str | Path, config: TrackingConfig, tripod: Tripod | None = None,
                pitch: PitchTemplate | None = None, run_info: dict | None = None, progress: bool = True,
-               graph_config: GraphConfig | None = None) -> RunResult:
-    """Second pass: fit the tripod to the first pass and refine the whole track by batch LM."""
+               graph_config: GraphConfig | None = None, record_observer: RecordObserver | None = None) -> RunResult:
+    """Second pass: fit the tripod to the first pass and refine the whole track by batch LM
+    (``record_observer``: see :func:`run_frames`)."""
     pitch = pitch or PitchTemplate()
     graph = graph_config_for(config, graph_config)
     tracked = [r for r in pass1.records if r.camera is not None and r.frame_index in observations]
@@ -226,8 +246,9 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5)
     sampling = TemplateSampling(pitch)
     by_index = {e.frame_index: e for e in track.frames if e is not None}
-    writer = TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
-                         run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)})
+    writer = _observe(TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
+                                  run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)}),
+                      record_observer)
     records = []
     for record in pass1.records:
         new = refined_record(record, by_index.get(record.frame_index), observations.get(record.frame_index),

@@ -180,3 +180,22 @@ def test_keyboard_interrupt_inside_the_writer_marks_interrupted(tmp_path):
             raise KeyboardInterrupt
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert summary["interrupted"] is True and summary["frames_written"] == 1
+
+
+def test_observer_sees_each_record_after_its_line_is_flushed(tmp_path):
+    seen = []
+
+    def observer(record, line):
+        on_disk = (tmp_path / "run" / "track.jsonl").read_text().splitlines()
+        seen.append((record.frame_id, line, json.loads(on_disk[-1]), len(on_disk)))
+
+    with TrackWriter(tmp_path / "run", W, H, on_write=observer) as writer:
+        for record in records():
+            writer.write(record)
+    assert [s[0] for s in seen] == [r.frame_id for r in records()]
+    for k, (_, line, last_on_disk, count) in enumerate(seen):
+        assert count == k + 1 and json.loads(json.dumps(line)) == last_on_disk
+    # the line rebuilds the camera exactly as reading the run back does
+    back = read_track(tmp_path / "run").records[3]
+    rebuilt = TrackRecord.from_json(seen[3][1], W, H)
+    assert np.array_equal(rebuilt.camera.to_vector(), back.camera.to_vector())
