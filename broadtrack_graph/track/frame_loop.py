@@ -313,7 +313,8 @@ class TrackingRun:
             # Re-initialise this frame; the next frame does not trust flow from the previous camera.
             started = time.perf_counter()
             result = self.reinitialise(observations, detections, self.pitch, self._positions(), self.curves,
-                                       self.sampling)
+                                       self.sampling,
+                                       tracking=camera is not None and (confidence or 0.0) >= self.config.lost_confidence)
             self.timings["reinit_s"] += time.perf_counter() - started
             new_confidence = None
             if result.camera is not None:
@@ -423,7 +424,8 @@ class TrackingRun:
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
         extra["solver_restarts"] = self.solver.rebuilds
         extra["reinit_searches"] = {"cheap_guess_used": self.reinitialise.cheap_successes,
-                                    "global": self.reinitialise.global_searches}
+                                    "global": self.reinitialise.global_searches,
+                                    "global_skipped": self.reinitialise.skipped_searches}
         extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod)

@@ -13,9 +13,13 @@ one local label-and-fit each):
 
 A guess refined to at least ``accept_confidence`` is used; otherwise the global search runs
 (at the tripod in use, then, if that is not confident either, at the default positions: a
-provisional tripod can be wrong) and the better camera (by confidence) is returned. Only confident frames, as the tracker
-judges them (:meth:`CheapFirstReinit.confident`), become guesses: a camera under the
-threshold seeding the next searches kept whole stretches re-initialising. No I/O.
+provisional tripod can be wrong) and the better camera (by confidence) is returned. While
+the track still holds a camera (a low frame, not a lost one), the global search runs at
+most once every ``tracking_gap_frames``: right cameras of low-resolution frames often score
+just under the threshold, and a search per such frame found nothing better at a second of
+CPU each. Only confident frames, as the tracker judges them (:meth:`CheapFirstReinit.confident`),
+become guesses: a camera under the threshold seeding the next searches kept whole
+stretches re-initialising. No I/O.
 """
 
 from __future__ import annotations
@@ -34,6 +38,7 @@ class CheapFirstConfig:
     """Settings of :class:`CheapFirstReinit`."""
 
     accept_confidence: float = 0.5  # a refined guess scoring this is used without the global search
+    tracking_gap_frames: int = 12  # while the track holds (a low frame, not a lost one), a global search at most this often
     max_guess_age_frames: int = 750  # the last confident camera is a guess for this many frames (30 s at 25 fps)
     enabled: bool = True  # False: the global search on every lost frame
 
@@ -69,6 +74,8 @@ class CheapFirstReinit:
         self._last_confident: dict[str | None, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
         self.cheap_successes = 0
         self.global_searches = 0
+        self.skipped_searches = 0
+        self._last_tracking_search: int | None = None  # frame of the last global search on a held track
 
     def switch(self, camera_id: str | None) -> None:
         """The shot step says the following frames are from this camera."""
@@ -92,13 +99,31 @@ class CheapFirstReinit:
                 out.append((f"last confident camera (frame {seen}) at the tripod", camera.replace(position_m=tripod)))
         return out
 
-    def __call__(self, observations, detections, pitch, positions=None, curves=None, sampling=None) -> ReinitResult:
-        guesses = self.guesses(observations.frame_index, positions)
+    def __call__(self, observations, detections, pitch, positions=None, curves=None, sampling=None,
+                 tracking: bool = False) -> ReinitResult:
+        """A camera for the frame (module docstring).
+
+        Args:
+            tracking: the caller still holds a camera for this frame (its confidence is low, the track
+                is not lost); the global search then runs at most once every ``tracking_gap_frames``.
+        """
+        i = observations.frame_index
+        guesses = self.guesses(i, positions)
         cheap = self.refine(guesses, detections, curves) if guesses else None
         cheap_confidence = _confidence(cheap)
         if cheap_confidence is not None and cheap_confidence >= self.config.accept_confidence:
             self.cheap_successes += 1
             return cheap
+        if tracking and self._last_tracking_search is not None and \
+                0 <= i - self._last_tracking_search < self.config.tracking_gap_frames:
+            # A low frame of a held track: a search a few frames ago found nothing better to switch to;
+            # the tracked camera stays (a second of CPU per low frame would drop the run far below real time).
+            self.skipped_searches += 1
+            if cheap is not None and cheap.camera is not None:
+                return cheap
+            return ReinitResult(None, None, "", f"global search skipped (one ran at frame {self._last_tracking_search})")
+        if tracking:
+            self._last_tracking_search = i
         self.global_searches += 1
         result = self.global_search(observations, detections, pitch, positions, curves, sampling)
         found = _confidence(result)

@@ -112,3 +112,17 @@ def test_an_unconfident_search_at_the_tripod_is_followed_by_one_at_the_default_p
     policy = CheapFirstReinit(global_search, Fakes().refine)
     assert policy(_frame(1), None, None, [(0.0, 60.0, -15.0)]).camera is GLOBAL_CAMERA
     assert calls == [[(0.0, 60.0, -15.0)], None] and policy.global_searches == 2
+
+
+def test_on_a_held_track_the_global_search_runs_at_most_once_per_gap():
+    fakes = Fakes(cheap_confidence=0.4)
+    policy = CheapFirstReinit(fakes.global_search, fakes.refine, CheapFirstConfig(tracking_gap_frames=5))
+    policy.confident(0, _confident_camera())
+    for i in range(1, 13):
+        policy(_frame(i), None, None, tracking=True)
+    assert fakes.global_calls == [1, 6, 11] and policy.skipped_searches == 9
+    # A skipped frame gets the refined guess (the caller keeps whichever scores better).
+    assert policy(_frame(12), None, None, tracking=True).camera is not GLOBAL_CAMERA
+    # A lost frame (no camera held) always gets the global search.
+    policy(_frame(13), None, None)
+    assert fakes.global_calls[-1] == 13
