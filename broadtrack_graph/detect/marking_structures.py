@@ -35,6 +35,10 @@ class MarkingStructureConfig:
     ellipse_min_support_px: float = 80.0  # ... and an ellipse needs this many
     ellipse_max_ratio: float = 0.8  # minor / major axis at most (a ground circle seen from a broadcast camera) ...
     ellipse_min_ratio: float = 0.06  # ... and at least (flatter: a straight marking or the board bases, not a circle)
+    ellipse_min_coverage: float = 0.4  # map pixels on it per pixel of its outline inside the image (a painted
+    #                                    circle is drawn all along, players aside; chance fits through pieces are not)
+    ellipse_min_inside: float = 0.6  # share of its outline inside the image (fitted to a short arc at the border,
+    #                                  its axes are poorly determined and its circle hypotheses mislead)
     ellipse_max_tilt_deg: float = 30.0  # major axis within this of the image horizontal (roll about 0)
 
 
@@ -205,6 +209,9 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
         F = (x / a) ** 2 + (y / b) ** 2 - 1.0
         grad = 2.0 * np.hypot(x / a**2, y / b**2)
         support = int(np.sum(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
+        inside, outline_px = _outline_in_image(cx, cy, a, b, theta, w, h)
+        if inside < config.ellipse_min_inside or support < config.ellipse_min_coverage * outline_px:
+            continue
         found.append((support, np.array([cx, cy]), (a, b), theta))
     found.sort(key=lambda item: -item[0])
     scale = frame_width_px / w
@@ -218,3 +225,16 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
         if len(out) >= config.max_ellipses:
             break
     return out
+
+
+def _outline_in_image(cx: float, cy: float, a: float, b: float, theta: float, w: int, h: int,
+                      samples: int = 360) -> tuple[float, float]:
+    """(share of the ellipse's outline inside a w x h image, that length in pixels): evenly spaced (in
+    angle) outline samples and Ramanujan's perimeter (close enough for the tests they serve)."""
+    t = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+    c, s = math.cos(theta), math.sin(theta)
+    x = cx + a * np.cos(t) * c - b * np.sin(t) * s
+    y = cy + a * np.cos(t) * s + b * np.sin(t) * c
+    inside = float(np.mean((x >= 0) & (x < w) & (y >= 0) & (y < h)))
+    perimeter = math.pi * (3.0 * (a + b) - math.sqrt((3.0 * a + b) * (a + 3.0 * b)))
+    return inside, inside * perimeter

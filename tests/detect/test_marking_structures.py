@@ -69,3 +69,14 @@ def test_a_long_straight_marking_is_not_taken_for_a_flat_ellipse():
     assert np.linalg.norm(first.centre_px - (480, 220)) < 3
     assert abs(first.semi_axes_px[0] - 140) < 3 and abs(first.semi_axes_px[1] - 38) < 3
     assert all(e.semi_axes_px[1] / e.semi_axes_px[0] >= 0.06 for e in ellipses)
+
+
+def test_an_arc_at_the_image_border_is_not_returned_as_an_ellipse():
+    # A penalty arc whose circle lies mostly beyond the right edge: an ellipse fitted to that short arc has
+    # poorly determined axes; a whole circle inside the image is kept.
+    mask = np.zeros((540, 960), np.uint8)
+    cv2.ellipse(mask, (1100, 300), (400, 90), 0, 120, 240, 1, 1)
+    cv2.ellipse(mask, (300, 200), (140, 38), 0, 0, 360, 1, 1)
+    ellipses = marking_ellipses(mask.astype(bool), 960)
+    assert len(ellipses) >= 1
+    assert all(np.linalg.norm(e.centre_px - (300, 200)) < 5 for e in ellipses), [e.centre_px for e in ellipses]
