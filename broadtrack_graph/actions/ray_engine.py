@@ -17,6 +17,7 @@ from collections.abc import Callable
 
 from broadtrack_graph.actions.parallel import one_line
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.prefetch import PREFETCH_ENV
 
 logger = logging.getLogger(__name__)
 
@@ -78,6 +79,8 @@ class RayEngine:
         kwargs = {"include_dashboard": False, "log_to_driver": False, "configure_logging": True,
                   "logging_level": logging.WARNING}
         if self.address is None:
+            if self.workers >= (os.cpu_count() or 1):  # every core has a worker: no idle core for prefetching
+                kwargs["runtime_env"] = {"env_vars": {PREFETCH_ENV: "0"}}
             ray.init(address="local", num_cpus=self.workers, **kwargs)
         else:
             try:

@@ -2,13 +2,24 @@
 
 from __future__ import annotations
 
+import os
+
+PREFETCH_ENV = "BROADTRACK_PREFETCH"
+"""Environment variable: "0" turns the background thread off (items are made in the caller's thread).
+``track-many`` sets it on its workers when they fill every core: there the thread has no idle core
+to run on and only competes with the other workers."""
+
 
 def prefetch(iterable, transform=None, depth: int = 4):
     """Iterate in a background thread (decoding, preparing) while the caller works on the previous items.
 
     OpenCV releases the GIL, so image decoding and pyramid building overlap the solver on the
-    second core. Exceptions of the producer are raised in the consumer.
+    second core. Exceptions of the producer are raised in the consumer. With the environment
+    variable :data:`PREFETCH_ENV` set to "0", the same items come from the caller's thread.
     """
+    if os.environ.get(PREFETCH_ENV) == "0":
+        yield from (transform(item) if transform else item for item in iterable)
+        return
     import queue
     import threading
 
