@@ -12,6 +12,7 @@ import math
 import cv2
 import numpy as np
 import pytest
+from reinit_helpers import median_template_error_px
 
 from broadtrack_graph.detect.weightfree import WeightFreeDetector, cell_means
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
@@ -28,20 +29,12 @@ from broadtrack_graph.synth.clip import render_clip
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
 FINE = TemplateCurves(PITCH, line_step_m=0.1, circle_step_m=0.05)
-GROUND = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
 
 
 @pytest.fixture(scope="module")
 def frame_960():
     frame = render_clip("main", 1, 960, 540, seed=2).frames[0]
     return frame.image, frame.camera
-
-
-def _median_error_px(camera, truth) -> float:
-    uv_true, front = truth.project(GROUND)
-    ok = front & truth.in_image(uv_true)
-    uv_est, _ = camera.project(GROUND[ok])
-    return float(np.nanmedian(np.linalg.norm(uv_est - uv_true[ok], axis=1)))
 
 
 def test_finite_runs_and_cell_means():
@@ -77,7 +70,7 @@ def test_detection_and_reinit_at_960x540(frame_960):
     result = reinit_from_mask(det.marking_mask, det.marking_points_px, (960, 540), PITCH, curves=CURVES,
                               field_mask=det.field_mask)
     assert result.camera is not None
-    error = _median_error_px(result.camera, truth)
+    error = median_template_error_px(result.camera, truth)
     assert 0.0 < error < 2.0, error
     assert result.score.jaccard > 0.6
 
@@ -90,7 +83,7 @@ def test_reinit_on_a_reduced_1920_frame():
     result = reinit_from_mask(det.marking_mask, det.marking_points_px, (960, 540), PITCH, curves=CURVES,
                               field_mask=det.field_mask)
     assert result.camera is not None
-    assert 0.0 < _median_error_px(result.camera, truth) < 2.0
+    assert 0.0 < median_template_error_px(result.camera, truth) < 2.0
 
 
 def test_confidence_separates_true_perturbed_and_wrong_cameras(frame_960):

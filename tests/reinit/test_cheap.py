@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
+from reinit_helpers import median_template_error_px
 
 from broadtrack_graph.detect.weightfree import WeightFreeDetector
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -14,14 +14,6 @@ from broadtrack_graph.synth.clip import render_clip
 
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
-GROUND = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
-
-
-def _median_error_px(camera, truth) -> float:
-    uv_true, front = truth.project(GROUND)
-    ok = front & truth.in_image(uv_true)
-    uv_est, _ = camera.project(GROUND[ok])
-    return float(np.nanmedian(np.linalg.norm(uv_est - uv_true[ok], axis=1)))
 
 
 def test_a_nearby_guess_is_refined_onto_the_markings_and_the_best_guess_wins():
@@ -31,11 +23,11 @@ def test_a_nearby_guess_is_refined_onto_the_markings_and_the_best_guess_wins():
     near = truth.replace(pan_rad=truth.pan_rad + math.radians(0.6), tilt_rad=truth.tilt_rad - math.radians(0.3),
                          focal_px=truth.focal_px * 1.03)
     far = truth.replace(pan_rad=truth.pan_rad + math.radians(25.0))
-    assert _median_error_px(near, truth) > 5.0
+    assert median_template_error_px(near, truth) > 5.0
     result = refine_guesses([("far", far), ("near", near)], det, CURVES)
     assert result.hypothesis == "refined near"
     assert result.score.jaccard > 0.6
-    assert _median_error_px(result.camera, truth) < 1.5
+    assert median_template_error_px(result.camera, truth) < 1.5
     # Guesses at another resolution are rescaled to the frame's.
     rescaled = refine_guesses([("near", near.rescaled(1920, 1080))], det, CURVES)
     assert (rescaled.camera.width_px, rescaled.camera.height_px) == (960, 540)
