@@ -37,8 +37,8 @@ class MarkingStructureConfig:
     ellipse_min_ratio: float = 0.06  # ... and at least (flatter: a straight marking or the board bases, not a circle)
     ellipse_min_coverage: float = 0.4  # map pixels on it per pixel of its outline inside the image (a painted
     #                                    circle is drawn all along, players aside; chance fits through pieces are not)
-    ellipse_min_inside: float = 0.6  # share of its outline inside the image (fitted to a short arc at the border,
-    #                                  its axes are poorly determined and its circle hypotheses mislead)
+    ellipse_min_inside: float = 0.6  # share of its outline inside the image; fewer: an arc at the border (its axes
+    #                                  are poorly determined: asked for separately, see marking_ellipses)
     ellipse_max_tilt_deg: float = 30.0  # major axis within this of the image horizontal (roll about 0)
 
 
@@ -165,13 +165,16 @@ class ImageEllipse:
         return np.abs((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a**2, y / b**2), 1e-12)
 
 
-def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig()
-                     ) -> list[ImageEllipse]:
+def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig(),
+                     at_border: bool = False) -> list[ImageEllipse]:
     """Ellipses through pieces of the marking map: the image of a pitch circle (centre circle, penalty arcs).
 
     Connected pieces of the map are fitted in pairs (and the long ones alone) with an ellipse;
-    an ellipse is kept when it is wide, about level (roll about 0), and many map pixels lie on
-    it; the best ``max_ellipses`` distinct ones are returned, most supported first.
+    an ellipse is kept when it is wide, about level (roll about 0), not flat, drawn along most
+    of its outline in the image, and many map pixels lie on it; the best ``max_ellipses``
+    distinct ones are returned, most supported first. By default only ellipses mostly inside
+    the image (``ellipse_min_inside``); with ``at_border`` only the others (arcs at the image
+    border: a tight zoom's centre circle, or a penalty arc, whose fitted axes are less sure).
     """
     marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
     h, w = marking_mask.shape
@@ -210,7 +213,7 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
         grad = 2.0 * np.hypot(x / a**2, y / b**2)
         support = int(np.sum(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
         inside, outline_px = _outline_in_image(cx, cy, a, b, theta, w, h)
-        if inside < config.ellipse_min_inside or support < config.ellipse_min_coverage * outline_px:
+        if (inside < config.ellipse_min_inside) != at_border or support < config.ellipse_min_coverage * outline_px:
             continue
         found.append((support, np.array([cx, cy]), (a, b), theta))
     found.sort(key=lambda item: -item[0])

@@ -53,7 +53,8 @@ def reinit_from_mask(
        f from a grid then moved along each pair's family), and a pitch circle put on an ellipse
        of the map (:func:`marking_ellipses`, :func:`ellipse_cameras`; the centre circle alone).
        When nothing scores ``poor_score`` at the default tripods, ``far_positions_w`` (main
-       cameras further back and higher) are tried.
+       cameras further back and higher) are tried, and circle arcs at the image border too
+       (``marking_ellipses(at_border=True)``).
     2. Every hypothesis gets one score, -F_beta of the template found in the map (recall) and the
        marking points explained by the template (precision, through the pitch plane)
        (:class:`MapScorer`); the first candidate position is preferred on near ties.
@@ -101,6 +102,12 @@ def reinit_from_mask(
     ellipses = marking_ellipses(marking_mask, W, config.structures) if config.structures.max_ellipses else []
     if ellipses:
         hypotheses += circle_hypotheses(ellipses, points_px, positions, (W, H), pitch, curves, scorer, config)
+    if config.structures.max_ellipses and (not hypotheses or -min(h.cost for h in hypotheses) < config.poor_score):
+        # Nothing fits well: arcs at the image border (a tight zoom's centre circle) are tried too. Not
+        # before: fitted to a short arc (or a penalty arc taken for the centre circle) they mislead.
+        border = marking_ellipses(marking_mask, W, config.structures, at_border=True)
+        hypotheses += circle_hypotheses(border, points_px, positions, (W, H), pitch, curves, scorer, config)
+        ellipses = ellipses + border
     if not hypotheses:
         return ReinitResult(None, None, "", "no hypothesis from the marking map")
     # The first candidate (the main camera by default) is the likelier one when scores are about equal.

@@ -80,3 +80,6 @@ def test_an_arc_at_the_image_border_is_not_returned_as_an_ellipse():
     ellipses = marking_ellipses(mask.astype(bool), 960)
     assert len(ellipses) >= 1
     assert all(np.linalg.norm(e.centre_px - (300, 200)) < 5 for e in ellipses), [e.centre_px for e in ellipses]
+    # Asked for separately (the re-initialisation does when nothing else fits), the border arc is found.
+    border = marking_ellipses(mask.astype(bool), 960, at_border=True)
+    assert len(border) == 1 and np.linalg.norm(border[0].centre_px - (1100, 300)) < 15
