@@ -133,7 +133,7 @@ class TrackingRun:
         self.known_tripod = tripod
         self.reinit_positions = reinit_positions
         self.mask_paths = mask_paths or {}
-        self.reinitialise = CheapFirstReinit(reinitialise, refine_guesses)
+        self.reinitialise = CheapFirstReinit(reinitialise, refine_guesses, confidence=confidence)
         self.confidence = confidence
         self.on_frame_done = on_frame_done
         use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
@@ -330,8 +330,10 @@ class TrackingRun:
             elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
                 lost_now = True
         entry.confidence, entry.confidence_camera = confidence, camera
-        if entry.reinitialised:
-            self._chain_confident = False  # a new chain starts at this frame
+        if entry.reinitialised and not self.reinitialise.last_from_guess:
+            # A new chain starts at this frame (a refined guess, a confident camera moved onto this
+            # frame, continues the chain it came from).
+            self._chain_confident = False
         if confidence is not None and confidence >= self.config.confidence_threshold:
             self._chain_confident = True
         elif (not lost_now and camera is not None and confidence is not None and not self._chain_confident

@@ -24,13 +24,13 @@ stretches re-initialising. No I/O.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.scoring import ReinitResult
+from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
 
 @dataclass(frozen=True)
@@ -39,6 +39,7 @@ class CheapFirstConfig:
 
     accept_confidence: float = 0.5  # a refined guess scoring this is used without the global search
     tracking_gap_frames: int = 12  # while the track holds (a low frame, not a lost one), a global search at most this often
+    guess_margin: float = 0.1  # an unconfident search result replaces the refined guess only when this much better
     max_guess_age_frames: int = 750  # the last confident camera is a guess for this many frames (30 s at 25 fps)
     enabled: bool = True  # False: the global search on every lost frame
 
@@ -66,16 +67,18 @@ class CheapFirstReinit:
     """
 
     def __init__(self, global_search: Callable[..., ReinitResult], refine: Refiner,
-                 config: CheapFirstConfig = CheapFirstConfig()) -> None:
+                 config: CheapFirstConfig = CheapFirstConfig(), confidence: Callable | None = None) -> None:
         self.global_search = global_search
         self.refine = refine
         self.config = config
+        self.confidence = confidence
         self.camera_id: str | None = None
         self._last_confident: dict[str | None, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
         self.cheap_successes = 0
         self.global_searches = 0
         self.skipped_searches = 0
         self._last_tracking_search: int | None = None  # frame of the last global search on a held track
+        self.last_from_guess = False  # the last camera returned is a refined guess (a confident camera's continuation)
 
     def switch(self, camera_id: str | None) -> None:
         """The shot step says the following frames are from this camera."""
@@ -108,11 +111,13 @@ class CheapFirstReinit:
                 is not lost); the global search then runs at most once every ``tracking_gap_frames``.
         """
         i = observations.frame_index
+        self.last_from_guess = False
         guesses = self.guesses(i, positions)
         cheap = self.refine(guesses, detections, curves) if guesses else None
         cheap_confidence = _confidence(cheap)
         if cheap_confidence is not None and cheap_confidence >= self.config.accept_confidence:
             self.cheap_successes += 1
+            self.last_from_guess = True
             return cheap
         if tracking and self._last_tracking_search is not None and \
                 0 <= i - self._last_tracking_search < self.config.tracking_gap_frames:
@@ -120,20 +125,36 @@ class CheapFirstReinit:
             # the tracked camera stays (a second of CPU per low frame would drop the run far below real time).
             self.skipped_searches += 1
             if cheap is not None and cheap.camera is not None:
+                self.last_from_guess = True
                 return cheap
             return ReinitResult(None, None, "", f"global search skipped (one ran at frame {self._last_tracking_search})")
         if tracking:
             self._last_tracking_search = i
         self.global_searches += 1
-        result = self.global_search(observations, detections, pitch, positions, curves, sampling)
+        def searched(at):
+            found_now = self.global_search(observations, detections, pitch, at, curves, sampling)
+            if self.confidence is not None and found_now.camera is not None:
+                # Every search scores its own way (a labelled-lines Jaccard, the map's F-score): judged here,
+                # against the guess and the threshold, by the tracker's own confidence.
+                score = self.confidence(found_now.camera, observations, detections, curves, sampling)
+                if score is not None:
+                    found_now = replace(found_now, score=LabelledScore(float(score), 0, 0, 0, 0.0, 0.0))
+            return found_now
+
+        result = searched(positions)
         found = _confidence(result)
         if positions is not None and found is not None and found < self.config.accept_confidence:
             # Searched at the tripod in use only: that tripod may be the wrong one (a provisional fit of
             # frames that were themselves off). The default positions get a search of their own.
             self.global_searches += 1
-            anywhere = self.global_search(observations, detections, pitch, None, curves, sampling)
+            anywhere = searched(None)
             if anywhere.camera is not None and (_confidence(anywhere) or 0.0) > found:
                 result, found = anywhere, _confidence(anywhere)
-        if cheap_confidence is not None and (result.camera is None or (found is not None and cheap_confidence > found)):
+        if cheap_confidence is not None and (result.camera is None or (
+                found is not None and found < self.config.accept_confidence
+                and cheap_confidence > found - self.config.guess_margin)):
+            # The search found no confident camera either: the refined guess (a confident camera's
+            # continuation) is kept unless the search's camera is clearly better.
+            self.last_from_guess = True
             return cheap
         return result

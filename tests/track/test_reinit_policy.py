@@ -126,3 +126,12 @@ def test_on_a_held_track_the_global_search_runs_at_most_once_per_gap():
     # A lost frame (no camera held) always gets the global search.
     policy(_frame(13), None, None)
     assert fakes.global_calls[-1] == 13
+
+
+def test_an_unconfident_search_result_replaces_the_refined_guess_only_when_clearly_better():
+    fakes = Fakes(cheap_confidence=0.42, global_confidence=0.48)
+    policy = CheapFirstReinit(fakes.global_search, fakes.refine)
+    policy.confident(0, _confident_camera())
+    assert policy(_frame(1), None, None).camera is not GLOBAL_CAMERA and policy.last_from_guess
+    fakes.cheap_confidence = 0.3  # 0.48 is more than guess_margin (0.1) better: the search's camera
+    assert policy(_frame(2), None, None).camera is GLOBAL_CAMERA and not policy.last_from_guess
