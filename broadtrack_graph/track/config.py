@@ -22,6 +22,7 @@ class TrackingConfig:
     lag_frames: int = 25  # fixed-lag: future frames used before a frame is released
     confidence_threshold: float = DEFAULT_THRESHOLD  # below: re-initialise and distrust flow from this frame
     lost_confidence: float = 0.2  # below this (after a failed re-initialisation): lost, search globally
+    reinit_switch_margin: float = 0.05  # an unconfident re-initialised camera replaces the held one only when this much better
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
     mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow

@@ -321,7 +321,13 @@ class TrackingRun:
                 new_confidence = self.confidence(result.camera, observations, detections, self.curves, self.sampling)
             if result.camera is not None and not self.config.estimate_k1:
                 result = replace(result, camera=result.camera.replace(k1=0.0))
-            if result.camera is not None and (confidence is None or (new_confidence or 0.0) > confidence):
+            # A held camera of a trusted chain is replaced (the solver restarts from the new one) when the new
+            # camera is confident or clearly better: a restart for a few hundredths of confidence costs the chain
+            # its smoothing. A chain not trusted yet takes any better camera (it is still looking for one).
+            margin = self.config.reinit_switch_margin if self._chain_confident else 0.0
+            better = confidence is None or (new_confidence or 0.0) > confidence + (
+                0.0 if (new_confidence or 0.0) >= self.config.confidence_threshold else margin)
+            if result.camera is not None and better:
                 self.solver.reset(result.camera)
                 entry.reinitialised = True
                 entry.status = STATUS_REINITIALISED

@@ -321,3 +321,17 @@ def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_
     # Labelled lines without a marking map: the same confidences are written (lines name what they show).
     records, _ = run_with(False, tmp_path / "lines")
     assert all(r.camera is not None for r in records)
+
+
+def test_a_trusted_chain_switches_to_an_unconfident_camera_only_when_clearly_better(tmp_path):
+    solver = FakeSolver()
+    script = Scripted(confidence={2: 0.45, 15: 0.45}, reinit_confidence={2: 0.48, 15: 0.52})
+    run = run_of(tmp_path, solver, script)
+    for i in range(16):
+        run.process(frame(i))
+    run.finish()
+    records = {r.frame_index: r for r in read_track(tmp_path / "run").records}
+    assert script.reinit_calls == [0, 2, 15]
+    assert records[2].status == "tracked" and records[2].confidence == pytest.approx(0.45)  # 0.48: not 0.05 better
+    assert records[15].status == "reinitialised" and records[15].confidence == pytest.approx(0.52)  # confident
+    assert len(solver.resets) == 1
