@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from drawn_frames import draw_frame
 
 from broadtrack_graph.detect.detector import PredictedCamera, draw_detections
 from broadtrack_graph.detect.flow import FlowConfig, grid_flow, prepare
@@ -14,7 +15,6 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
 from broadtrack_graph.reinit.confidence import camera_confidence, needs_reinit
-from drawn_frames import draw_frame
 
 W, H = 640, 360
 PITCH = PitchTemplate()

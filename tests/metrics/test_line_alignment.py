@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 
+from drawn_frames import draw_frame
+
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment
-from drawn_frames import draw_frame
 
 CONFIG = AlignmentConfig()
 CURVES = TemplateCurves(PitchTemplate(), line_step_m=1.0, circle_step_m=0.5)
