@@ -22,7 +22,7 @@ from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.io.track_record import STATUS_OTHER_VIEW
-from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment
+from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment, line_pixels
 from broadtrack_graph.track.config import TrackingConfig
 
 SHIFTED_TILT_DEG = 0.3
@@ -77,12 +77,13 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         record = records.get(index)
         if record is not None and record.camera is not None and index % max(1, score_every) == 0:
             scored.append(index)
-            alignment = line_alignment(image, record.camera, curves, config)
+            pixels = line_pixels(image, config)
+            alignment = line_alignment(image, record.camera, curves, config, pixels)
             if alignment is not None:
                 scores[index] = alignment
                 # The check must reject wrong cameras too: the same camera tilted by SHIFTED_TILT_DEG.
                 turned = record.camera.replace(tilt_rad=record.camera.tilt_rad + math.radians(SHIFTED_TILT_DEG))
-                shifted[index] = line_alignment(image, turned, curves, config)
+                shifted[index] = line_alignment(image, turned, curves, config, pixels)
         index += 1
     capture.release()
     decoded = index

@@ -84,19 +84,21 @@ def line_pixels(image_bgr: np.ndarray, config: AlignmentConfig = AlignmentConfig
 
 
 def line_alignment(image_bgr: np.ndarray, camera: Camera, curves: TemplateCurves,
-                   config: AlignmentConfig = AlignmentConfig()) -> Alignment | None:
+                   config: AlignmentConfig = AlignmentConfig(),
+                   pixels: tuple[np.ndarray, np.ndarray] | None = None) -> Alignment | None:
     """How the camera's projected ground markings sit on the frame's line-like pixels (module docstring).
 
     Args:
         image_bgr: (H, W, 3) uint8 BGR frame.
         camera: the frame's camera (any resolution; rescaled to the frame).
         curves: the template's 3D samples.
+        pixels: the frame's :func:`line_pixels`, when already computed (scoring several cameras on one frame).
 
     Returns:
         The shares, or None when fewer than ``min_points`` projected samples fall on grass.
     """
     H, W = image_bgr.shape[:2]
-    lines, region = line_pixels(image_bgr, config)
+    lines, region = pixels if pixels is not None else line_pixels(image_bgr, config)
     projected = project_template(camera, curves, W, H, spacing_px=config.spacing_px)
     if not len(projected.uv_px):
         return None

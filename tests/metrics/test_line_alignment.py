@@ -62,3 +62,13 @@ def test_a_camera_showing_no_grass_is_not_scored():
     truth = _camera()
     image, _ = draw_frame(truth, players=0)
     assert line_alignment(image, truth.replace(tilt_rad=math.radians(120.0)), CURVES, CONFIG) is None
+
+
+def test_line_pixels_computed_once_give_the_same_shares():
+    from broadtrack_graph.metrics.line_alignment import line_pixels
+
+    truth = _camera()
+    image, _ = draw_frame(truth, players=0)
+    pixels = line_pixels(image, CONFIG)
+    for camera in (truth, truth.replace(tilt_rad=truth.tilt_rad + math.radians(0.3))):
+        assert line_alignment(image, camera, CURVES, CONFIG, pixels) == line_alignment(image, camera, CURVES, CONFIG)
