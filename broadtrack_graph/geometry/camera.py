@@ -37,6 +37,7 @@ from broadtrack_graph.geometry.distortion import (
     ExtraDistortion,
     distort_normalized,
     undistort_normalized,
+    unfolded_radius2,
 )
 from broadtrack_graph.geometry.shapes import check_points
 from broadtrack_graph.geometry.state import (
@@ -244,14 +245,18 @@ class Camera:
             points_w: (N, 3) metres, pitch frame.
 
         Returns:
-            uv_px: (N, 2) pixels at (width_px, height_px); NaN for points behind the camera.
-            in_front: (N,) bool, False where ``Xc_z <= 1e-3``.
+            uv_px: (N, 2) pixels at (width_px, height_px); NaN for points behind the camera or beyond the
+                radius where the distortion folds back (:func:`unfolded_radius2`).
+            in_front: (N,) bool, False where ``Xc_z <= 1e-3`` or the point lies beyond that radius (with
+                k1 < 0 a point far outside the image would otherwise land inside it).
         """
         points_c = self.world_to_camera(points_w)
         depth = points_c[:, 2]
         in_front = depth > BEHIND_CAMERA_Z
-        safe_depth = np.where(in_front, depth, np.nan)
-        xy_n = points_c[:, :2] / safe_depth[:, None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            xy_n = points_c[:, :2] / np.where(in_front, depth, np.nan)[:, None]
+            in_front &= np.einsum("ij,ij->i", xy_n, xy_n) < unfolded_radius2(self.k1, self.extra_distortion)
+        xy_n[~in_front] = np.nan
         xy_d = distort_normalized(xy_n, self.k1, self.extra_distortion)
         return self.focal_px * xy_d + self.principal_point, in_front
 

@@ -33,6 +33,24 @@ class ExtraDistortion:
 NO_EXTRA_DISTORTION = ExtraDistortion()
 
 
+def unfolded_radius2(k1: float, extra: ExtraDistortion = NO_EXTRA_DISTORTION) -> float:
+    """Squared normalised radius up to which the radial distortion still grows with the radius.
+
+    With k1 < 0 the distorted radius ``r (1 + k1 r^2)`` peaks at ``r^2 = 1 / (3 |k1|)`` and falls
+    beyond it: points far outside the image fold back into it. A projection is only meaningful
+    inside this radius (inf when the distortion never folds; tangential and thin-prism terms are
+    left out, they are small).
+    """
+    k2, k3, k4, k5, k6 = extra.radial_k2_k6
+    if not any((k2, k3, k4, k5, k6)):
+        return math.inf if k1 >= 0.0 else 1.0 / (3.0 * -k1)
+    r = np.linspace(0.0, 20.0, 4001)
+    r2 = r * r
+    radial = r * (1.0 + k1 * r2 + k2 * r2**2 + k3 * r2**3) / (1.0 + k4 * r2 + k5 * r2**2 + k6 * r2**3)
+    falling = np.flatnonzero(np.diff(radial) <= 0.0)
+    return float(r2[falling[0]]) if len(falling) else math.inf
+
+
 def distort_normalized(xy_n: np.ndarray, k1: float, extra: ExtraDistortion = NO_EXTRA_DISTORTION) -> np.ndarray:
     """Apply lens distortion to normalised image coordinates.
 

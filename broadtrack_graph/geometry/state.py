@@ -15,6 +15,8 @@ import math
 
 import numpy as np
 
+from broadtrack_graph.geometry.distortion import unfolded_radius2
+
 STATE_NAMES: tuple[str, ...] = ("f_px", "k1", "pan_rad", "tilt_rad", "roll_rad", "Cx_m", "Cy_m", "Cz_m")
 """Parameter order of the camera state (columns of every camera Jacobian), each name ending in its unit."""
 
@@ -116,7 +118,8 @@ def project_state(
     Returns:
         uv_px: (N, 2) pixels (NaN-free: points behind the camera get a finite dummy value).
         J: (N, 2, 8) d uv_px / d state, parameter order of ``STATE_NAMES`` (zero rows behind the camera), or None.
-        in_front: (N,) bool, False where the camera-frame depth is <= 1e-3 m.
+        in_front: (N,) bool, False where the camera-frame depth is <= 1e-3 m or the point lies beyond the
+            radius where the distortion folds back (:func:`~broadtrack_graph.geometry.distortion.unfolded_radius2`).
     """
     s = np.asarray(state, dtype=float)
     focal, k1 = s[FOCAL], s[K1]
@@ -128,6 +131,7 @@ def project_state(
     safe_depth = np.where(in_front, depth, 1.0)
     xy_n = points_c[:, :2] / safe_depth[:, None]
     r2 = np.einsum("ij,ij->i", xy_n, xy_n)
+    in_front &= r2 < unfolded_radius2(k1)
     g = 1.0 + k1 * r2
     uv_px = focal * g[:, None] * xy_n + np.array([width_px / 2.0, height_px / 2.0])
     if not want_jacobian:

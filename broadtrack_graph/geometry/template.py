@@ -211,6 +211,24 @@ class TemplateCurves:
         for name, element in self.pitch.elements.items():
             step = circle_step_m if isinstance(element, Arc) else line_step_m
             self.samples_w[name] = self.pitch.sample_uniform(step, classes=[name])[name]
+        self._stacked: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+    def stacked(self, names) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The samples of several classes one after the other (built once per list of names).
+
+        Returns:
+            points_w: (N, 3) metres; class_index: (N,) int16 index into LINE_CLASSES;
+            joins_next: (N - 1,) bool, sample i and i + 1 belong to the same class (a segment of it).
+        """
+        key = tuple(names)
+        if key not in self._stacked:
+            index = {n: j for j, n in enumerate(LINE_CLASSES)}
+            parts = [self.samples_w[n] for n in key]
+            points = np.vstack(parts) if parts else np.zeros((0, 3))
+            classes = np.concatenate([np.full(len(a), index[n], np.int16) for n, a in zip(key, parts)]) if parts \
+                else np.zeros(0, np.int16)
+            self._stacked[key] = (points, classes, classes[:-1] == classes[1:])
+        return self._stacked[key]
 
 
 def closest_on_polyline(points_px: np.ndarray, poly_px: np.ndarray, valid_seg: np.ndarray):
@@ -291,36 +309,27 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
     """
     cam = camera if (camera.width_px, camera.height_px) == (width_px, height_px) else camera.rescaled(width_px, height_px)
     names = classes if classes is not None else [n for n in LINE_CLASSES if curves.pitch.is_on_ground(n)]
-    index = {n: j for j, n in enumerate(LINE_CLASSES)}
-    uv_all, cls_all, wid_all = [], [], []
-    r3 = cam.R_cw[2]
-    for name in names:
-        samples = curves.samples_w[name]
-        uv, front = cam.project(samples)
-        depth = (samples - cam.position_m) @ r3
-        ok = usable_samples(uv, front, width_px, height_px)
-        for a, b in finite_runs(ok):
-            run, run_depth = uv[a:b], depth[a:b]
-            lo, hi = np.minimum(run[:-1], run[1:]), np.maximum(run[:-1], run[1:])
-            # Only segments whose bounding box meets the image (grown by 2 px) are densified.
-            near = (hi[:, 0] >= -2) & (lo[:, 0] <= width_px + 1) & (hi[:, 1] >= -2) & (lo[:, 1] <= height_px + 1)
-            if not near.any():
-                continue
-            first = np.flatnonzero(near)
-            step = np.linalg.norm(run[first + 1] - run[first], axis=1)
-            count = np.maximum(np.ceil(step / spacing_px).astype(int), 1)
-            # Piecewise-linear densification of each kept segment, both ends included.
-            seg = np.repeat(first, count + 1)
-            t = (np.arange(int(count.sum() + len(count))) - np.repeat(np.cumsum(count + 1) - (count + 1), count + 1)
-                 ) / np.repeat(count, count + 1)
-            pts = run[seg] + t[:, None] * (run[seg + 1] - run[seg])
-            dep = run_depth[seg] + t * (run_depth[seg + 1] - run_depth[seg])
-            uv_all.append(pts)
-            wid_all.append(MARKING_WIDTH_M * cam.focal_px / np.maximum(dep, 1e-3))
-            cls_all.append(np.full(len(pts), index[name], np.int16))
-    if not uv_all:
+    samples, class_index, joins_next = curves.stacked(names)
+    uv, front = cam.project(samples)
+    depth = (samples - cam.position_m) @ cam.R_cw[2]
+    ok = usable_samples(uv, front, width_px, height_px)
+    # Segments between consecutive usable samples of one class whose bounding box meets the image (grown by 2 px).
+    lo, hi = np.minimum(uv[:-1], uv[1:]), np.maximum(uv[:-1], uv[1:])
+    with np.errstate(invalid="ignore"):
+        near = (hi[:, 0] >= -2) & (lo[:, 0] <= width_px + 1) & (hi[:, 1] >= -2) & (lo[:, 1] <= height_px + 1)
+    first = np.flatnonzero(ok[:-1] & ok[1:] & joins_next & near)
+    if not len(first):
         return ImageTemplate(np.zeros((0, 2)), np.zeros(0, np.int16), np.zeros(0))
-    uv, cls, wid = np.vstack(uv_all), np.concatenate(cls_all), np.concatenate(wid_all)
+    step = np.linalg.norm(uv[first + 1] - uv[first], axis=1)
+    count = np.maximum(np.ceil(step / spacing_px).astype(int), 1)
+    # Piecewise-linear densification of each kept segment, both ends included.
+    seg = np.repeat(first, count + 1)
+    t = (np.arange(int(count.sum() + len(count))) - np.repeat(np.cumsum(count + 1) - (count + 1), count + 1)
+         ) / np.repeat(count, count + 1)
+    uv = uv[seg] + t[:, None] * (uv[seg + 1] - uv[seg])
+    dep = depth[seg] + t * (depth[seg + 1] - depth[seg])
+    wid = MARKING_WIDTH_M * cam.focal_px / np.maximum(dep, 1e-3)
+    cls = class_index[seg]
     if inside_only:
         keep = (uv[:, 0] >= 0) & (uv[:, 0] <= width_px - 1) & (uv[:, 1] >= 0) & (uv[:, 1] <= height_px - 1)
         uv, cls, wid = uv[keep], cls[keep], wid[keep]

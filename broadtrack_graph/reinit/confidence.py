@@ -2,7 +2,8 @@
 
 Compared only where markings can be detected: template samples inside the image, on
 the field (not under players when a player mask is given) and wide enough in the
-image to be found (a 12 cm line at least ``min_line_width_px`` working pixels wide).
+image to be found (a 12 cm line at least ``min_line_width_px`` pixels wide at the working
+width and in the frame itself).
 Both sets live at one reference width (960 px) with a tolerance at that width, so
 the measure does not change with the frame resolution:
 
@@ -12,7 +13,13 @@ the measure does not change with the frame resolution:
 * precision P: share of detected marking pixels within ``tolerance_px`` of the template.
 
 confidence = F-beta(P, R) with beta = 2 (recall weighted: grass texture and clutter
-leave specks that no camera explains). Below ``threshold`` (0.5, BroadTrack) the
+leave specks that no camera explains), scaled down when the camera leaves the playing
+surface unexplained: with a field map, the share of its pixels whose rays meet the
+ground inside the pitch plus ``field_margin_m`` (:func:`field_coverage`) below
+``min_field_coverage`` scales the score by that shortfall. A recall-weighted score
+alone can be fooled by a zoomed camera that lays one touchline on the advertising
+boards and the rest of its pitch out of view: it explains one line and leaves the
+grass in the image off its pitch. Below ``threshold`` (0.5, BroadTrack) the
 tracker re-initialises and ignores flow from the previous camera. No I/O.
 """
 
@@ -37,9 +44,12 @@ class ConfidenceConfig:
     work_width_px: int = 960  # comparison width (the weight-free detector's working width)
     tolerance_px: float = 2.5  # a template sample / marking pixel this close to the other set agrees
     template_spacing_px: float = 1.0  # densified template sampling
-    min_line_width_px: float = 0.7  # template parts thinner than this in the image are not detectable
+    min_line_width_px: float = 1.4  # template parts thinner than this (working pixels, and pixels of the frame) are not detectable
     min_template_px: int = 150  # recall denominator floor (samples, about pixels of template)
     beta: float = 2.0  # F-beta weight of recall over precision
+    field_margin_m: float = 10.0  # grass this far outside the lines still counts as explained (run-off, benches)
+    min_field_coverage: float = 0.7  # below this share of explained grass the score is scaled by share / this
+    field_grid_px: int = 8  # the field map is checked on a grid this coarse (working pixels)
     threshold: float = DEFAULT_THRESHOLD  # below: re-initialise
 
 
@@ -66,7 +76,10 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     found = cv2.findNonZero(marks.astype(np.uint8))
     marks_uv = np.zeros((0, 2)) if found is None else found.reshape(-1, 2).astype(float)
     template = project_template(camera, curves, w, h, config.template_spacing_px)
-    uv = template.uv_px[template.width_m_px * (w / camera.width_px) >= config.min_line_width_px]
+    # Detectable: at least min_line_width_px wide at the working width, and as wide in the frame itself
+    # (upsampling a 640 px frame to the working width does not bring out a line thinner than its pixels).
+    min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
+    uv = template.uv_px[template.width_m_px >= min_width_work_px]
     if len(uv) and (field_mask is not None or player_mask is not None):
         col = np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)
         row = np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1)
@@ -87,8 +100,41 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
         precision = float(np.mean(np.isfinite(d_marks)))
     b2 = config.beta**2
     score = (1 + b2) * precision * recall / (b2 * precision + recall) if precision + recall > 0 else 0.0
-    return {"confidence": float(score), "precision": precision, "recall": recall,
+    coverage = 1.0
+    if field_mask is not None and score > 0:
+        coverage = field_coverage(camera, _resized(field_mask, w, h), curves.pitch, config.field_margin_m,
+                                  config.field_grid_px)
+        score *= min(1.0, coverage / config.min_field_coverage) if config.min_field_coverage > 0 else 1.0
+    return {"confidence": float(score), "precision": precision, "recall": recall, "field_coverage": coverage,
             "template_samples": int(len(uv)), "marking_pixels": int(len(marks_uv))}
+
+
+def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:
+    """Share of the playing surface in the image that the camera puts on the pitch.
+
+    Args:
+        camera: any resolution.
+        field_mask: (h, w) bool map of the playing surface, same aspect ratio as the camera's image.
+        pitch: the template (its dimensions).
+        margin_m: grass up to this far outside the touch and goal lines counts as on the pitch.
+        grid_px: the map is read every grid_px pixels.
+
+    Returns:
+        In [0, 1]: the share of field pixels (on the grid) whose rays meet the ground within the lines plus
+        margin_m; 1 when the map shows no field.
+    """
+    h, w = field_mask.shape
+    rows, cols = np.mgrid[grid_px // 2:h:grid_px, grid_px // 2:w:grid_px]
+    on_field = field_mask[rows, cols]
+    if not on_field.any():
+        return 1.0
+    uv = np.column_stack([cols[on_field], rows[on_field]]).astype(float) * (camera.width_px / w)
+    ground, hits = camera.ground_intersection(uv)
+    half_length = pitch.dimensions.length_m / 2 + margin_m
+    half_width = pitch.dimensions.width_m / 2 + margin_m
+    with np.errstate(invalid="ignore"):
+        inside = hits & (np.abs(ground[:, 0]) <= half_length) & (np.abs(ground[:, 1]) <= half_width)
+    return float(inside.mean())
 
 
 def camera_confidence(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves | None = None,

@@ -27,7 +27,7 @@ from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.ellipses import circle_hypotheses
 from broadtrack_graph.reinit.line_pairs import line_pair_hypotheses, pitch_lines
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
-from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer, best_distinct
+from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer, best_distinct, polish_locally
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig, RefineSchedule
 from broadtrack_graph.reinit.positions import DEFAULT_TRIPOD_POSITIONS_W
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
@@ -57,7 +57,10 @@ def reinit_from_mask(
        (``marking_ellipses(at_border=True)``).
     2. Every hypothesis gets one score, -F_beta of the template found in the map (recall) and the
        marking points explained by the template (precision, through the pitch plane)
-       (:class:`MapScorer`); the first candidate position is preferred on near ties.
+       (:class:`MapScorer`); the first candidate position is preferred on near ties. When none
+       scores ``poor_score`` (made at a wrong focal point, a right hypothesis can sit 10-30 px off
+       and score below a wrong one), the best distinct ones are moved to the nearby pan, tilt and
+       f the map scores best (:func:`polish_locally`).
     3. The best distinct hypotheses are fitted in turn (:func:`refine_on_map`: name the marking
        points by the nearest projected class, :func:`fit_camera_to_lines`, shrinking gate; the
        wide schedule as well on poorly scoring ones) and ranked by a fine fit score; the
@@ -112,8 +115,11 @@ def reinit_from_mask(
         return ReinitResult(None, None, "", "no hypothesis from the marking map")
     # The first candidate (the main camera by default) is the likelier one when scores are about equal.
     first = np.asarray(positions[0], float)
-    costs = np.array([h.cost * (1.0 if np.allclose(h.position_w, first) else config.other_position_factor)
-                      for h in hypotheses])
+    weights = np.array([1.0 if np.allclose(h.position_w, first) else config.other_position_factor for h in hypotheses])
+    if -min(h.cost for h in hypotheses) < config.poor_score:
+        # Nothing explains the map well: the hypotheses were likely made at a wrong focal point.
+        hypotheses = polish_locally(hypotheses, scorer, config, W, weights)
+    costs = np.array([h.cost for h in hypotheses]) * weights
     chosen = best_distinct(np.array([h.pan_rad for h in hypotheses]), np.array([h.tilt_rad for h in hypotheses]),
                            np.array([h.focal_px for h in hypotheses]), costs, config.refine_top_k,
                            config.distinct_per_width * W, W)

@@ -78,6 +78,11 @@ class MaskSearchConfig:
     poor_score: float = 0.35  # when no hypothesis at the default tripods scores this well, these are tried too:
     far_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 75.0, -16.5), (0.0, 100.0, -22.0))
     far_retry_below: float = 0.5  # ... and searched on their own when the best fitted camera's confidence is below this
+    # Local polish of the best distinct hypotheses on the map score (polish_locally): pan, tilt and f moved
+    # in a pattern search whose step shifts the image by this share of the width, halved down to the minimum.
+    local_polish_top_k: int = 12  # 0: off
+    local_polish_step_per_width: float = 0.03
+    local_polish_min_step_per_width: float = 0.002
     # Refinement: name the marking points by the nearest projected class, fit, shrink the gate (RefineSchedule).
     refine_top_k: int = 6  # at most this many distinct hypotheses are refined (best score first) ...
     refine_cost_share: float = 0.88  # ... after the first, only those scoring this share of its score ...

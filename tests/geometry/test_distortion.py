@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.distortion import ExtraDistortion, distort_normalized, undistort_normalized
+from broadtrack_graph.geometry.distortion import ExtraDistortion, distort_normalized, undistort_normalized, unfolded_radius2
 
 
 def test_full_distortion_model_matches_formula():
@@ -37,3 +37,19 @@ def test_k1_below_zero_stops_at_the_turning_point():
     assert r_d_max == pytest.approx(2.0 / (3.0 * math.sqrt(0.9)))
     out = undistort_normalized(np.array([[r_d_max * 1.5, 0.0]]), k1)
     assert out[0, 0] == pytest.approx(r_turn, rel=1e-12) and out[0, 1] == 0.0
+
+
+def test_unfolded_radius_is_where_the_radial_distortion_stops_growing():
+    assert unfolded_radius2(0.0) == math.inf
+    assert unfolded_radius2(0.1) == math.inf  # k1 > 0 never folds
+    limit = unfolded_radius2(-0.04)
+    assert limit == pytest.approx(1.0 / 0.12)
+    r = np.sqrt(limit)
+    grows = lambda radius: radius * (1.0 - 0.04 * radius**2)  # noqa: E731
+    assert grows(r * 0.99) < grows(r) > grows(r * 1.01)
+    # With k2 the numeric search finds the same kind of peak.
+    extra = ExtraDistortion(radial_k2_k6=(-0.01, 0.0, 0.0, 0.0, 0.0))
+    r2 = unfolded_radius2(-0.04, extra)
+    radial = lambda q: q * (1.0 - 0.04 * q**2 - 0.01 * q**4)  # noqa: E731
+    q = math.sqrt(r2)
+    assert r2 < limit and radial(q * 0.99) < radial(q) * 1.0001 and radial(q * 1.01) < radial(q)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
+from broadtrack_graph.geometry.distortion import unfolded_radius2
 from broadtrack_graph.geometry.state import (
     ANGLES,
     BEHIND_CAMERA_Z,
@@ -75,8 +76,29 @@ def test_project_state_agrees_with_camera_project_on_random_points():
         assert (~in_front).any() and in_front.any()
         np.testing.assert_allclose(uv[in_front], expected[in_front], rtol=1e-12, atol=1e-9)
         assert np.all(np.isfinite(uv))  # behind the camera: finite dummies, no NaN
-        depth = camera.world_to_camera(points)[:, 2]
-        np.testing.assert_array_equal(in_front, depth > BEHIND_CAMERA_Z)
+        points_c = camera.world_to_camera(points)
+        depth = points_c[:, 2]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            radius2 = np.sum((points_c[:, :2] / depth[:, None]) ** 2, axis=1)
+        # Behind the camera, or (k1 < 0) beyond the radius where the distortion folds points back.
+        np.testing.assert_array_equal(in_front, (depth > BEHIND_CAMERA_Z) & (radius2 < unfolded_radius2(state[1])))
+
+
+def test_points_beyond_the_fold_radius_are_not_projected_into_the_image():
+    # k1 = -0.04 at f = 760: points whose undistorted radius passes 1 / sqrt(3 |k1|) (about 3.5 image
+    # widths from the centre) would come back into the image. They are reported as not projectable.
+    state = np.array([760.0, -0.04, 0.38, 1.18, 0.0, 1.9, 59.3, -16.8])
+    camera = Camera.from_vector(state, 640, 360)
+    x_far = np.linspace(-60.0, 60.0, 2001)
+    goal_line = np.column_stack([np.full_like(x_far, -52.5), np.linspace(-34.0, 34.0, 2001), np.zeros(2001)])
+    uv, front = camera.project(goal_line)
+    _, _, front_state = project_state(state, goal_line, 640, 360, want_jacobian=False)
+    np.testing.assert_array_equal(front, front_state)
+    depth = camera.world_to_camera(goal_line)[:, 2]
+    folded = (depth > BEHIND_CAMERA_Z) & ~front
+    assert folded.any()  # this goal line passes close beside the camera: part of it is beyond the fold
+    assert not camera.in_image(uv[front]).any()  # what is left stays off the image, as it should
+    assert np.all(np.isnan(uv[~front]))
 
 
 def test_jacobian_is_zero_behind_the_camera_and_has_state_columns():

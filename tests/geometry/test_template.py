@@ -168,3 +168,23 @@ def test_project_template_is_dense_and_inside():
         gaps = np.linalg.norm(np.diff(points, axis=0), axis=1)
         assert np.median(gaps) <= 1.0 + 1e-9
     assert np.all(template.width_m_px > 0)
+
+
+def test_project_template_samples_lie_on_each_class_curve_and_a_class_alone_gives_its_own_samples():
+    camera = camera_main(k1=-0.05)
+    curves = TemplateCurves(line_step_m=1.0, circle_step_m=0.5)
+    template = project_template(camera, curves, W, H, spacing_px=1.0)
+    for j in np.unique(template.class_index):
+        name = LINE_CLASSES[j]
+        alone = project_template(camera, curves, W, H, spacing_px=1.0, classes=[name])
+        np.testing.assert_array_equal(alone.uv_px, template.uv_px[template.class_index == j])
+        # Every dense sample lies on the class's projected polyline (densified between two projected samples).
+        uv, front = camera.project(curves.samples_w[name])
+        valid = front[:-1] & front[1:]
+        _, _, distance = closest_on_polyline(alone.uv_px, uv, valid)
+        assert distance.max() < 1e-6
+    points, classes, joins = curves.stacked(["Middle line", "Circle central"])
+    assert len(points) == len(curves.samples_w["Middle line"]) + len(curves.samples_w["Circle central"])
+    assert joins.sum() == len(points) - 2  # one segment less per class
+    assert curves.stacked(["Middle line", "Circle central"])[0] is points  # built once
+    np.testing.assert_array_equal(np.unique(classes), sorted(LINE_CLASSES.index(n) for n in ("Middle line", "Circle central")))

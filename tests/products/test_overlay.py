@@ -10,6 +10,7 @@ import pytest
 
 from broadtrack_graph import cli
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.distortion import distort_normalized
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
@@ -66,9 +67,16 @@ def test_points_past_the_distortion_fold_are_not_drawn():
     camera = Camera.from_degrees(300, -0.2, 0, 70, 0, (0.0, 55.0, -15.0), W, H)
     r_turn = 1 / math.sqrt(3 * 0.2)
     uv, in_front, r_n = dense_projection(camera)
-    folded = in_front & camera.in_image(uv) & (r_n > r_turn)
+    samples = PitchTemplate().sample_uniform(0.02)
+    points_c = camera.world_to_camera(np.vstack([samples[name] for name in LINE_CLASSES]))
+    ahead = points_c[:, 2] > 1e-3
+    with np.errstate(invalid="ignore", divide="ignore"):
+        naive = camera.focal_px * distort_normalized(points_c[:, :2] / points_c[:, 2:], camera.k1) + camera.principal_point
+        radius = np.hypot(points_c[:, 0], points_c[:, 1]) / points_c[:, 2]
+    folded = ahead & camera.in_image(naive) & (radius > r_turn)
+    assert folded.sum() > 50  # the setup really has folded points ...
+    assert not in_front[folded].any()  # ... which the camera's projection does not report
     valid = in_front & (r_n < r_turn * 0.98)
-    assert folded.sum() > 50  # the setup really has folded points
     reference = np.zeros((H, W), np.uint8)
     good = valid & camera.in_image(uv)
     cols, rows = np.floor(uv[good]).astype(int).T

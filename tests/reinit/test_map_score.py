@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import cv2
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.reinit.map_score import MapScorer, best_distinct
+from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer, best_distinct, polish_locally
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 
 W, H = 960, 540
@@ -58,3 +59,24 @@ def test_best_distinct_skips_near_copies_and_infinite_costs():
     # index 1 is best; 0 is 1 px from it (a near copy); 3 has the same angles but twice the focal length.
     assert best_distinct(pans, tilts, focals, costs, 10, 5.0, 960) == [1, 3, 2]
     assert best_distinct(pans, tilts, focals, costs, 2, 5.0, 960) == [1, 3]
+
+
+def test_polish_locally_brings_a_shifted_hypothesis_onto_the_map_and_leaves_the_rest():
+    truth = Camera.from_degrees(1300.0, 0.0, 9.0, 77.0, 0.0, (0.0, 55.0, -12.0), W, H)
+    mask, points = _drawn_map(truth)
+    scorer = MapScorer(mask, points, (W, H), PITCH, CONFIG)
+    # 1.5 deg of pan, 1 deg of tilt and 8 % of f off: 20-35 px from the markings, a poor score.
+    off = Hypothesis(truth.position_m, truth.pan_rad + math.radians(1.5), truth.tilt_rad - math.radians(1.0),
+                     truth.focal_px * 1.08, 0.0)
+    off.cost = float(scorer.costs(off.position_w, [off.pan_rad], [off.tilt_rad], [off.focal_px],
+                                  CONFIG.score_hit_px, CONFIG.score_point_px)[0])
+    far_away = Hypothesis(truth.position_m, truth.pan_rad + math.radians(40.0), truth.tilt_rad, truth.focal_px, -0.01)
+    assert off.cost > -0.5
+    polished = polish_locally([off, far_away], scorer, replace(CONFIG, local_polish_top_k=1), W)
+    assert polished[1] is far_away  # only the best local_polish_top_k are moved
+    moved = polished[0]
+    assert moved.cost < -0.9
+    assert abs(math.degrees(moved.pan_rad - truth.pan_rad)) < 0.1
+    assert abs(math.degrees(moved.tilt_rad - truth.tilt_rad)) < 0.1
+    assert moved.focal_px == pytest.approx(truth.focal_px, rel=0.01)
+    assert polish_locally([off], scorer, replace(CONFIG, local_polish_top_k=0), W) == [off]

@@ -1,0 +1,61 @@
+"""The confidence of a camera against a marking map and a field map drawn here."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.confidence import ConfidenceConfig, confidence_parts, field_coverage
+
+W, H = 960, 540
+PITCH = PitchTemplate()
+CURVES = TemplateCurves(PITCH)
+TRUTH = Camera.from_degrees(1100.0, 0.0, 5.0, 76.0, 0.0, (0.0, 55.0, -12.0), W, H)
+
+
+def _maps(camera, grass_margin_m=3.0):
+    """The ground markings drawn 2 px wide as the camera sees them, and the grass: the pitch plus a margin."""
+    marks = np.zeros((H, W), np.uint8)
+    for name, pts in PITCH.sample_uniform(0.1).items():
+        if PITCH.is_on_ground(name):
+            uv, front = camera.project(pts)
+            uv = uv[front & np.all(np.abs(uv) < 1e4, axis=1)]
+            if len(uv) >= 2:
+                cv2.polylines(marks, [np.round(uv).astype(np.int32)], False, 1, 2)
+    rows, cols = np.mgrid[0:H, 0:W]
+    ground, hits = camera.ground_intersection(np.column_stack([cols.ravel(), rows.ravel()]).astype(float))
+    with np.errstate(invalid="ignore"):
+        grass = hits & (np.abs(ground[:, 0]) < 52.5 + grass_margin_m) & (np.abs(ground[:, 1]) < 34.0 + grass_margin_m)
+    return marks > 0, grass.reshape(H, W)
+
+
+def test_the_true_camera_explains_the_map_and_all_the_grass():
+    marks, grass = _maps(TRUTH)
+    parts = confidence_parts(TRUTH, marks, CURVES, field_mask=grass)
+    assert parts["field_coverage"] == pytest.approx(1.0)
+    assert parts["confidence"] > 0.95
+    assert field_coverage(TRUTH, grass, PITCH) == pytest.approx(1.0)
+    assert field_coverage(TRUTH, np.zeros_like(grass), PITCH) == 1.0  # no grass in view: nothing to explain
+
+
+def test_a_camera_that_leaves_the_grass_off_its_pitch_is_scaled_down():
+    # A camera looking over the far touchline at grass that goes on (a field map of the whole image): it
+    # explains every marking, but the grass in the upper part of the image lies far off its pitch.
+    over = TRUTH.replace(tilt_rad=TRUTH.tilt_rad + np.radians(6.0), focal_px=1.5 * TRUTH.focal_px)
+    marks, _ = _maps(over)
+    grass = np.ones((H, W), bool)
+    coverage = field_coverage(over, grass, PITCH)
+    assert 0.1 < coverage < 0.6
+    plain = confidence_parts(over, marks, CURVES, ConfidenceConfig(min_field_coverage=0.0), field_mask=grass)
+    scaled = confidence_parts(over, marks, CURVES, field_mask=grass)
+    assert plain["confidence"] > 0.9
+    assert scaled["field_coverage"] == pytest.approx(coverage)
+    assert scaled["confidence"] == pytest.approx(plain["confidence"] * coverage / 0.7, rel=1e-6)
+    # The grass within field_margin_m of the lines counts as explained.
+    _, grass_wide = _maps(TRUTH, grass_margin_m=8.0)
+    assert field_coverage(TRUTH, grass_wide, PITCH, margin_m=10.0) == pytest.approx(1.0)
+    assert field_coverage(TRUTH, grass_wide, PITCH, margin_m=2.0) < 1.0
