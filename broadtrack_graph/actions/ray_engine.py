@@ -55,6 +55,12 @@ def import_ray(loopback: bool = False):
     return ray
 
 
+def prefetch_thread(prefetch: bool | None, workers: int, cores: int) -> bool:
+    """Whether the units of a local instance decode in a background thread: as asked, else only when the
+    workers leave a core idle for it (with every core busy the thread only competes with the other workers)."""
+    return prefetch if prefetch is not None else workers < cores
+
+
 class RayEngine:
     """Run calls as Ray tasks (one CPU each), retried ``retries`` times on an exception or a lost worker.
 
@@ -62,14 +68,19 @@ class RayEngine:
         workers: CPUs of the local instance (default: this machine's cores); ignored with an address.
         address: None for a private local instance, else the cluster to join.
         retries: extra attempts per task.
+        prefetch: local instance only: whether a unit decodes its frames in a background thread
+            (:mod:`broadtrack_graph.io.prefetch`). None (default): only when the workers leave a core
+            idle for it; False: never (each unit on exactly its one CPU, as when measuring scaling).
     """
 
     name = "ray"
 
-    def __init__(self, workers: int | None = None, address: str | None = None, retries: int = 2) -> None:
+    def __init__(self, workers: int | None = None, address: str | None = None, retries: int = 2,
+                 prefetch: bool | None = None) -> None:
         self.address = address
         self.workers = int(workers or os.cpu_count() or 1)
         self.retries = max(0, int(retries))
+        self.prefetch = prefetch
         self._ray = None
 
     def __enter__(self) -> "RayEngine":
@@ -79,7 +90,7 @@ class RayEngine:
         kwargs = {"include_dashboard": False, "log_to_driver": False, "configure_logging": True,
                   "logging_level": logging.WARNING}
         if self.address is None:
-            if self.workers >= (os.cpu_count() or 1):  # every core has a worker: no idle core for prefetching
+            if not prefetch_thread(self.prefetch, self.workers, os.cpu_count() or 1):
                 kwargs["runtime_env"] = {"env_vars": {PREFETCH_ENV: "0"}}
             ray.init(address="local", num_cpus=self.workers, **kwargs)
         else:

@@ -4,8 +4,11 @@ Parts (``--parts``, all by default):
 
 speedup   four rendered synthetic clips (``--frames`` at ``--width`` x ``--height``, reused from
           ``--out/clips`` when there), tracked online by track-many on a local Ray instance with 1
-          and with 2 workers: wall time of the job (Ray start excluded, given apart), speed-up,
-          and whether every camera file is byte-identical between the two runs.
+          and with 2 workers, each unit on its one CPU (no prefetch thread in either run): wall
+          time of the job (Ray start excluded, given apart), speed-up, and whether every camera
+          file is byte-identical between the two runs. For reference, the 1-worker job once more
+          as track-many runs it by default on this machine: its units decode their frames in a
+          background thread on the core the single worker leaves idle.
 chunked   one long synthetic detections file (``--long-frames``), batch mode: the one-process
           two-pass run (``track --mode batch``: chained chunks), the staged run (windows of
           ``--chunk-frames``) in one process and on 2 Ray workers: times and the largest
@@ -84,10 +87,15 @@ def run(args) -> dict:
 def part_speedup(args, out: Path, manifest: Path) -> dict:
     figures = {}
     for workers in (1, 2):
-        figures[f"workers_{workers}"] = _ray_job(manifest, out / f"speedup-w{workers}", workers, None, args)
+        figures[f"workers_{workers}"] = _ray_job(manifest, out / f"speedup-w{workers}", workers, None, args,
+                                                 prefetch=False)
     w1, w2 = figures["workers_1"]["job_wall_s"], figures["workers_2"]["job_wall_s"]
     figures["speedup"] = round(w1 / w2, 3) if w2 else None
     figures["camera_files"] = compare_camera_files(out / "speedup-w1", out / "speedup-w2")
+    # The default 1-worker job: its prefetch thread decodes on the core the worker leaves idle.
+    reference = _ray_job(manifest, out / "speedup-w1-prefetch", 1, None, args)
+    figures["workers_1_with_prefetch_thread"] = reference
+    figures["speedup_vs_1_worker_with_prefetch_thread"] = round(reference["job_wall_s"] / w2, 3) if w2 else None
     return figures
 
 
@@ -330,7 +338,8 @@ def _node_addresses(temp: Path) -> list[str]:
     return sorted(found)
 
 
-def _ray_job(manifest: Path, folder: Path, workers: int, address: str | None, args) -> dict:
+def _ray_job(manifest: Path, folder: Path, workers: int, address: str | None, args,
+             prefetch: bool | None = None) -> dict:
     from broadtrack_graph.actions.ray_engine import RayEngine
     from broadtrack_graph.actions.track_many import ManyOptions, track_many
     from broadtrack_graph.io.manifest import read_manifest
@@ -338,7 +347,7 @@ def _ray_job(manifest: Path, folder: Path, workers: int, address: str | None, ar
 
     shutil.rmtree(folder, ignore_errors=True)
     started = time.perf_counter()
-    with RayEngine(workers, address, retries=0) as engine:
+    with RayEngine(workers, address, retries=0, prefetch=prefetch) as engine:
         start_s = time.perf_counter() - started
         report = track_many(read_manifest(manifest), folder, TrackingConfig(mode="online"),
                             ManyOptions(retries=0, progress=not args.no_progress), engine)

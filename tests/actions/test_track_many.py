@@ -13,6 +13,7 @@ from broadtrack_graph.actions.parallel import SerialEngine
 from broadtrack_graph.actions.track_many import ManyOptions, plan_units, track_many
 from broadtrack_graph.actions.track_units import done_path
 from broadtrack_graph.io.manifest import ClipSpec
+from broadtrack_graph.io.prefetch import PREFETCH_ENV
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.synth.detections_file import write_synthetic_detections
 from broadtrack_graph.track.config import TrackingConfig
@@ -96,9 +97,13 @@ def test_track_many_on_ray_with_two_local_workers(clips, tmp_path):
 
     serial = track_many(clips, tmp_path / "serial", options=QUIET)
     try:
-        with RayEngine(workers=2, retries=0) as engine:
+        with RayEngine(workers=2, retries=0, prefetch=False) as engine:
             report = track_many(clips, tmp_path / "ray", options=QUIET, engine=engine)
             assert engine.nodes() == ["127.0.0.1"] or ray_imported_before
+            seen = []
+            engine.run(_environment_variable, [("env", (PREFETCH_ENV,))], lambda key, value: seen.append(value),
+                       lambda key, error: seen.append(error))
+            assert seen == ["0"]  # the units run without the prefetch thread, one CPU each
     finally:
         assert not ray.is_initialized()
     assert sorted(report.ran) == sorted(serial.ran) and not report.failed
@@ -106,3 +111,14 @@ def test_track_many_on_ray_with_two_local_workers(clips, tmp_path):
         a = [r.camera.to_vector() for r in read_track(tmp_path / "serial" / clip).records]
         b = [r.camera.to_vector() for r in read_track(tmp_path / "ray" / clip).records]
         assert np.array_equal(a, b)
+
+
+def _environment_variable(name: str) -> str | None:
+    return os.environ.get(name)
+
+
+def test_prefetch_thread_only_when_a_core_is_left_idle_unless_asked():
+    from broadtrack_graph.actions.ray_engine import prefetch_thread
+
+    assert prefetch_thread(None, 1, 2) and not prefetch_thread(None, 2, 2) and not prefetch_thread(None, 4, 2)
+    assert not prefetch_thread(False, 1, 2) and prefetch_thread(True, 2, 2)
