@@ -4,7 +4,8 @@ A synthetic clip is rendered once (1920x1080 by default; reused from ``--out`` w
 there) and tracked from its JPEG frames with the weight-free detector by
 :func:`~broadtrack_graph.actions.track.track_input`, in each requested mode. The run's
 ``summary.json`` carries the seconds spent per stage (``timings_s``: detect_s, flow_s,
-solve_s, confidence_s, reinit_s, write_s); the suite adds the wall time and process CPU
+solve_s, confidence_s, reinit_s, write_s in the tracking thread; markings_ahead_s, the
+camera-free half of detection done ahead in the thread that decodes the frames); the suite adds the wall time and process CPU
 time of the whole call (which include reading and decoding the frames, and for batch
 mode the first pass and the refinement), and per stage the milliseconds per frame, the
 share of the wall time and the stage's own frames per second.
@@ -29,6 +30,8 @@ HELP = "fps of the whole tracking pipeline and of each stage (detect, flow, solv
 log = logging.getLogger(__name__)
 
 STAGES = ("detect_s", "flow_s", "solve_s", "confidence_s", "reinit_s", "write_s")
+AHEAD_STAGES = ("markings_ahead_s",)
+"""Stages run in the thread that decodes the frames, overlapping STAGES (not part of their sum)."""
 
 
 def add_arguments(parser) -> None:
@@ -110,6 +113,8 @@ def run(args) -> dict:
             "batch_refine_s": summary.get("batch_refine_s"),
             "reinitialisations": summary.get("reinitialisations"),
             "stages": stage_figures(timings, frames, wall_s),
+            "ahead_ms_per_frame": {stage.removesuffix("_s"): round(1000.0 * float(timings.get(stage) or 0.0)
+                                                                   / max(frames, 1), 2) for stage in AHEAD_STAGES},
             "run": str(run_dir),
         }
     return report

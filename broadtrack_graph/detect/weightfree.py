@@ -18,11 +18,14 @@ mapped back to the frame's pixels. Pipeline:
    Hessian method (offset along the line normal, kept when within half a pixel),
    derivatives taken at the candidate pixels only;
 4. naming: with a predicted camera, the template is projected and densified
-   (:mod:`template_image`) and every ridge point takes the class of the nearest
+   (:func:`~broadtrack_graph.geometry.template.project_template`) and every ridge point takes the class of the nearest
    projected sample (k-d tree) when within ``gate_px + gate_sigmas * uncertainty``;
    named points are averaged per small grid cell. Without a prediction only the
    unnamed points and the marking map are returned (re-initialisation then works from
-   the map, see reinit_mask.reinit_from_mask).
+   the map, see :func:`broadtrack_graph.reinit.mask.reinit_from_mask`).
+
+Steps 1-3 need no camera (:meth:`WeightFreeDetector.find_markings`, run by the tracker
+ahead of time in the thread that decodes the frames); step 4 is :meth:`~WeightFreeDetector.name`.
 
 No I/O.
 """
@@ -31,7 +34,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -284,8 +287,14 @@ class WeightFreeDetector:
             grey = cv2.GaussianBlur(grey, (0, 0), sigma)
         return small, grey, scale
 
-    def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
-        """Detect field markings in one (H, W, 3) uint8 BGR frame (see module docstring)."""
+    def find_markings(self, image_bgr: np.ndarray) -> FoundMarkings:
+        """The half of :meth:`detect` that needs no camera: grass, field, players and the marking map.
+
+        The tracker runs it ahead, in the thread that decodes the frames, and names the result
+        with :meth:`name` once the camera is predicted; ``detect(image, predicted)`` is
+        ``name(find_markings(image), predicted)``. Raises ValueError for an image that is not
+        (H, W, 3) uint8.
+        """
         started = time.perf_counter()
         image = check_image(image_bgr)
         H, W = image.shape[:2]
@@ -303,25 +312,54 @@ class WeightFreeDetector:
         # Frames reduced 2x or more to the working width are averaged clean of pixel noise and fine
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass.
         points, _ = self.ridges(grey, allowed, grass if W < 2 * work_w else None)
-        lines = self.name_points(points, predicted, scale, (work_w, work_h)) if predicted is not None else {}
         # The marking map: the accepted centre-line points, one pixel wide at the working size.
         marks = np.zeros((work_h, work_w), dtype=bool)
         if len(points):
             marks[np.clip(np.round(points[:, 1]).astype(int), 0, work_h - 1),
                   np.clip(np.round(points[:, 0]).astype(int), 0, work_w - 1)] = True
-
-        def to_full(p):
-            return (np.asarray(p, float) + 0.5) / scale - 0.5
-
-        return Detections(
+        unnamed = Detections(
             width_px=W, height_px=H,
-            lines_px={name: to_full(p) for name, p in lines.items()},
-            marking_points_px=to_full(_grid_thin(points, self.config.point_spacing_px)),
+            marking_points_px=_to_frame_px(_grid_thin(points, self.config.point_spacing_px), scale),
             marking_mask=marks,
             player_boxes_px=(boxes / scale) if len(boxes) else boxes,
             player_mask=player_mask > 0, field_mask=field > 0,
-            info={"detect_ms": 1000 * (time.perf_counter() - started), "work_scale": scale},
         )
+        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started)
+
+    def name(self, found: FoundMarkings, predicted: PredictedCamera | None = None) -> Detections:
+        """The frame's detections: ``found`` with its points named by the predicted camera (none without one)."""
+        started = time.perf_counter()
+        lines = self.name_points(found.points_work_px, predicted, found.scale, found.work_size) \
+            if predicted is not None else {}
+        detect_s = found.seconds + time.perf_counter() - started
+        return replace(found.unnamed, lines_px={name: _to_frame_px(p, found.scale) for name, p in lines.items()},
+                       info={"detect_ms": 1000 * detect_s, "work_scale": found.scale})
+
+    def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
+        """Detect field markings in one (H, W, 3) uint8 BGR frame (see module docstring)."""
+        return self.name(self.find_markings(image_bgr), predicted)
+
+
+@dataclass(frozen=True)
+class FoundMarkings:
+    """What :meth:`WeightFreeDetector.find_markings` finds in a frame before any camera is known.
+
+    unnamed: the frame's :class:`Detections` without named lines (marking points and map,
+        players, field).
+    points_work_px: (N, 2) sub-pixel centre-line points at the working size (what is named).
+    work_size: (w, h) working size; scale: working / frame pixels; seconds: time it took.
+    """
+
+    unnamed: Detections
+    points_work_px: np.ndarray
+    work_size: tuple[int, int]
+    scale: float
+    seconds: float
+
+
+def _to_frame_px(points_work_px, scale: float) -> np.ndarray:
+    """Working pixels -> frame pixels (pixel centres at integer coordinates in both)."""
+    return (np.asarray(points_work_px, float) + 0.5) / scale - 0.5
 
 
 def cell_means(points: np.ndarray, spacing: float) -> np.ndarray:

@@ -2,14 +2,17 @@
 
 Cheap long inputs for track-many and its benchmark: a 20,000-frame clip is written in
 about a minute, where rendering its frames would take hours. Each frame holds the visible
-line and circle points with pixel noise and outliers (:mod:`broadtrack_graph.graph.simulate`);
-no optical flow (a detections file carries none).
+line and circle points with pixel noise and outliers (:mod:`broadtrack_graph.graph.simulate`),
+kept, like a detector's, only inside the image (the noise pushes a few points near the border
+out of it); no optical flow (a detections file carries none).
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
+from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.simulate import SimulationSettings, simulate_frames
 from broadtrack_graph.io.detections import DetectionsWriter
@@ -31,6 +34,17 @@ def write_synthetic_detections(path: str | Path, frames: int, preset: str = "mai
     temp = path.with_name(path.name + ".partial")
     with DetectionsWriter(temp) as writer:
         for observations in simulate_frames(track.cameras, PitchTemplate(), settings, seed=seed + 1):
-            writer.write(observations, frame_id=f"{observations.frame_index + 1:06d}")
+            writer.write(inside_image(observations), frame_id=f"{observations.frame_index + 1:06d}")
     temp.replace(path)
     return path
+
+
+def inside_image(observations: FrameObservations) -> FrameObservations:
+    """The frame's line points that lie in the image (pixel centres -0.5 .. size - 0.5); empty classes dropped."""
+    w, h = observations.width_px, observations.height_px
+    lines = {}
+    for name, uv in observations.lines_px.items():
+        uv = uv[(uv[:, 0] >= -0.5) & (uv[:, 0] <= w - 0.5) & (uv[:, 1] >= -0.5) & (uv[:, 1] <= h - 0.5)]
+        if len(uv):
+            lines[name] = uv
+    return replace(observations, lines_px=lines)

@@ -155,8 +155,10 @@ class TrackingRun:
         self._prev_keep_mask: np.ndarray | None = None
         self.cuts = 0  # cuts that broke the chain
         self.camera_id: str | None = None  # camera id of the current shot (None: no shot information)
+        # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
+        # in the thread that decodes the frames (overlapping the stages here; see track.passes.run_loop).
         self.timings = {"detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
-                        "write_s": 0.0}
+                        "write_s": 0.0, "markings_ahead_s": 0.0}
 
     def _positions(self):
         """Candidate focal points for re-initialisation: the tripod in use or known, else the defaults."""
@@ -201,12 +203,14 @@ class TrackingRun:
                 started = time.perf_counter()
                 predicted = None if self._lost else predicted_camera(self._history, self._last_std, self.W)
                 try:
-                    detections = mask_graphics(self.detector.detect(frame.image, predicted), frame.graphics_mask)
+                    detections = self._detect(frame, predicted)
                 except ValueError as exc:
                     self._emit_now(frame, STATUS_FAILED, f"detector: {exc}")
                     self._break_chain()
                     return None, None
                 self.timings["detect_s"] += time.perf_counter() - started
+                if frame.markings is not None:
+                    self.timings["markings_ahead_s"] += frame.markings.seconds
             started = time.perf_counter()
             if self.config.use_flow:
                 grey = frame.flow_frame if frame.flow_frame is not None else prepare(frame.image, self.config.flow)
@@ -245,6 +249,14 @@ class TrackingRun:
             return None, detections
         return self._track(frame, observations, detections)
 
+    def _detect(self, frame: FrameInput, predicted: PredictedCamera | None) -> Detections:
+        """The frame's detections without what lies under graphics; from the markings found ahead when there."""
+        if frame.markings is not None:
+            detections = self.detector.name(frame.markings, predicted)
+        else:
+            detections = self.detector.detect(frame.image, predicted)
+        return mask_graphics(detections, frame.graphics_mask)
+
     def _no_pitch(self, observations: FrameObservations, detections: Detections | None) -> bool:
         if detections is not None:
             grass = detections.field_mask.mean() if detections.field_mask is not None else 1.0
@@ -274,8 +286,7 @@ class TrackingRun:
             if (self.detector is not None and frame.image is not None and detections is not None
                     and detections.marking_mask is not None and not observations.lines_px):
                 # Name the markings with the re-initialised camera so the first frame has line factors.
-                redetected = mask_graphics(self.detector.detect(frame.image, PredictedCamera(guess, 3.0)),
-                                           frame.graphics_mask)
+                redetected = self._detect(frame, PredictedCamera(guess, 3.0))
                 observations = redetected.to_observations(frame.frame_index, None)
                 detections = redetected
         started = time.perf_counter()

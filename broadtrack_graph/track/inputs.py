@@ -34,6 +34,7 @@ class FrameInput:
     flow_frame: object | None = None  # prepared for optical flow (frontend.flow.prepare), when done ahead
     shot: object | None = None  # shots.segmenter.FrameShot: cut, view kind and camera id, when shots are detected
     graphics_mask: np.ndarray | None = None  # (h, w) bool static broadcast graphics at any size, or None
+    markings: object | None = None  # detect.weightfree.FoundMarkings: the camera-free half of detection, done ahead
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:

@@ -270,10 +270,20 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
 def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:
     """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
     flow_config = run.config.flow
+    find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
 
     def prepare_ahead(frame: FrameInput) -> FrameInput:
-        if run.config.use_flow and frame.image is not None and frame.flow_frame is None:
+        # In the background thread: what needs no camera, so it overlaps the tracking of the previous frames.
+        if frame.image is None:
+            return frame
+        if run.config.use_flow and frame.flow_frame is None:
             frame.flow_frame = prepare(frame.image, flow_config)
+        other_view = frame.shot is not None and frame.shot.is_other_view
+        if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:
+            try:
+                frame.markings = find_markings(frame.image)
+            except ValueError:
+                pass  # a bad image: the loop's own detection reports it on this frame
         return frame
 
     bar = tqdm(prefetch(frames, prepare_ahead), total=total, desc=f"track {label}", unit="frame", disable=not progress)

@@ -71,6 +71,27 @@ def test_detector_names_markings_within_a_pixel_and_finds_players():
     assert bare.lines_px == {} and len(bare.marking_points_px) > 100
 
 
+def test_found_markings_named_later_are_the_detection():
+    truth = _truth()
+    image, _ = draw_frame(truth)
+    detector = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=480))  # a working size of its own
+    predicted = PredictedCamera(truth.replace(pan_rad=truth.pan_rad + 0.004), uncertainty_px=3.0)
+    found = detector.find_markings(image)
+    assert found.work_size == (480, 270) and found.scale == 0.75 and found.seconds > 0
+    assert found.unnamed.lines_px == {} and found.unnamed.marking_mask.shape == (270, 480)
+    whole, later = detector.detect(image, predicted), detector.name(found, predicted)
+    assert later.lines_px.keys() == whole.lines_px.keys() and len(later.lines_px) >= 4
+    for name, points in whole.lines_px.items():
+        np.testing.assert_array_equal(later.lines_px[name], points)
+    for mask in ("marking_mask", "field_mask", "player_mask"):
+        np.testing.assert_array_equal(getattr(later, mask), getattr(whole, mask))
+    np.testing.assert_array_equal(later.marking_points_px, whole.marking_points_px)
+    np.testing.assert_array_equal(later.player_boxes_px, whole.player_boxes_px)
+    assert later.info["work_scale"] == 0.75 and later.info["detect_ms"] >= 1000 * found.seconds
+    # The named result is a new object: the found markings can be named again with another camera.
+    assert found.unnamed.lines_px == {} and detector.name(found).lines_px == {}
+
+
 def test_confidence_high_for_the_true_camera_low_for_a_wrong_one():
     truth = _truth()
     image, _ = draw_frame(truth, players=0)

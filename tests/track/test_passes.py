@@ -54,6 +54,19 @@ def test_online_tracking_recovers_the_clip(clip, tmp_path):
     assert 0 < record["pan_std_deg"] < 1 and 0 < record["focal_std_px"] < 200
 
 
+def test_markings_found_ahead_in_the_decoding_thread_change_no_camera(clip, tmp_path, monkeypatch):
+    from broadtrack_graph.io.prefetch import PREFETCH_ENV
+
+    ahead = track_input(clip, tmp_path / "ahead", TrackingConfig(mode="online"), progress=False)
+    monkeypatch.setenv(PREFETCH_ENV, "0")  # one thread: the same steps, in the caller's thread
+    inline = track_input(clip, tmp_path / "inline", TrackingConfig(mode="online"), progress=False)
+    assert ahead.summary["timings_s"]["markings_ahead_s"] > 0
+    assert inline.summary["timings_s"]["markings_ahead_s"] > 0  # found by the same step, in the one thread
+    files = sorted((tmp_path / "ahead" / "cameras").glob("*.json"))
+    assert len(files) == FRAMES
+    assert all(f.read_bytes() == (tmp_path / "inline" / "cameras" / f.name).read_bytes() for f in files)
+
+
 def test_fixed_lag_outputs_every_frame_in_order(clip, tmp_path):
     track_input(clip, tmp_path / "lag", TrackingConfig(mode="fixed-lag", lag_frames=5), progress=False)
     frames = [json.loads(line)["frame"] for line in (tmp_path / "lag" / "track.jsonl").read_text().splitlines()]
