@@ -32,7 +32,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.template import TemplateCurves, project_template
+from broadtrack_graph.geometry.template import KDTREE_FAST_BUILD, TemplateCurves, project_template
 
 DEFAULT_THRESHOLD = 0.5
 
@@ -94,9 +94,9 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     tol = config.tolerance_px
     recall = precision = 0.0
     if len(uv) and len(marks_uv):
-        d_template, _ = cKDTree(marks_uv).query(uv, distance_upper_bound=tol)
+        d_template, _ = cKDTree(marks_uv, **KDTREE_FAST_BUILD).query(uv, distance_upper_bound=tol)
         recall = float(np.sum(np.isfinite(d_template)) / max(len(uv), config.min_template_px))
-        d_marks, _ = cKDTree(uv).query(marks_uv, distance_upper_bound=tol)
+        d_marks, _ = cKDTree(uv, **KDTREE_FAST_BUILD).query(marks_uv, distance_upper_bound=tol)
         precision = float(np.mean(np.isfinite(d_marks)))
     b2 = config.beta**2
     score = (1 + b2) * precision * recall / (b2 * precision + recall) if precision + recall > 0 else 0.0

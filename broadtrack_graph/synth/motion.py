@@ -152,8 +152,26 @@ PRESETS: dict[str, MotionPreset] = {
         lambda_wide_m=0.05, lambda_tele_m=0.45, k1_wide=0.045, k1_tele=0.008,
         player_count=22, player_spread_m=22.0,
     ),
+    # A lower-league ground: the camera on a low gantry at the halfway line, 7 m behind the touchline
+    # and 5.5 m up, held wider. The far half of the pitch is seen at a grazing angle (its markings a
+    # pixel or two thin), so fewer markings are in view and the near ones dominate.
+    "low": MotionPreset(
+        name="low", tripod_T_w=(0.0, 41.0, -5.5), delta_m=0.18,
+        ball_x_range_m=(-48.0, 48.0), ball_y_range_m=(-28.0, 28.0),
+        hfov_range_deg=(22.0, 60.0), hfov_typical_deg=44.0,
+        dribble_speed_mps=(1.5, 7.0), pass_speed_mps=(12.0, 22.0), pass_probability=0.2, pause_probability=0.15,
+        follow_time_s=0.5, zoom_time_s=1.2,
+        sparse_zoom_per_min=1.0, sparse_zoom_hfov_deg=(20.0, 26.0), sparse_zoom_duration_s=(2.0, 4.0),
+        aim_offset_y_m=4.0, aim_x_range_m=(-38.0, 38.0), aim_y_range_m=(-14.0, 22.0), jitter_deg=0.015,
+        roll_max_deg=0.3, lambda_wide_m=0.04, lambda_tele_m=0.3, k1_wide=0.06, k1_tele=0.012,
+        player_count=22, player_spread_m=22.0,
+    ),
 }
 """Preset name -> camera placement and operating style."""
+
+PRESET_STREAMS = ("16m", "hard", "high-behind", "long", "main", "wide", "low")
+"""The random stream of each preset's clips, by position: fixed, so a new preset (added at the end) changes no
+existing clip."""
 
 
 @dataclass
@@ -337,7 +355,7 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     """A smooth broadcast camera track on a fixed tripod.
 
     Args:
-        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long").
+        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low").
         frame_count: number of frames (>= 1), at FPS = 25.
         width_px, height_px: image size of the cameras.
         seed: random seed; the same arguments always give the same track.
@@ -355,7 +373,7 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     if width_px <= 0 or height_px <= 0:
         raise ValueError(f"image size must be positive, got {width_px}x{height_px}")
     # Separate random streams per component keep a short clip the beginning of a long one.
-    key = (int(seed), sorted(PRESETS).index(preset))
+    key = (int(seed), PRESET_STREAMS.index(preset))
     T_w = np.asarray(spec.tripod_T_w, dtype=float)
     tripod = Tripod(tuple(float(v) for v in T_w), float(spec.delta_m))
 

@@ -9,6 +9,7 @@ import pytest
 
 from broadtrack_graph.geometry.tripod import focal_point, tripod_residual, zoom_lambda
 from broadtrack_graph.synth.motion import (
+    PRESET_STREAMS,
     PRESETS,
     generate_camera_track,
     k1_from_focal,
@@ -34,6 +35,21 @@ def test_deterministic_for_a_seed_and_different_across_seeds():
     c = np.array([c.to_vector() for c in generate_camera_track("main", 60, 480, 270, seed=8).cameras])
     np.testing.assert_array_equal(a, b)
     assert np.abs(a - c).max() > 1e-3
+
+
+def test_every_preset_has_its_own_fixed_random_stream():
+    assert sorted(PRESET_STREAMS) == sorted(PRESETS) and len(set(PRESET_STREAMS)) == len(PRESETS)
+    # The first six were numbered by sorted name before "low" was added: their clips must not change.
+    assert PRESET_STREAMS[:6] == ("16m", "hard", "high-behind", "long", "main", "wide")
+
+
+def test_low_preset_is_a_closer_lower_camera_with_flatter_views():
+    low = generate_camera_track("low", 500, 1280, 720, seed=0)
+    main = generate_camera_track("main", 500, 1280, 720, seed=0)
+    assert low.tripod.T_w[2] > main.tripod.T_w[2] + 6 and low.tripod.T_w[1] < main.tripod.T_w[1] - 12
+    tilt_low = np.degrees([c.tilt_rad for c in low.cameras])
+    tilt_main = np.degrees([c.tilt_rad for c in main.cameras])
+    assert np.median(tilt_low) > np.median(tilt_main) + 1.5  # closer to horizontal (tilt 90 deg)
 
 
 def test_main_preset_looks_like_a_broadcast_main_camera():
