@@ -166,14 +166,23 @@ def reinit_from_mask(
     jac = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
     result = ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
                           f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
-    if positions_w is None and config.far_positions_w and jac < config.far_retry_below:
+    if positions_w is None:
         # The fitted camera is not confident: a camera further back, seen as a nearer one with a shorter
         # focal length, fits the centre circle and halfway line and misses both touchlines. The far
-        # positions get a search of their own (the first of them preferred); the better camera wins.
-        far = reinit_from_mask(marking_mask, marking_points_px, frame_size, pitch, config.far_positions_w, config,
-                               curves, field_mask)
-        if far.camera is not None and far.score.jaccard > jac:
-            return replace(far, tried=far.tried + len(hypotheses))
+        # positions get a search of their own (the first of them preferred), then, still not confident, each
+        # near one of a lower-league ground; the best camera wins.
+        retries = [config.far_positions_w] if config.far_positions_w else []
+        retries += [(position,) for position in config.near_positions_w]
+        tried = len(hypotheses)
+        for retry_positions in retries:
+            if result.score.jaccard >= config.far_retry_below:
+                break
+            other = reinit_from_mask(marking_mask, marking_points_px, frame_size, pitch, retry_positions, config,
+                                     curves, field_mask)
+            tried += other.tried
+            if other.camera is not None and other.score.jaccard > result.score.jaccard:
+                result = other
+        result = replace(result, tried=tried)
     return result
 
 

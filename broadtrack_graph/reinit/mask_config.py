@@ -78,6 +78,11 @@ class MaskSearchConfig:
     poor_score: float = 0.35  # when no hypothesis at the default tripods scores this well, these are tried too:
     far_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 75.0, -16.5), (0.0, 100.0, -22.0))
     far_retry_below: float = 0.5  # ... and searched on their own when the best fitted camera's confidence is below this
+    # Lower-league grounds: a low gantry a few metres behind the near touchline. So close to the pitch the
+    # image changes fast with the focal point (a guess 4-5 m off does not converge), hence several guesses,
+    # searched on their own, each of them, when neither the default nor the far positions gave a confident camera.
+    near_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 41.0, -6.0), (0.0, 45.0, -8.0),
+                                                                 (0.0, 38.5, -4.5))
     # Local polish of the best distinct hypotheses on the map score (polish_locally): pan, tilt and f moved
     # in a pattern search whose step shifts the image by this share of the width, halved down to the minimum.
     local_polish_top_k: int = 12  # 0: off

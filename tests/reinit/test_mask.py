@@ -63,3 +63,27 @@ def test_reinit_from_mask_on_the_real_broadcast_frame():
     assert front[0] and camera.in_image(uv[:1])[0] and not camera.in_image(uv[1:])[0]
     assert 10.0 < camera.pan_deg < 40.0 and 75.0 < camera.tilt_deg < 85.0
     assert camera.position_m[1] > 40.0 and camera.position_m[2] < -8.0  # behind the near touchline, above the pitch
+
+
+def test_reinit_from_mask_locks_a_lower_league_camera_through_the_near_positions():
+    from dataclasses import replace
+
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+    from broadtrack_graph.synth.clip import render_clip
+    from broadtrack_graph.synth.motion import generate_camera_track
+
+    # The `low` preset: 7 m behind the touchline, 5.5 m up, none of the default or far tripod guesses near it.
+    track = generate_camera_track("low", 1, 1920, 1080, seed=0)
+    frame = render_clip("low", 1, 1920, 1080, seed=0, cameras=[track.cameras[0]]).frames[0]
+    det = WeightFreeDetector(PITCH).detect(frame.image)
+    args = (det.marking_mask, det.marking_points_px, (1920, 1080), PITCH)
+    found = reinit_from_mask(*args, curves=CURVES, field_mask=det.field_mask)
+    assert found.camera is not None and found.score.jaccard > 0.6
+    assert _median_template_error_px(found.camera, frame.camera) < 5.0
+    assert np.linalg.norm(found.camera.position_m - frame.camera.position_m) < 1.5
+    # Without the near positions the search settles on a wrong, unconfident camera.
+    without = reinit_from_mask(*args, config=replace(MaskSearchConfig(), near_positions_w=()), curves=CURVES,
+                               field_mask=det.field_mask)
+    assert without.camera is None or without.score.jaccard < 0.5
+    assert without.camera is None or _median_template_error_px(without.camera, frame.camera) > 20.0
