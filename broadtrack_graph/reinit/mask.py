@@ -169,18 +169,20 @@ def reinit_from_mask(
     if positions_w is None:
         # The fitted camera is not confident: a camera further back, seen as a nearer one with a shorter
         # focal length, fits the centre circle and halfway line and misses both touchlines. The far
-        # positions get a search of their own (the first of them preferred), then, still not confident, each
-        # near one of a lower-league ground; the best camera wins.
-        retries = [config.far_positions_w] if config.far_positions_w else []
-        retries += [(position,) for position in config.near_positions_w]
+        # positions get a search of their own (the first of them preferred); the better camera wins. Still not
+        # confident: each near position of a lower-league ground, whose camera is taken only when confident and
+        # clearly better (a last resort: on a main camera's hard frame a near camera can fit clutter a little better).
+        retries = [(config.far_positions_w, 0.0, 0.0)] if config.far_positions_w else []
+        retries += [((position,), config.far_retry_below, config.near_margin) for position in config.near_positions_w]
         tried = len(hypotheses)
-        for retry_positions in retries:
+        for retry_positions, at_least, margin in retries:
             if result.score.jaccard >= config.far_retry_below:
                 break
             other = reinit_from_mask(marking_mask, marking_points_px, frame_size, pitch, retry_positions, config,
                                      curves, field_mask)
             tried += other.tried
-            if other.camera is not None and other.score.jaccard > result.score.jaccard:
+            if other.camera is not None and other.score.jaccard > result.score.jaccard + margin \
+                    and other.score.jaccard >= at_least:
                 result = other
         result = replace(result, tried=tried)
     return result

@@ -83,6 +83,7 @@ class MaskSearchConfig:
     # searched on their own, each of them, when neither the default nor the far positions gave a confident camera.
     near_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 41.0, -6.0), (0.0, 45.0, -8.0),
                                                                  (0.0, 38.5, -4.5))
+    near_margin: float = 0.15  # a near camera replaces the best so far only when confident and this much better
     # Local polish of the best distinct hypotheses on the map score (polish_locally): pan, tilt and f moved
     # in a pattern search whose step shifts the image by this share of the width, halved down to the minimum.
     local_polish_top_k: int = 12  # 0: off
