@@ -32,9 +32,17 @@ def read_camera_file(path: str | Path, width_px: int | None = None, height_px: i
         raise InputError(path, str(exc)) from None
 
 
-def write_camera_file(path: str | Path, camera: Camera, width_px: int | None = None, height_px: int | None = None) -> None:
-    """Write a SoccerNet camera file (atomically) with intrinsics at (width_px, height_px)."""
-    write_json_atomic(path, camera.to_soccernet_dict(width_px, height_px), indent=None)
+def write_camera_file(path: str | Path, camera: Camera, width_px: int | None = None, height_px: int | None = None,
+                      camera_id: str | None = None) -> None:
+    """Write a SoccerNet camera file (atomically) with intrinsics at (width_px, height_px).
+
+    camera_id: the broadcast camera the frame was taken with (``main``, ``high-behind-1``, ...), stored
+    as an extra ``camera_id`` key (readers of the SoccerNet format look up their keys by name).
+    """
+    data = camera.to_soccernet_dict(width_px, height_px)
+    if camera_id is not None:
+        data["camera_id"] = str(camera_id)
+    write_json_atomic(path, data, indent=None)
 
 
 def list_camera_files(folder: str | Path) -> dict[str, Path]:

@@ -162,12 +162,13 @@ class RunFolder:
                     removed += 1
         return removed
 
-    def write_camera(self, frame_id: str | int, camera: Camera, also_960x540: bool = False) -> str:
-        """Write one frame's camera file(s) atomically; returns its path relative to the folder."""
+    def write_camera(self, frame_id: str | int, camera: Camera, also_960x540: bool = False,
+                     camera_id: str | None = None) -> str:
+        """Write one frame's camera file(s) atomically (with the broadcast camera's id); returns its relative path."""
         name = camera_file_name(frame_id)
-        write_camera_file(self.camera_dir / name, camera)
+        write_camera_file(self.camera_dir / name, camera, camera_id=camera_id)
         if also_960x540:
-            write_camera_file(self.camera_dir_960 / name, camera, 960, 540)
+            write_camera_file(self.camera_dir_960 / name, camera, 960, 540, camera_id=camera_id)
         return f"{CAMERA_DIR}/{name}"
 
     def camera_files(self) -> dict[str, Path]:

@@ -5,7 +5,8 @@
     frame (0-based index), frame_id, time_s, status, reason,
     pan_deg, tilt_deg, roll_deg, focal_px (at the input resolution), k1, position_m [x, y, z],
     pan_std_deg, tilt_std_deg, roll_std_deg, focal_std_px, k1_std, position_std_m [x, y, z],
-    confidence (0..1), reinitialised (bool), active_factors (list of names), camera_file.
+    confidence (0..1), reinitialised (bool), active_factors (list of names), camera_file,
+    camera_id (the broadcast camera of the frame: ``main``, ``high-behind-1``, ...; null when not known).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ STATUS_MISSING_FRAME = "missing-frame"
 STATUS_FAILED = "failed"
 STATUS_MOTION_PRIOR = "motion-prior"  # no detections: the solver carried the track on, but no camera is claimed
 STATUS_OTHER_VIEW = "other-view"  # a close-up, crowd or other shot that is not the tracked camera's view
+STATUS_UNPLACED = "unplaced"  # a pitch view no camera was found for (yet): the reason says when the next search runs
 STATUSES = (
     # one line per status (a record's status is one of these)
     STATUS_TRACKED,
@@ -35,6 +37,7 @@ STATUSES = (
     STATUS_FAILED,
     STATUS_MOTION_PRIOR,
     STATUS_OTHER_VIEW,
+    STATUS_UNPLACED,
 )
 """Frame statuses. A record has a camera exactly when its status is tracked or reinitialised: a
 ``motion-prior`` frame (carried by the motion prior alone, for at most ``max_motion_prior_frames``)
@@ -61,6 +64,7 @@ class TrackRecord:
     status: one of :data:`STATUSES`.
     reason: one line explaining a status other than tracked, or None.
     active_factors: names of the factor kinds used for this frame (e.g. "lines", "flow", "tripod").
+    camera_id: the broadcast camera the frame belongs to (None when not known).
     """
 
     frame_index: int
@@ -73,6 +77,7 @@ class TrackRecord:
     status: str = STATUS_TRACKED
     reason: str | None = None
     active_factors: tuple[str, ...] = ()
+    camera_id: str | None = None
 
     def __post_init__(self) -> None:
         if self.status not in STATUSES:
@@ -115,6 +120,7 @@ class TrackRecord:
             "reinitialised": bool(self.reinitialised),
             "active_factors": list(self.active_factors),
             "camera_file": camera_file,
+            "camera_id": self.camera_id,
         }
 
     @classmethod
@@ -151,6 +157,7 @@ class TrackRecord:
                 status=str(data.get("status", STATUS_TRACKED if camera is not None else STATUS_FAILED)),
                 reason=data.get("reason"),
                 active_factors=tuple(data.get("active_factors") or ()),
+                camera_id=None if data.get("camera_id") is None else str(data["camera_id"]),
             )
         except (KeyError, TypeError, ValueError) as exc:
             raise ValueError(f"bad track record: {exc}") from None

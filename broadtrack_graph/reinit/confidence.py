@@ -19,7 +19,10 @@ ground inside the pitch plus ``field_margin_m`` (:func:`field_coverage`) below
 ``min_field_coverage`` scales the score by that shortfall. A recall-weighted score
 alone can be fooled by a zoomed camera that lays one touchline on the advertising
 boards and the rest of its pitch out of view: it explains one line and leaves the
-grass in the image off its pitch. Below ``threshold`` (0.5, BroadTrack) the
+grass in the image off its pitch. Where the camera shows a goal (posts, crossbar and the
+net, a box ``goal_depth_m`` deep behind the goal line, ``goal_margin_m`` wider and higher),
+neither set counts: a net is a dense mesh of thin white lines that no ground marking explains,
+and a camera behind or beside a goal sees much of it. Below ``threshold`` (0.5, BroadTrack) the
 tracker re-initialises and ignores flow from the previous camera. No I/O.
 """
 
@@ -51,6 +54,8 @@ class ConfidenceConfig:
     min_field_coverage: float = 0.7  # below this share of explained grass the score is scaled by share / this
     field_grid_px: int = 8  # the field map is checked on a grid this coarse (working pixels)
     threshold: float = DEFAULT_THRESHOLD  # below: re-initialise
+    goal_depth_m: float = 2.5  # the goals' volume left out of both sets: this deep behind the goal line ...
+    goal_margin_m: float = 0.5  # ... and this much wider, higher and in front of it (0 depth: not left out)
 
 
 def _resized(mask: np.ndarray, w: int, h: int) -> np.ndarray:
@@ -91,6 +96,12 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
         uv = uv[keep]
     if field_mask is not None and len(marks_uv):
         marks_uv = marks_uv[_resized(field_mask, w, h)[marks_uv[:, 1].astype(int), marks_uv[:, 0].astype(int)]]
+    goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
+    if goals is not None:
+        if len(uv):
+            uv = uv[~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]]
+        if len(marks_uv):
+            marks_uv = marks_uv[~goals[marks_uv[:, 1].astype(int), marks_uv[:, 0].astype(int)]]
     tol = config.tolerance_px
     recall = precision = 0.0
     if len(uv) and len(marks_uv):
@@ -107,6 +118,40 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
         score *= min(1.0, coverage / config.min_field_coverage) if config.min_field_coverage > 0 else 1.0
     return {"confidence": float(score), "precision": precision, "recall": recall, "field_coverage": coverage,
             "template_samples": int(len(uv)), "marking_pixels": int(len(marks_uv))}
+
+
+def goal_region(camera: Camera, width_px: int, height_px: int, pitch, depth_m: float = 2.5,
+                margin_m: float = 0.5) -> np.ndarray | None:
+    """(height_px, width_px) bool map of the image covered by the goals (posts, crossbar, net), or None if none.
+
+    Each goal is a box from ``margin_m`` in front of its goal line to ``depth_m`` behind it, the goal's
+    width and height plus ``margin_m``; the map is the union of the boxes' projected hulls (a box with a
+    corner behind the camera is left out).
+
+    Args:
+        camera: any resolution (the map is at width_px x height_px).
+        pitch: the template (its dimensions).
+    """
+    if depth_m <= 0:
+        return None
+    d = pitch.dimensions
+    half_y = d.goal_width_m / 2 + margin_m
+    region = None
+    scale = width_px / camera.width_px
+    for side in (-1.0, 1.0):
+        xs = side * np.array([d.length_m / 2 - margin_m, d.length_m / 2 + depth_m])
+        corners = np.array([[x, y, z] for x in xs for y in (-half_y, half_y) for z in (margin_m, -d.goal_height_m - margin_m)])
+        uv, front = camera.project(corners)
+        if not front.all() or not np.isfinite(uv).all():
+            continue
+        uv = uv * scale
+        if (uv[:, 0].max() < 0 or uv[:, 0].min() >= width_px or uv[:, 1].max() < 0 or uv[:, 1].min() >= height_px
+                or np.abs(uv).max() > 1e6):
+            continue
+        if region is None:
+            region = np.zeros((height_px, width_px), np.uint8)
+        cv2.fillConvexPoly(region, cv2.convexHull(np.round(uv).astype(np.int32)), 1)
+    return None if region is None else region.astype(bool)
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:

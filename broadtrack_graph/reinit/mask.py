@@ -64,10 +64,11 @@ def reinit_from_mask(
     3. The best distinct hypotheses are fitted in turn (:func:`refine_on_map`: name the marking
        points by the nearest projected class, :func:`fit_camera_to_lines`, shrinking gate; the
        wide schedule as well on poorly scoring ones) and ranked by a fine fit score; the
-       best-scoring hypothesis is kept unless a later one fits ``switch_margin`` better.
+       best-scoring hypothesis is kept unless a later one fits ``fit_switch_margin`` better.
 
     The returned score is the confidence of the camera (``score.jaccard``,
-    confidence.camera_confidence).
+    confidence.camera_confidence). One search: which positions to try next when its camera is not
+    confident is the tracker's decision (:mod:`broadtrack_graph.track.reinit_policy`).
 
     Args:
         marking_mask: bool marking map (frame size or a reduced size of the same aspect ratio).
@@ -156,7 +157,7 @@ def reinit_from_mask(
         # The best-scoring hypothesis is kept unless a later one fits clearly better: on sparse or blurred
         # markings a fit can slide along the focal length / distance trade-off onto clutter, or push
         # undetected markings out of the image, and look a little better.
-        if best is None or score > best[0] + (config.switch_margin if best[3] else 0.0):
+        if best is None or score > best[0] + (config.fit_switch_margin if best[3] else 0.0):
             best = (score, camera, C, best is None)
         if score >= config.accept_fit_score:
             break
@@ -164,28 +165,8 @@ def reinit_from_mask(
         return ReinitResult(None, None, "", "no hypothesis could be fitted", len(hypotheses))
     _, camera, position, _ = best
     jac = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
-    result = ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
-                          f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
-    if positions_w is None:
-        # The fitted camera is not confident: a camera further back, seen as a nearer one with a shorter
-        # focal length, fits the centre circle and halfway line and misses both touchlines. The far
-        # positions get a search of their own (the first of them preferred); the better camera wins. Still not
-        # confident: each near position of a lower-league ground, whose camera is taken only when confident and
-        # clearly better (a last resort: on a main camera's hard frame a near camera can fit clutter a little better).
-        retries = [(config.far_positions_w, 0.0, 0.0)] if config.far_positions_w else []
-        retries += [((position,), config.far_retry_below, config.near_margin) for position in config.near_positions_w]
-        tried = len(hypotheses)
-        for retry_positions, at_least, margin in retries:
-            if result.score.jaccard >= config.far_retry_below:
-                break
-            other = reinit_from_mask(marking_mask, marking_points_px, frame_size, pitch, retry_positions, config,
-                                     curves, field_mask)
-            tried += other.tried
-            if other.camera is not None and other.score.jaccard > result.score.jaccard + margin \
-                    and other.score.jaccard >= at_least:
-                result = other
-        result = replace(result, tried=tried)
-    return result
+    return ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
+                        f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
 
 
 def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: TemplateCurves,

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+from broadtrack_graph.reinit.positions import FAR_MAIN_POSITIONS_W
 
 
 @dataclass(frozen=True)
@@ -76,14 +77,7 @@ class MaskSearchConfig:
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
     other_position_factor: float = 0.95  # scores at focal points other than the first candidate count this much
     poor_score: float = 0.35  # when no hypothesis at the default tripods scores this well, these are tried too:
-    far_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 75.0, -16.5), (0.0, 100.0, -22.0))
-    far_retry_below: float = 0.5  # ... and searched on their own when the best fitted camera's confidence is below this
-    # Lower-league grounds: a low gantry a few metres behind the near touchline. So close to the pitch the
-    # image changes fast with the focal point (a guess 4-5 m off does not converge), hence several guesses,
-    # searched on their own, each of them, when neither the default nor the far positions gave a confident camera.
-    near_positions_w: tuple[tuple[float, float, float], ...] = ((0.0, 41.0, -6.0), (0.0, 45.0, -8.0),
-                                                                 (0.0, 38.5, -4.5))
-    near_margin: float = 0.15  # a near camera replaces the best so far only when confident and this much better
+    far_positions_w: tuple[tuple[float, float, float], ...] = FAR_MAIN_POSITIONS_W
     # Local polish of the best distinct hypotheses on the map score (polish_locally): pan, tilt and f moved
     # in a pattern search whose step shifts the image by this share of the width, halved down to the minimum.
     local_polish_top_k: int = 12  # 0: off
@@ -94,7 +88,7 @@ class MaskSearchConfig:
     refine_cost_share: float = 0.88  # ... after the first, only those scoring this share of its score ...
     max_fits: int = 5  # ... with at most this many label-and-fit runs in all ...
     accept_fit_score: float = 0.6  # ... stopping once a fit scores this (fit score below)
-    switch_margin: float = 0.1  # a later hypothesis replaces the best-scoring one when its fit scores this higher
+    fit_switch_margin: float = 0.1  # within one search: a later hypothesis replaces the best-scoring one when its fit score is this higher
     fit_template_step_m: float = 0.5  # the fit score: the score with a denser template, more points
     fit_max_points: int = 1000  # and tolerances of about 2 and 3 px at 1920
     fit_hit_px: float = 0.7

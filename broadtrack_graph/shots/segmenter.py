@@ -3,13 +3,20 @@
 A frame's view is decided from the frame and from its shot so far: once a shot has
 ``vote_frames`` frames, the majority of them decides for the rest of the shot (a
 close-up whose player steps aside for a frame stays a close-up), before that each
-frame's own classification counts. Camera ids: every shot of the main view gets
-:data:`MAIN_CAMERA_ID`; other views have none (they are not tracked).
+frame's own classification counts. When ``view_change_frames`` pitch-view frames in a row
+follow in a shot whose majority is a no-pitch view, a new shot starts at the first of them (a cut or a dissolve the cut step missed:
+a close-up melting into the main camera's centre-circle view must not stay a close-up).
+
+The camera of a pitch shot is not known here: the tracker finds it (its camera id names
+the tripod it stands on, :mod:`broadtrack_graph.track.camera_ids`) and :func:`place_shot`
+writes it into the shot: kind ``main`` (the main camera), ``other-camera`` (another pitch
+camera: behind a goal, near a corner, ...) or ``pitch`` (a pitch view no camera was
+placed for); ``close-up`` and ``crowd`` shots have no camera.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -17,7 +24,12 @@ from broadtrack_graph.shots.cuts import CutConfig, CutDetector
 from broadtrack_graph.shots.views import VIEW_MAIN, ViewConfig, classify_view
 
 MAIN_CAMERA_ID = "main"
-"""Camera id of the tracked (main, wide) camera's shots."""
+"""Camera id of the main camera's shots."""
+
+KIND_MAIN, KIND_OTHER_CAMERA, KIND_PITCH = "main", "other-camera", "pitch"
+NO_PITCH_KINDS = ("close-up", "crowd")
+SHOT_KINDS = (KIND_MAIN, KIND_OTHER_CAMERA, KIND_PITCH, *NO_PITCH_KINDS)
+"""Kinds of a shot: a pitch camera's (main, another, or not placed) or a view with no pitch to fit."""
 
 
 @dataclass(frozen=True)
@@ -27,6 +39,7 @@ class ShotConfig:
     cuts: CutConfig = CutConfig()  # boundary detection
     views: ViewConfig = ViewConfig()  # view classification
     vote_frames: int = 5  # frames of a shot after which its majority view decides
+    view_change_frames: int = 8  # pitch-view frames in a row in a no-pitch shot start a new (pitch) shot
 
 
 @dataclass
@@ -34,9 +47,10 @@ class Shot:
     """A run of frames between two boundaries.
 
     start, end: first frame index and one past the last (0-based, end exclusive).
-    kind: the majority view of its frames ("main", "close-up", "crowd").
-    camera_id: :data:`MAIN_CAMERA_ID` for main-view shots, None for other views.
-    boundary: how it began: "start" (first frame of the input), "hard" or "dissolve".
+    kind: one of :data:`SHOT_KINDS`: the majority view of its frames ("main" for a pitch view,
+        "close-up", "crowd") until :func:`place_shot` names the pitch camera.
+    camera_id: the pitch camera's id (set by the tracker), None for other views or when unknown.
+    boundary: how it began: "start" (first frame of the input), "hard", "dissolve" or "view" (a view change).
     views: frames per view kind.
     """
 
@@ -54,20 +68,19 @@ class FrameShot:
 
     shot_index: 0-based index of the frame's shot.
     cut: True when the frame starts a shot (the first frame of the input included).
-    kind: the frame's view ("main" or another view).
-    camera_id: the camera to track this frame with, or None (another view: no camera).
+    kind: the frame's view ("main": a pitch view; or a view with no pitch: close-up, crowd).
     reason: one line (the view's figures).
     """
 
     shot_index: int
     cut: bool
     kind: str
-    camera_id: str | None
     reason: str
 
     @property
     def is_other_view(self) -> bool:
-        return self.camera_id is None
+        """A view with no pitch camera to fit (close-up, crowd)."""
+        return self.kind != VIEW_MAIN
 
 
 class ShotSegmenter:
@@ -77,7 +90,8 @@ class ShotSegmenter:
         self.config = config
         self.cuts = CutDetector(config.cuts)
         self.shots: list[Shot] = []
-        self._next_index = 0
+        self._disagree = 0  # frames in a row whose view differs from the current shot's majority
+        self._recent: list[str] = []  # the views of the last frames
 
     def update(self, frame_index: int, image_bgr: np.ndarray | None) -> FrameShot | None:
         """The shot information of frame ``frame_index`` ((H, W, 3) uint8 BGR; None: a missing frame).
@@ -90,9 +104,23 @@ class ShotSegmenter:
             return None
         boundary = self.cuts.update(image_bgr)
         view = classify_view(image_bgr, self.config.views)
-        if boundary.cut or not self.shots:
-            self.shots.append(Shot(frame_index, frame_index + 1, view.kind, None,
-                                   "start" if not self.shots else (boundary.kind or "hard")))
+        cut = bool(boundary.cut)
+        if self.shots and not cut:
+            shot = self.shots[-1]
+            majority = max(shot.views, key=shot.views.get)
+            # Only a pitch view ends a no-pitch shot this way: a zoomed main-camera view taken for a close-up
+            # must not break a tracked shot (the tracker's confidence judges those frames).
+            self._disagree = self._disagree + 1 if (view.kind == VIEW_MAIN and majority != VIEW_MAIN) else 0
+            if self._disagree >= self.config.view_change_frames and sum(shot.views.values()) >= self.config.vote_frames:
+                # The view changed without a cut being seen: the disagreeing frames start a new shot.
+                self._split(frame_index)
+                cut = True
+        if cut or not self.shots:
+            self._disagree = 0
+            if not self.shots or boundary.cut:
+                self.shots.append(Shot(frame_index, frame_index + 1, view.kind, None,
+                                       "start" if not self.shots else (boundary.kind or "hard")))
+        self._recent = (self._recent + [view.kind])[-self.config.view_change_frames:]
         shot = self.shots[-1]
         shot.end = frame_index + 1
         shot.views[view.kind] = shot.views.get(view.kind, 0) + 1
@@ -100,7 +128,31 @@ class ShotSegmenter:
         majority = max(shot.views, key=shot.views.get)
         kind = majority if total >= self.config.vote_frames else view.kind
         shot.kind = majority
-        shot.camera_id = MAIN_CAMERA_ID if majority == VIEW_MAIN else None
         reason = view.reason if kind == view.kind else f"{kind} shot ({shot.views.get(kind, 0)} of {total} frames); {view.reason}"
-        return FrameShot(len(self.shots) - 1, bool(boundary.cut), kind,
-                         MAIN_CAMERA_ID if kind == VIEW_MAIN else None, reason)
+        return FrameShot(len(self.shots) - 1, cut, kind, reason)
+
+    def _split(self, frame_index: int) -> None:
+        """Start a new shot at the first of the disagreeing frames before frame_index (they move to it)."""
+        shot = self.shots[-1]
+        start = frame_index - (self.config.view_change_frames - 1)
+        moved = self._recent[-(self.config.view_change_frames - 1):] if self.config.view_change_frames > 1 else []
+        for kind in moved:
+            shot.views[kind] -= 1
+            if not shot.views[kind]:
+                del shot.views[kind]
+        shot.end = start
+        shot.kind = max(shot.views, key=shot.views.get) if shot.views else shot.kind
+        new = Shot(start, start, moved[0] if moved else "main", None, "view")
+        for kind in moved:
+            new.views[kind] = new.views.get(kind, 0) + 1
+        self.shots.append(new)
+
+
+def place_shot(shot: Shot, camera_id: str | None) -> Shot:
+    """The shot with its pitch camera named (module docstring); no-pitch shots are returned as they are."""
+    if shot.kind in NO_PITCH_KINDS:
+        return replace(shot, camera_id=None)
+    if camera_id is None:
+        return replace(shot, kind=KIND_PITCH, camera_id=None)
+    kind = KIND_MAIN if camera_id == MAIN_CAMERA_ID else KIND_OTHER_CAMERA
+    return replace(shot, kind=kind, camera_id=camera_id)

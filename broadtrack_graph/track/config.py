@@ -22,7 +22,17 @@ class TrackingConfig:
     lag_frames: int = 25  # fixed-lag: future frames used before a frame is released
     confidence_threshold: float = DEFAULT_THRESHOLD  # below: re-initialise and distrust flow from this frame
     lost_confidence: float = 0.2  # below this (after a failed re-initialisation): lost, search globally
-    reinit_switch_margin: float = 0.05  # an unconfident re-initialised camera replaces the held one only when this much better
+    # The one margin of re-initialisation: a camera that is not confident replaces another (the held camera of a
+    # trusted chain, a refined guess, an earlier search stage's camera) only when this much more confident.
+    reinit_switch_margin: float = 0.1
+    cheap_reinit: bool = True  # a lost frame first tries the last confident cameras, refined (False: search at once)
+    max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
+    # The global search's budget: over a stretch where nothing is found it takes about this share of the run
+    # (a search costs about search_cost_frames tracked frames: ~0.7 s against ~35 ms a frame at 720p); each
+    # search that finds nothing doubles the wait for the next, up to max_search_backoff times.
+    search_time_share: float = 0.2
+    search_cost_frames: float = 20.0
+    max_search_backoff: int = 8
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
     mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow
@@ -58,6 +68,10 @@ class TrackingConfig:
             raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
         if self.max_motion_prior_frames < 0:
             raise ValueError(f"max_motion_prior_frames must be >= 0, got {self.max_motion_prior_frames}")
+        if not 0.0 < self.search_time_share <= 1.0:
+            raise ValueError(f"search_time_share must be in (0, 1], got {self.search_time_share}")
+        if self.search_cost_frames < 0 or self.max_search_backoff < 1:
+            raise ValueError("search_cost_frames must be >= 0 and max_search_backoff >= 1")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
 

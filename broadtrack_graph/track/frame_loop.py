@@ -57,6 +57,7 @@ from broadtrack_graph.io.track_record import (
     STATUS_OTHER_VIEW,
     STATUS_REINITIALISED,
     STATUS_TRACKED,
+    STATUS_UNPLACED,
     TrackRecord,
 )
 from broadtrack_graph.io.track_writer import TrackWriter
@@ -66,7 +67,8 @@ from broadtrack_graph.track.config import TrackingConfig, graph_config_for, stre
 from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
-from broadtrack_graph.track.reinit_policy import CheapFirstReinit
+from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.reinit_policy import ReinitDecision, ReinitPolicy
 from broadtrack_graph.track.result import RunResult, std_fields
 
 FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
@@ -88,6 +90,7 @@ class _Pending:
     confidence: float | None = None  # of confidence_camera, computed when the frame was added
     suppress_camera: bool = False  # the frame's estimate is not trusted: write no camera
     confidence_camera: Camera | None = None
+    camera_id: str | None = None  # the broadcast camera of the frame
 
 
 class TrackingRun:
@@ -107,9 +110,9 @@ class TrackingRun:
         mask_paths: frame index -> marking-mask PNG named by a detections file.
         solver_factory: ``(config, graph_config, width_px, height_px, pitch, tripod) -> StreamingSolver``
             (default :func:`streaming_solver_for`).
-        reinitialise: ``(observations, detections, pitch, positions, curves, sampling) -> ReinitResult``
-            (default :func:`broadtrack_graph.reinit.frame.reinitialise`); the loop calls it behind the
-            cheap guesses of :class:`~broadtrack_graph.track.reinit_policy.CheapFirstReinit`.
+        reinitialise: one global search, ``(observations, detections, pitch, positions, curves, sampling) ->
+            ReinitResult`` (default :func:`broadtrack_graph.reinit.frame.reinitialise`); when and where it runs is
+            decided by :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`.
         confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
             (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
         on_frame_done: observer called after every processed frame (:data:`FrameDone`).
@@ -131,9 +134,10 @@ class TrackingRun:
         self.curves = TemplateCurves(self.pitch, line_step_m=1.0, circle_step_m=0.5)
         self.sampling = TemplateSampling(self.pitch)
         self.known_tripod = tripod
-        self.reinit_positions = reinit_positions
         self.mask_paths = mask_paths or {}
-        self.reinitialise = CheapFirstReinit(reinitialise, refine_guesses, confidence=confidence)
+        known = {camera_id: t.T_w for camera_id, t in (tripods or {}).items()}
+        self.policy = ReinitPolicy(config, reinitialise, refine_guesses, confidence, CameraRegistry(known=known),
+                                   search_positions=reinit_positions)
         self.confidence = confidence
         self.on_frame_done = on_frame_done
         use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
@@ -151,21 +155,17 @@ class TrackingRun:
         self._lost = True
         self._carried = 0  # frames in a row carried on the motion prior alone
         self._chain_confident = False  # a frame of the current chain reached the confidence threshold
+        self._reinit_continues = False
         self._prev_grey: np.ndarray | None = None
         self._prev_keep_mask: np.ndarray | None = None
         self.cuts = 0  # cuts that broke the chain
-        self.camera_id: str | None = None  # camera id of the current shot (None: no shot information)
+        self.camera_id: str | None = None  # the camera id of the current chain (None: not known yet)
+        self.shot_index: int | None = None  # the current shot (None: no shot information)
+        self.shot_camera_ids: dict[int, str] = {}  # shot index -> the camera id of its first confident frame
         # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
         # in the thread that decodes the frames (overlapping the stages here; see track.passes.run_loop).
         self.timings = {"detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0, "markings_ahead_s": 0.0}
-
-    def _positions(self):
-        """Candidate focal points for re-initialisation: the tripod in use or known, else the defaults."""
-        tripod = self.solver.tripod or self.known_tripod
-        if tripod is not None:
-            return [tuple(tripod.T_w)]
-        return self.reinit_positions
 
     # ----------------------------------------------------------------- one frame
 
@@ -187,10 +187,10 @@ class TrackingRun:
             if shot.cut and shot.shot_index > 0:
                 self._break_chain()  # nothing is linked across a cut
                 self.cuts += 1
-            if shot.camera_id != self.camera_id and shot.camera_id is not None:
-                self.online_tripod.switch(self.solver, shot.camera_id)
-                self.reinitialise.switch(shot.camera_id)
-                self.camera_id = shot.camera_id
+            if shot.cut or shot.shot_index != self.shot_index:
+                self.policy.new_stretch()  # a new shot: its camera is not known yet, searched at once
+                self.camera_id = None
+            self.shot_index = shot.shot_index
             if shot.is_other_view:
                 self._emit_now(frame, STATUS_OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
                 self._break_chain()
@@ -270,17 +270,16 @@ class TrackingRun:
         reinitialised = False
         guess = None
         trust_previous = not self._lost
+        self._reinit_continues = False  # the frame's re-initialisation continues a confident camera's chain
         if self._lost:
-            started = time.perf_counter()
-            result = self.reinitialise(observations, detections, self.pitch, self._positions(), self.curves,
-                                       self.sampling)
-            self.timings["reinit_s"] += time.perf_counter() - started
-            if result.camera is None:
-                self._emit_now(frame, STATUS_NO_PITCH if detections is not None else STATUS_NO_DETECTIONS,
-                               f"re-initialisation failed: {result.reason}")
+            decision = self._decide(observations, detections)
+            if decision.camera is None:
+                self._emit_now(frame, STATUS_UNPLACED if detections is not None else STATUS_NO_DETECTIONS,
+                               f"no camera found: {decision.reason}")
                 self._break_chain()
                 return None, detections
-            guess = result.camera if self.config.estimate_k1 else result.camera.replace(k1=0.0)
+            self._adopt(decision)
+            guess, self._reinit_continues = decision.camera, decision.continues_chain
             reinitialised = True
             observations = replace(observations, flow=None)
             if (self.detector is not None and frame.image is not None and detections is not None
@@ -309,6 +308,27 @@ class TrackingRun:
         self._flush()
         return observations, detections
 
+    def _decide(self, observations: FrameObservations, detections: Detections | None, held: Camera | None = None,
+                held_confidence: float | None = None) -> ReinitDecision:
+        """The re-initialisation policy's decision for this frame (its time counted)."""
+        started = time.perf_counter()
+        decision = self.policy.decide(observations, detections, self.pitch, self.curves, self.sampling, held,
+                                      held_confidence, self._chain_confident)
+        self.timings["reinit_s"] += time.perf_counter() - started
+        if decision.camera is not None and not self.config.estimate_k1:
+            decision = replace(decision, camera=decision.camera.replace(k1=0.0))
+        return decision
+
+    def _adopt(self, decision: ReinitDecision) -> None:
+        """Restarting from the decision's camera: its camera id (and that camera's tripod) from now on."""
+        if decision.camera_id is not None and decision.camera_id != self.camera_id:
+            self._set_camera(decision.camera_id)
+
+    def _set_camera(self, camera_id: str) -> None:
+        self.online_tripod.switch(self.solver, camera_id)
+        self.policy.switch(camera_id)
+        self.camera_id = camera_id
+
     def _check_confidence(self, entry: _Pending, current: FrameEstimate, reinitialised: bool) -> None:
         """Score the frame's camera; re-initialise it when low; mark it lost or extend the chain."""
         observations, detections = entry.observations, entry.detections
@@ -320,34 +340,22 @@ class TrackingRun:
             self.timings["confidence_s"] += time.perf_counter() - started
         low = confidence is not None and confidence < self.config.confidence_threshold
         lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
+        continues_chain = reinitialised and self._reinit_continues
         if camera is None or (low and not reinitialised):
             # Re-initialise this frame; the next frame does not trust flow from the previous camera.
-            started = time.perf_counter()
-            result = self.reinitialise(observations, detections, self.pitch, self._positions(), self.curves,
-                                       self.sampling,
-                                       tracking=camera is not None and (confidence or 0.0) >= self.config.lost_confidence)
-            self.timings["reinit_s"] += time.perf_counter() - started
-            new_confidence = None
-            if result.camera is not None:
-                new_confidence = self.confidence(result.camera, observations, detections, self.curves, self.sampling)
-            if result.camera is not None and not self.config.estimate_k1:
-                result = replace(result, camera=result.camera.replace(k1=0.0))
-            # A held camera of a trusted chain is replaced (the solver restarts from the new one) when the new
-            # camera is confident or clearly better: a restart for a few hundredths of confidence costs the chain
-            # its smoothing. A chain not trusted yet takes any better camera (it is still looking for one).
-            margin = self.config.reinit_switch_margin if self._chain_confident else 0.0
-            better = confidence is None or (new_confidence or 0.0) > confidence + (
-                0.0 if (new_confidence or 0.0) >= self.config.confidence_threshold else margin)
-            if result.camera is not None and better:
-                self.solver.reset(result.camera)
+            decision = self._decide(observations, detections, camera, confidence)
+            if decision.camera is not None:
+                self._adopt(decision)
+                self.solver.reset(decision.camera)
                 entry.reinitialised = True
                 entry.status = STATUS_REINITIALISED
-                entry.override_camera = result.camera
-                camera, confidence = result.camera, new_confidence
+                entry.override_camera = decision.camera
+                camera, confidence = decision.camera, decision.confidence
+                continues_chain = decision.continues_chain
             elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
                 lost_now = True
         entry.confidence, entry.confidence_camera = confidence, camera
-        if entry.reinitialised and not self.reinitialise.last_from_guess:
+        if entry.reinitialised and not continues_chain:
             # A new chain starts at this frame (a refined guess, a confident camera moved onto this
             # frame, continues the chain it came from).
             self._chain_confident = False
@@ -374,8 +382,15 @@ class TrackingRun:
             self._last_std = current.std
             self._lost = False
             if confidence is not None and confidence >= self.config.confidence_threshold and not entry.suppress_camera:
-                self.reinitialise.confident(entry.frame.frame_index, camera)
+                if self.camera_id is None:
+                    self._set_camera(self.policy.registry.identify(camera.position_m))
+                self.policy.confident(entry.frame.frame_index, camera)
+                if self.shot_index is not None:
+                    self.shot_camera_ids.setdefault(self.shot_index, self.camera_id)
         self.online_tripod.update(self.solver, None if (lost_now or entry.suppress_camera) else camera, confidence)
+        entry.camera_id = self.camera_id
+        if self.camera_id is not None and self.solver.tripod is not None and not self.online_tripod.provisional:
+            self.policy.tripod(self.camera_id, self.solver.tripod.T_w)  # the fitted tripod identifies the camera
 
     # ----------------------------------------------------------------- records
 
@@ -396,7 +411,8 @@ class TrackingRun:
                 active = tuple(sorted(k for k, v in (estimate.active_factors or {}).items() if v))
                 entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, camera,
                                            std_fields(estimate) if camera is not None else {}, confidence,
-                                           entry.reinitialised, status, reason, active)
+                                           entry.reinitialised, status, reason, active,
+                                           entry.camera_id if camera is not None else None)
                 entry.detections = None
                 return
 
@@ -442,9 +458,7 @@ class TrackingRun:
             extra["tripod_fit"] = fit_info
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
         extra["solver_restarts"] = self.solver.rebuilds
-        extra["reinit_searches"] = {"cheap_guess_used": self.reinitialise.cheap_successes,
-                                    "global": self.reinitialise.global_searches,
-                                    "global_skipped": self.reinitialise.skipped_searches}
+        extra["reinit_searches"] = dict(self.policy.counts)
         extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod)

@@ -39,7 +39,7 @@ from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
-from broadtrack_graph.shots.segmenter import ShotConfig
+from broadtrack_graph.shots.segmenter import NO_PITCH_KINDS, ShotConfig, place_shot
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
@@ -110,7 +110,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                           tripods=tripods)
         _observe(run.writer, record_observer)
         run_loop(run, frames, progress, total, config.mode)
-        result = run.finish(_shots_summary(stream, out_dir))
+        result = run.finish(_shots_summary(stream, out_dir, run.shot_camera_ids))
         if not recover or not given:
             return result
         return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
@@ -122,7 +122,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                       tripods=tripods)
     _observe(run.writer, record_observer)
     run_loop(run, frames, progress, total, "pass 1 (online)")
-    pass1 = run.finish(_shots_summary(stream, out_dir))
+    pass1 = run.finish(_shots_summary(stream, out_dir, run.shot_camera_ids))
     if not any(r.camera is not None for r in pass1.records) and stream is not None and stream.shots:
         return pass1
     observations = run.kept
@@ -143,16 +143,21 @@ def _observe(writer: TrackWriter, record_observer: RecordObserver | None) -> Tra
     return writer
 
 
-def _shots_summary(stream: ShotStream | None, out_dir: Path) -> dict:
-    """Write shots.json (when shots were detected) and the summary fields about them."""
+def _shots_summary(stream: ShotStream | None, out_dir: Path, camera_ids: dict[int, str]) -> dict:
+    """Write shots.json (when shots were detected) with each shot's camera, and the summary fields about them.
+
+    camera_ids: shot index -> the camera id the tracker found for it. A pitch shot's kind becomes
+    ``main`` (the main camera), ``other-camera`` (another pitch camera) or ``pitch`` (no camera placed).
+    """
     if stream is None or stream.segmenter is None:
         return {}
-    shots = stream.shots
+    shots = [place_shot(shot, camera_ids.get(k)) for k, shot in enumerate(stream.shots)]
     write_shots(out_dir / SHOTS_FILE, shots)
-    extra = {"shots": len(shots), "other_view_shots": sum(s.camera_id is None for s in shots)}
-    if shots and all(s.camera_id is None for s in shots):
+    extra = {"shots": len(shots), "other_view_shots": sum(s.kind in NO_PITCH_KINDS for s in shots),
+             "cameras": sorted({s.camera_id for s in shots if s.camera_id is not None})}
+    if shots and all(s.kind in NO_PITCH_KINDS for s in shots):
         kinds = sorted({s.kind for s in shots})
-        extra["note"] = (f"no shot of the main (wide) camera in the input ({len(shots)} shot(s) of {', '.join(kinds)}): "
+        extra["note"] = (f"no shot of a pitch camera in the input ({len(shots)} shot(s) of {', '.join(kinds)}): "
                          "no camera written")
         log.warning("%s", extra["note"])
     return extra

@@ -31,6 +31,7 @@ from broadtrack_graph.io.track_record import (
     STATUS_FAILED,
     STATUS_NO_DETECTIONS,
     STATUS_NO_PITCH,
+    STATUS_UNPLACED,
     STATUS_TRACKED,
     TrackRecord,
 )
@@ -38,7 +39,7 @@ from broadtrack_graph.reinit.frame import frame_confidence
 
 log = logging.getLogger(__name__)
 
-RECOVERABLE_STATUSES = (STATUS_FAILED, STATUS_NO_PITCH, STATUS_NO_DETECTIONS)
+RECOVERABLE_STATUSES = (STATUS_FAILED, STATUS_NO_PITCH, STATUS_NO_DETECTIONS, STATUS_UNPLACED)
 """Statuses of frames the recovery may give a camera (the forward pass failed on them)."""
 
 

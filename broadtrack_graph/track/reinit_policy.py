@@ -1,160 +1,316 @@
-"""When a frame is lost: the cameras the tracker already had first, the global search after.
+"""Re-initialisation: when to search, what to try, what to accept and when to switch, in one place.
 
-The global search (:func:`broadtrack_graph.reinit.frame.reinitialise`) costs up to a second or
-two of CPU per frame on a real broadcast; a lost stretch must not drop a run far below real
-time. Most frames that need a new camera are close to one the tracker had: a blurred pan
-after a confident frame, the main camera coming back after a close-up or a replay. So each
-lost frame first tries the cheap guesses (:func:`broadtrack_graph.reinit.cheap.refine_guesses`,
-one local label-and-fit each):
+The frame loop asks :meth:`ReinitPolicy.decide` once for a frame without a trusted camera
+(lost, or held at a confidence under the threshold) and gets one :class:`ReinitDecision`:
+the camera to restart the solver from (or None: keep what is held / nothing found), its
+confidence, the camera id it belongs to, and why.
 
-1. the last confident camera of the current camera id (the shot step's ``main``, ...), if it
-   is not older than ``max_guess_age_frames``;
-2. the same camera moved to the focal point of the tripod in use, when one is known.
+What is tried, cheapest first:
 
-A guess refined to at least ``accept_confidence`` is used; otherwise the global search runs
-(at the tripod in use, then, if that is not confident either, at the default positions: a
-provisional tripod can be wrong) and the better camera (by confidence) is returned. While
-the track still holds a camera (a low frame, not a lost one), the global search runs at
-most once every ``tracking_gap_frames``: right cameras of low-resolution frames often score
-just under the threshold, and a search per such frame found nothing better at a second of
-CPU each. Only confident frames, as the tracker judges them (:meth:`CheapFirstReinit.confident`),
-become guesses: a camera under the threshold seeding the next searches kept whole
-stretches re-initialising. No I/O.
+1. **Guesses**: the last confident camera of the current camera id (and the same camera
+   moved to that camera's known position) or, when the camera id is not known yet (a new
+   shot), of every camera seen so far: one local label-and-fit each on the marking map, tens
+   of milliseconds (:func:`broadtrack_graph.reinit.cheap.refine_guesses`). A confident refined
+   guess is taken at once and continues its camera's chain: this is how a camera returning
+   after a close-up or a replay is recognised.
+2. **The global search**, when the search budget allows, in stages run while nothing
+   confident has been found: the known cameras' positions; the default positions (main,
+   16 m, behind the goal); the main camera further back; each low gantry position; the other
+   camera kinds (:mod:`broadtrack_graph.reinit.positions`).
+
+One margin, ``reinit_switch_margin``: a camera that is not confident replaces another (the
+held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
+search stage) only when it is that much more confident; a confident camera replaces an
+unconfident one (a later stage's camera must also be better by the margin). All thresholds
+are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
+
+**The search budget** (searches of the marking map; keypoints and labelled lines are searched
+at once, in milliseconds). A global search costs up to a second or two on a real frame, about
+``search_cost_frames`` tracked frames. Searches are paid from a bucket that fills by one search
+every ``search_cost_frames * (1 - s) / s`` frames (s = ``search_time_share``), holding at most
+one; a search through several stages costs one each (the bucket goes into debt): over any stretch where nothing is found, searching takes about the share s of the run.
+Each search that finds nothing confident doubles the price of the next (up to
+``max_search_backoff``): growing intervals. A cut or a view change (:meth:`new_stretch`) and a
+confident frame (:meth:`confident`) restart it: a new shot is searched at its first frame. The
+budget counts frames, not seconds, so a run gives the same cameras on any machine. No I/O.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
+from broadtrack_graph.reinit.positions import (
+    CAMERA_KINDS,
+    DEFAULT_TRIPOD_POSITIONS_W,
+    FAR_MAIN_POSITIONS_W,
+    NEAR_MAIN_POSITIONS_W,
+)
+from broadtrack_graph.reinit.scoring import ReinitResult
+from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.config import TrackingConfig
+
+Search = Callable[..., ReinitResult]
+"""``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
+Refiner = Callable[[list, object, object], ReinitResult]
+"""``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit."""
+Confidence = Callable[..., float | None]
+"""``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
+
+SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = (
+    ("default positions", None),
+    ("main camera further back", FAR_MAIN_POSITIONS_W),
+    *((f"low gantry {p}", (p,)) for p in NEAR_MAIN_POSITIONS_W),
+    *((f"{kind.name} cameras", tuple(p for p in kind.positions_w if p not in DEFAULT_TRIPOD_POSITIONS_W.values()))
+      for kind in CAMERA_KINDS[1:] if any(p not in DEFAULT_TRIPOD_POSITIONS_W.values() for p in kind.positions_w)),
+)
+"""The global search's stages after the known cameras' positions: (label, positions; None = the defaults)."""
 
 
 @dataclass(frozen=True)
-class CheapFirstConfig:
-    """Settings of :class:`CheapFirstReinit`."""
+class ReinitDecision:
+    """What the policy found for one frame, and why.
 
-    accept_confidence: float = 0.5  # a refined guess scoring this is used without the global search
-    tracking_gap_frames: int = 12  # while the track holds (a low frame, not a lost one), a global search at most this often
-    guess_margin: float = 0.1  # an unconfident search result replaces the refined guess only when this much better
-    max_guess_age_frames: int = 750  # the last confident camera is a guess for this many frames (30 s at 25 fps)
-    enabled: bool = True  # False: the global search on every lost frame
-
-
-Refiner = Callable[[list, object, object], ReinitResult]
-"""``(guesses [(label, Camera)], detections, curves) -> ReinitResult`` whose ``score.jaccard`` is the confidence."""
-
-
-def _confidence(result: ReinitResult | None) -> float | None:
-    """The confidence a result carries (None when unknown, e.g. a keypoint re-initialisation or a fake)."""
-    if result is None or result.camera is None or result.score is None:
-        return None
-    return float(result.score.jaccard)
-
-
-class CheapFirstReinit:
-    """A global re-initialisation behind cheap guesses (module docstring).
-
-    Called like the global one: ``policy(observations, detections, pitch, positions, curves, sampling)``.
-
-    Args:
-        global_search: the global re-initialisation.
-        refine: refines the guesses on the frame's marking map.
-        config: thresholds.
+    camera: the camera to restart the solver from, or None (keep the held camera; or nothing found).
+    confidence: the tracker's confidence of ``camera`` (None when unknown or no camera).
+    camera_id: the camera id ``camera`` belongs to (None with no camera).
+    continues_chain: ``camera`` is a confident camera of this camera id moved onto the frame: its
+        chain (and the trust it earned) goes on.
+    searched: a global search ran for this frame.
+    reason: one line.
     """
 
-    def __init__(self, global_search: Callable[..., ReinitResult], refine: Refiner,
-                 config: CheapFirstConfig = CheapFirstConfig(), confidence: Callable | None = None) -> None:
-        self.global_search = global_search
-        self.refine = refine
+    camera: Camera | None
+    confidence: float | None
+    camera_id: str | None
+    continues_chain: bool
+    searched: bool
+    reason: str
+
+
+@dataclass
+class SearchBudget:
+    """The global search's budget in frames (module docstring).
+
+    refill_frames: frames that pay for one search.
+    max_backoff: the price of a search doubles after each that finds nothing, up to this many searches.
+    """
+
+    refill_frames: float
+    max_backoff: int = 8
+    tokens: float = 1.0
+    price: float = 1.0
+    _last_frame: int | None = None
+
+    def _refill(self, frame_index: int) -> None:
+        if self.refill_frames <= 0:  # no budget: every search is paid for
+            self.tokens = self.price
+        elif self._last_frame is not None and frame_index > self._last_frame:
+            self.tokens = min(self.price, self.tokens + (frame_index - self._last_frame) / self.refill_frames)
+        self._last_frame = frame_index
+
+    def allows(self, frame_index: int) -> bool:
+        """A search may run at this frame."""
+        self._refill(frame_index)
+        return self.tokens >= self.price - 1e-9
+
+    def next_frame(self, frame_index: int) -> int:
+        """The first frame at which a search will be allowed (from frame_index on)."""
+        self._refill(frame_index)
+        return frame_index + max(0, int(np.ceil((self.price - self.tokens) * self.refill_frames - 1e-9)))
+
+    def spend(self, found: bool, searches: int = 1) -> None:
+        """A search of ``searches`` stages ran; found: it gave a confident camera."""
+        self.tokens -= self.price * max(1, searches)
+        self.price = 1.0 if found else min(self.price * 2.0, float(self.max_backoff))
+
+    def restart(self) -> None:
+        """A new stretch (a cut, a view change, a confident frame): the next search is paid at once."""
+        self.tokens, self.price = 1.0, 1.0
+
+
+class ReinitPolicy:
+    """The one re-initialisation decision of a run (module docstring).
+
+    Args:
+        config: thresholds and budget (``confidence_threshold``, ``lost_confidence``,
+            ``reinit_switch_margin``, ``search_time_share``, ``search_cost_frames``,
+            ``max_search_backoff``, ``max_guess_age_frames``, ``cheap_reinit``).
+        search: one global search (:data:`Search`).
+        refine: refines guesses on the frame's marking map (:data:`Refiner`).
+        confidence: the tracker's confidence (:data:`Confidence`); every camera is judged by it.
+        registry: the run's cameras by id (a new one by default).
+        search_positions: candidate focal points given to the run (``--reinit-position``): searched
+            instead of the default stages.
+    """
+
+    def __init__(self, config: TrackingConfig, search: Search, refine: Refiner, confidence: Confidence,
+                 registry: CameraRegistry | None = None, search_positions=None) -> None:
         self.config = config
+        self.search = search
+        self.refine = refine
         self.confidence = confidence
+        self.registry = registry or CameraRegistry()
+        self.search_positions = None if search_positions is None else [tuple(p) for p in search_positions]
+        share = min(max(config.search_time_share, 1e-3), 1.0)
+        self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
         self.camera_id: str | None = None
-        self._last_confident: dict[str | None, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
-        self.cheap_successes = 0
-        self.global_searches = 0
-        self.skipped_searches = 0
-        self._last_tracking_search: int | None = None  # frame of the last global search on a held track
-        self.last_from_guess = False  # the last camera returned is a refined guess (a confident camera's continuation)
+        self._last_confident: dict[str, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
+        self.counts = {"guess_used": 0, "global": 0, "stages": 0, "skipped_by_budget": 0}
+
+    # ----------------------------------------------------------------- what the loop tells
+
+    def new_stretch(self) -> None:
+        """A cut or a view change: the camera is unknown again and the next search is paid at once."""
+        self.camera_id = None
+        self.budget.restart()
 
     def switch(self, camera_id: str | None) -> None:
-        """The shot step says the following frames are from this camera."""
+        """The frames from now on are camera ``camera_id``'s."""
         self.camera_id = camera_id
 
     def confident(self, frame_index: int, camera: Camera) -> None:
-        """A frame whose camera the tracker trusts: the current camera id's guess from now on."""
-        self._last_confident[self.camera_id] = (frame_index, camera)
+        """A frame whose camera the tracker trusts: its camera id's guess from now on; the budget restarts."""
+        if self.camera_id is not None:
+            self._last_confident[self.camera_id] = (frame_index, camera)
+        self.budget.restart()
 
-    def guesses(self, frame_index: int, positions) -> list[tuple[str, Camera]]:
-        """(label, camera) guesses for this frame (module docstring), most likely first."""
-        if not self.config.enabled or self.camera_id not in self._last_confident:
-            return []
-        seen, camera = self._last_confident[self.camera_id]
-        if not 0 <= frame_index - seen <= self.config.max_guess_age_frames:
-            return []
-        out = [(f"last confident camera (frame {seen})", camera)]
-        if positions is not None and len(positions) == 1:
-            tripod = np.asarray(positions[0], float)
-            if np.linalg.norm(tripod - camera.position_m) > 0.5:
-                out.append((f"last confident camera (frame {seen}) at the tripod", camera.replace(position_m=tripod)))
-        return out
+    def tripod(self, camera_id: str, T_w) -> None:
+        """A tripod fitted or given for a camera: its position identifies the camera from now on."""
+        self.registry.update(camera_id, T_w)
 
-    def __call__(self, observations, detections, pitch, positions=None, curves=None, sampling=None,
-                 tracking: bool = False) -> ReinitResult:
-        """A camera for the frame (module docstring).
+    # ----------------------------------------------------------------- the decision
+
+    def decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
+               held_confidence: float | None = None, chain_trusted: bool = False) -> ReinitDecision:
+        """A camera for a frame without a trusted one (module docstring).
 
         Args:
-            tracking: the caller still holds a camera for this frame (its confidence is low, the track
-                is not lost); the global search then runs at most once every ``tracking_gap_frames``.
+            observations, detections: the frame's (detections None for a detections file).
+            pitch, curves, sampling: the template.
+            held: the camera the solver holds for this frame (its confidence under the threshold), or None
+                when the track is lost.
+            held_confidence: its confidence.
+            chain_trusted: the held camera's chain has had a confident frame (switching it costs smoothing).
         """
         i = observations.frame_index
-        self.last_from_guess = False
-        guesses = self.guesses(i, positions)
-        cheap = self.refine(guesses, detections, curves) if guesses else None
-        cheap_confidence = _confidence(cheap)
-        if cheap_confidence is not None and cheap_confidence >= self.config.accept_confidence:
-            self.cheap_successes += 1
-            self.last_from_guess = True
-            return cheap
-        if tracking and self._last_tracking_search is not None and \
-                0 <= i - self._last_tracking_search < self.config.tracking_gap_frames:
-            # A low frame of a held track: a search a few frames ago found nothing better to switch to;
-            # the tracked camera stays (a second of CPU per low frame would drop the run far below real time).
-            self.skipped_searches += 1
-            if cheap is not None and cheap.camera is not None:
-                self.last_from_guess = True
-                return cheap
-            return ReinitResult(None, None, "", f"global search skipped (one ran at frame {self._last_tracking_search})")
-        if tracking:
-            self._last_tracking_search = i
-        self.global_searches += 1
-        def searched(at):
-            found_now = self.global_search(observations, detections, pitch, at, curves, sampling)
-            if self.confidence is not None and found_now.camera is not None:
-                # Every search scores its own way (a labelled-lines Jaccard, the map's F-score): judged here,
-                # against the guess and the threshold, by the tracker's own confidence.
-                score = self.confidence(found_now.camera, observations, detections, curves, sampling)
-                if score is not None:
-                    found_now = replace(found_now, score=LabelledScore(float(score), 0, 0, 0, 0.0, 0.0))
-            return found_now
+        threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
+        score = lambda camera: self.confidence(camera, observations, detections, curves, sampling)  # noqa: E731
+        guess, guess_id, guess_confidence = self._refined_guess(i, detections, curves, score)
+        if guess is not None and guess_confidence >= threshold:
+            self.counts["guess_used"] += 1
+            return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
+                                        "refined " + guess.reason, held, held_confidence, chain_trusted)
+        with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
+        if with_map and not self.budget.allows(i):
+            self.counts["skipped_by_budget"] += 1
+            why = f"search budget: the next global search at frame {self.budget.next_frame(i)}"
+            if guess is not None:
+                return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
+                                            f"refined {guess.reason} ({why})", held, held_confidence, chain_trusted)
+            return ReinitDecision(None, None, None, False, False, why)
+        stages_before = self.counts["stages"]
+        found, found_confidence, label = self._search(observations, detections, pitch, curves, sampling, score,
+                                                      with_map)
+        self.counts["global"] += 1
+        if with_map:
+            self.budget.spend(found is not None and found_confidence >= threshold, self.counts["stages"] - stages_before)
+        if guess is not None and (found is None or (found_confidence < threshold
+                                                    and found_confidence <= guess_confidence + margin)):
+            # Nothing confident found: the refined guess (a confident camera's continuation) stays
+            # unless the search's camera is clearly better.
+            return self._switch_or_keep(guess, guess_confidence, guess_id, True, True,
+                                        f"refined {guess.reason}; the search found nothing better", held,
+                                        held_confidence, chain_trusted)
+        if found is None:
+            return ReinitDecision(None, None, None, False, True, f"global search: {label}")
+        camera_id = self.registry.nearest(found.camera.position_m) if found_confidence < threshold \
+            else self.registry.identify(found.camera.position_m)
+        return self._switch_or_keep(found, found_confidence, camera_id, False, True, label, held, held_confidence,
+                                    chain_trusted)
 
-        result = searched(positions)
-        found = _confidence(result)
-        if positions is not None and found is not None and found < self.config.accept_confidence:
-            # Searched at the tripod in use only: that tripod may be the wrong one (a provisional fit of
-            # frames that were themselves off). The default positions get a search of their own.
-            self.global_searches += 1
-            anywhere = searched(None)
-            if anywhere.camera is not None and (_confidence(anywhere) or 0.0) > found:
-                result, found = anywhere, _confidence(anywhere)
-        if cheap_confidence is not None and (result.camera is None or (
-                found is not None and found < self.config.accept_confidence
-                and cheap_confidence > found - self.config.guess_margin)):
-            # The search found no confident camera either: the refined guess (a confident camera's
-            # continuation) is kept unless the search's camera is clearly better.
-            self.last_from_guess = True
-            return cheap
-        return result
+    def _switch_or_keep(self, result: ReinitResult, confidence: float, camera_id: str | None, from_guess: bool,
+                        searched: bool, reason: str, held: Camera | None, held_confidence: float | None,
+                        chain_trusted: bool) -> ReinitDecision:
+        """The new camera, or None when the held camera stays (the one margin, module docstring)."""
+        if held is not None and held_confidence is not None:
+            needed = held_confidence + (self.config.reinit_switch_margin
+                                        if chain_trusted and confidence < self.config.confidence_threshold else 0.0)
+            if not confidence > needed:
+                return ReinitDecision(None, None, None, False, searched,
+                                      f"kept the held camera ({held_confidence:.2f}): {reason} scored {confidence:.2f}")
+        return ReinitDecision(result.camera, confidence, camera_id, from_guess, searched, reason)
+
+    # ----------------------------------------------------------------- guesses and the search
+
+    def _guesses(self, frame_index: int) -> list[tuple[str, str, Camera]]:
+        """(camera id, label, camera) guesses, the current camera id's first."""
+        if not self.config.cheap_reinit:
+            return []
+        ids = [self.camera_id] if self.camera_id is not None else list(self._last_confident)
+        out = []
+        for camera_id in ids:
+            if camera_id not in self._last_confident:
+                continue
+            seen, camera = self._last_confident[camera_id]
+            if not 0 <= frame_index - seen <= self.config.max_guess_age_frames:
+                continue
+            out.append((camera_id, f"last confident camera of {camera_id} (frame {seen})", camera))
+            known = self.registry.positions.get(camera_id)
+            if known is not None and np.linalg.norm(known - camera.position_m) > 0.5:
+                out.append((camera_id, f"last confident camera of {camera_id} (frame {seen}) at its tripod",
+                            camera.replace(position_m=known)))
+        return out
+
+    def _refined_guess(self, frame_index, detections, curves, score) -> tuple[ReinitResult | None, str | None, float]:
+        """The best refined guess (result, its camera id, its confidence), or (None, None, 0)."""
+        best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
+        for camera_id, label, camera in self._guesses(frame_index):
+            refined = self.refine([(label, camera)], detections, curves)
+            if refined.camera is None:
+                continue
+            # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
+            confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
+            if confidence is not None and (best[0] is None or confidence > best[2]):
+                best = (refined, camera_id, float(confidence))
+        return best
+
+    def _search(self, observations, detections, pitch, curves, sampling, score,
+                with_map: bool) -> tuple[ReinitResult | None, float, str]:
+        """The global search in stages (module docstring): (best result or None, its confidence, one line).
+
+        Without a marking map (keypoints or labelled lines of a detections file) the search is cheap and
+        labelled: the known cameras' positions, then the default positions (mirrored too) only.
+        """
+        threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
+        known: list = []
+        if self.search_positions is not None:
+            stages = [("the given positions", self.search_positions)]
+        else:
+            known = [tuple(p) for cid, p in sorted(self.registry.positions.items(), key=lambda kv: kv[0] != self.camera_id)]
+            stages = ([("known cameras", known)] if known else []) + list(SEARCH_STAGES if with_map else SEARCH_STAGES[:1])
+        best, best_confidence, label, reasons = None, 0.0, "", []
+        for k, (stage_label, positions) in enumerate(stages):
+            if best is not None and best_confidence >= threshold:
+                break
+            self.counts["stages"] += 1
+            result = self.search(observations, detections, pitch, positions, curves, sampling)
+            if result.camera is None:
+                reasons.append(f"{stage_label}: {result.reason}")
+                continue
+            confidence = score(result.camera)
+            if confidence is None:  # no marking map: the search's own score
+                confidence = result.score.jaccard if result.score is not None else 0.0
+            # The known cameras and the default positions are the likely ones: the better camera of the two wins.
+            # A later stage's camera (a less likely position) must be confident and better by the margin.
+            likely = k < (2 if known else 1) if self.search_positions is None else k == 0
+            if best is None or (confidence > best_confidence if likely
+                                else confidence >= threshold and confidence > best_confidence + margin):
+                best, best_confidence = result, float(confidence)
+                label = f"global search, {stage_label}: {result.reason}"
+        if best is None:
+            return None, 0.0, "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
+        return best, best_confidence, label

@@ -103,7 +103,10 @@ def frame(i: int, observations: bool = True, image=None) -> FrameInput:
     return FrameInput(i, f"{i + 1:06d}", i / 25.0, image=image, observations=obs)
 
 
-def run_of(tmp_path, solver, script, config=TrackingConfig(), **kwargs) -> TrackingRun:
+NO_BUDGET = TrackingConfig(search_cost_frames=0.0)  # every lost frame may search (the budget has its own tests)
+
+
+def run_of(tmp_path, solver, script, config=NO_BUDGET, **kwargs) -> TrackingRun:
     return TrackingRun(W, H, tmp_path / "run", config, solver_factory=lambda *args: solver,
                        reinitialise=script.reinitialise, confidence=script.confidence, **kwargs)
 
@@ -127,7 +130,7 @@ def test_the_state_machine_frame_by_frame(tmp_path):
         (4, "missing-frame", "frame could not be read"),
         (5, "tracked", None),  # the track survives one missing frame
         (6, "failed", "scripted loss"),  # no camera and re-initialisation failed
-        (7, "no-detections", "re-initialisation failed: scripted failure"),
+        (7, "no-detections", "no camera found: global search: scripted failure"),
         (8, "reinitialised", None),
         (9, "failed", "confidence 0.10 below 0.20 and re-initialisation failed"),
         (10, "reinitialised", None),
@@ -137,7 +140,8 @@ def test_the_state_machine_frame_by_frame(tmp_path):
     assert solver.pushed == [(0, True, False, False), (1, False, True, True), (2, False, True, True),
                              (3, False, True, True), (5, False, True, True), (6, False, True, True),
                              (8, True, False, False), (9, False, True, True), (10, True, False, False)]
-    assert script.reinit_calls == [0, 2, 6, 7, 8, 9, 10]
+    # A search that finds nothing confident at the known camera's position tries the default positions too.
+    assert script.reinit_calls == [0, 2, 6, 6, 7, 7, 8, 9, 9, 10]
     assert [c.to_vector().tolist() for c in solver.resets] == [reinit_camera(2).to_vector().tolist()]
     records = {r.frame_index: r for r in read_track(tmp_path / "run").records}
     assert records[2].camera.pan_rad == pytest.approx(reinit_camera(2).pan_rad, abs=1e-9)
@@ -207,7 +211,7 @@ def test_detector_frames_prediction_no_pitch_and_the_observer(tmp_path):
     assert statuses(tmp_path) == [
         (0, "reinitialised", None), (1, "tracked", None),
         (2, "no-pitch", "no pitch in view"),
-        (3, "no-pitch", "re-initialisation failed: scripted failure"),
+        (3, "unplaced", "no camera found: global search: scripted failure"),
         (4, "reinitialised", None),
         (5, "failed", "detector: image is not BGR"),
         (6, "reinitialised", None),
@@ -273,12 +277,12 @@ def test_a_cut_breaks_the_chain_and_other_views_get_no_camera(tmp_path):
     solver = FakeSolver()
     script = Scripted()
     run = run_of(tmp_path, solver, script)
-    shots = {0: FrameShot(0, True, "main", "main", ""), 3: FrameShot(1, True, "main", "main", ""),
-             5: FrameShot(2, True, "close-up", None, "huge blob"), 6: FrameShot(2, False, "close-up", None, "huge blob"),
-             7: FrameShot(3, True, "main", "main", "")}
+    shots = {0: FrameShot(0, True, "main", ""), 3: FrameShot(1, True, "main", ""),
+             5: FrameShot(2, True, "close-up", "huge blob"), 6: FrameShot(2, False, "close-up", "huge blob"),
+             7: FrameShot(3, True, "main", "")}
     for i in range(9):
         f = frame(i)
-        f.shot = shots.get(i, FrameShot(0, False, "main", "main", ""))
+        f.shot = shots.get(i, FrameShot(0, False, "main", ""))
         run.process(f)
     result = run.finish()
     got = statuses(tmp_path)
@@ -331,7 +335,7 @@ def test_a_trusted_chain_switches_to_an_unconfident_camera_only_when_clearly_bet
         run.process(frame(i))
     run.finish()
     records = {r.frame_index: r for r in read_track(tmp_path / "run").records}
-    assert script.reinit_calls == [0, 2, 15]
+    assert script.reinit_calls == [0, 2, 2, 15]  # frame 2: the known camera's position, then the defaults
     assert records[2].status == "tracked" and records[2].confidence == pytest.approx(0.45)  # 0.48: not 0.05 better
     assert records[15].status == "reinitialised" and records[15].confidence == pytest.approx(0.52)  # confident
     assert len(solver.resets) == 1

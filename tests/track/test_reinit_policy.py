@@ -1,137 +1,188 @@
-"""Cheap guesses before the global search (broadtrack_graph.track.reinit_policy), with fakes."""
+"""The one re-initialisation decision (broadtrack_graph.track.reinit_policy), with fakes."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+from types import SimpleNamespace
+
 import numpy as np
+import pytest
 
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
-from broadtrack_graph.track.reinit_policy import CheapFirstConfig, CheapFirstReinit
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.reinit_policy import SEARCH_STAGES, ReinitPolicy, SearchBudget
 
 W, H = 1280, 720
-GLOBAL_CAMERA = Camera(1500.0, 0.0, 0.2, 1.3, 0.0, (0.0, 55.0, -12.0), W, H)
-
-
-def _result(camera, confidence):
-    return ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), "fake")
+MAIN = Camera(1500.0, 0.0, 0.2, 1.3, 0.0, (0.0, 55.0, -12.0), W, H)
+CORNER = Camera(4400.0, 0.0, -0.1, 1.25, 0.0, (53.0, 70.0, -22.0), W, H)
 
 
 class Fakes:
-    """A global search returning GLOBAL_CAMERA (or nothing) and a refiner echoing its first guess."""
+    """A staged search answering from a table, a refiner echoing its guess, and a confidence from a table.
 
-    def __init__(self, cheap_confidence=0.8, global_confidence=0.6, global_finds=True):
-        self.cheap_confidence, self.global_confidence, self.global_finds = cheap_confidence, global_confidence, global_finds
-        self.global_calls, self.refined = [], []
+    stage_answers: positions (None = defaults) -> (camera, confidence), or missing: nothing found.
+    """
 
-    def global_search(self, observations, detections, pitch, positions, curves, sampling):
-        self.global_calls.append(observations.frame_index)
-        if not self.global_finds:
+    def __init__(self, stage_answers=None, guess_confidence=0.8):
+        self.stage_answers = stage_answers or {}
+        self.guess_confidence = guess_confidence
+        self.searched, self.refined = [], []
+        self.confidences: dict[int, float] = {}
+
+    def search(self, observations, detections, pitch, positions, curves, sampling):
+        key = None if positions is None else tuple(map(tuple, positions))
+        self.searched.append(key)
+        answer = self.stage_answers.get(key)
+        if answer is None:
             return ReinitResult(None, None, "", "nothing found")
-        return _result(GLOBAL_CAMERA, self.global_confidence)
+        camera, confidence = answer
+        self.confidences[id(camera)] = confidence
+        return ReinitResult(camera, LabelledScore(0.99, 0, 0, 0, 0.0, 0.0), "fake search")
 
     def refine(self, guesses, detections, curves):
-        self.refined.append([label for label, _ in guesses])
-        return _result(guesses[0][1], self.cheap_confidence)
+        self.refined.append(guesses[0][0])
+        return ReinitResult(guesses[0][1], LabelledScore(self.guess_confidence, 0, 0, 0, 0.0, 0.0), "fake fit")
+
+    def confidence(self, camera, observations, detections, curves, sampling):
+        return self.confidences.get(id(camera), 0.0)
 
 
-def _frame(i):
-    return FrameObservations(i, W, H)
+def _policy(fakes, **config):
+    return ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence)
 
 
-def _confident_camera(pan=0.0):
-    return Camera(1500.0, 0.0, pan, 1.3, 0.0, (1.0, 58.0, -15.0), W, H)
+WITH_MAP = SimpleNamespace(marking_mask=np.ones((9, 16), bool))  # detections with a marking map: the costly search
 
 
-def test_without_a_confident_camera_the_global_search_runs():
-    fakes = Fakes()
-    policy = CheapFirstReinit(fakes.global_search, fakes.refine)
-    result = policy(_frame(3), None, None)
-    assert result.camera is GLOBAL_CAMERA and fakes.global_calls == [3] and fakes.refined == []
+def _decide(policy, i, detections=WITH_MAP, **kw):
+    return policy.decide(FrameObservations(i, W, H), detections, None, None, None, **kw)
 
 
-def test_a_confident_guess_skips_the_global_search():
-    fakes = Fakes(cheap_confidence=0.7)
-    policy = CheapFirstReinit(fakes.global_search, fakes.refine)
-    seen = _confident_camera(0.1)
-    policy.confident(10, seen)
-    result = policy(_frame(12), None, None)
-    assert result.camera is seen and fakes.global_calls == []
-    assert fakes.refined == [["last confident camera (frame 10)"]]
-    assert (policy.cheap_successes, policy.global_searches) == (1, 0)
+def test_a_lost_frame_is_searched_in_stages_until_a_confident_camera():
+    corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
+    fakes = Fakes({None: (MAIN, 0.3), corner_stage: (CORNER, 0.62)})
+    decision = _decide(_policy(fakes), 0)
+    assert decision.camera is CORNER and decision.confidence == pytest.approx(0.62) and decision.searched
+    assert decision.camera_id == "high-corner-1" and not decision.continues_chain
+    stages = [p for _, p in SEARCH_STAGES]
+    assert fakes.searched == stages[:stages.index(corner_stage) + 1]  # stopped at the first confident stage
 
 
-def test_an_unconfident_guess_falls_back_to_the_global_search_and_the_better_one_wins():
-    fakes = Fakes(cheap_confidence=0.4, global_confidence=0.6)
-    policy = CheapFirstReinit(fakes.global_search, fakes.refine)
-    policy.confident(10, _confident_camera())
-    assert policy(_frame(11), None, None).camera is GLOBAL_CAMERA and fakes.global_calls == [11]
-    fakes.global_confidence = 0.3  # the global search does worse than the guess: the guess is kept
-    assert policy(_frame(12), None, None).camera is not GLOBAL_CAMERA
-    fakes.global_finds = False  # the global search finds nothing: the guess is kept
-    assert policy(_frame(13), None, None).camera is not None
+def test_a_confident_default_camera_stops_the_search_and_is_the_main_camera():
+    fakes = Fakes({None: (MAIN, 0.7)})
+    decision = _decide(_policy(fakes), 0)
+    assert decision.camera is MAIN and decision.camera_id == "main" and fakes.searched == [None]
 
 
-def test_guesses_belong_to_their_camera_id_and_expire():
-    fakes = Fakes()
-    policy = CheapFirstReinit(fakes.global_search, fakes.refine, CheapFirstConfig(max_guess_age_frames=100))
+def test_a_later_stage_must_be_confident_and_better_by_the_one_margin():
+    far = SEARCH_STAGES[1][1]
+    fakes = Fakes({None: (MAIN, 0.45), far: (CORNER, 0.49)})  # better, not confident: the default camera stays
+    assert _decide(_policy(fakes), 0).camera is MAIN
+    fakes = Fakes({None: (MAIN, 0.45), far: (CORNER, 0.52)})  # confident but within the margin (0.1)
+    assert _decide(_policy(fakes), 0).camera is MAIN
+    fakes = Fakes({None: (MAIN, 0.40), far: (CORNER, 0.52)})
+    assert _decide(_policy(fakes), 0).camera is CORNER
+
+
+def test_a_confident_guess_skips_the_search_and_continues_the_chain():
+    fakes = Fakes({None: (MAIN, 0.9)}, guess_confidence=0.7)
+    policy = _policy(fakes)
     policy.switch("main")
-    main = _confident_camera(0.3)
-    policy.confident(5, main)
-    policy.switch("high behind")  # another camera after a cut: the main camera is no guess for it
-    assert policy.guesses(20, None) == []
-    assert policy(_frame(20), None, None).camera is GLOBAL_CAMERA
-    policy.switch("main")  # back to the main camera: its last confident camera first
-    assert policy(_frame(40), None, None).camera is main
-    assert policy.guesses(106, None) == []  # older than max_guess_age_frames
+    policy.confident(10, MAIN)
+    decision = _decide(policy, 12)
+    assert decision.camera is MAIN and decision.continues_chain and decision.camera_id == "main"
+    assert fakes.searched == [] and fakes.refined == ["last confident camera of main (frame 10)"]
 
 
-def test_a_known_tripod_adds_the_guess_moved_to_its_focal_point():
-    policy = CheapFirstReinit(Fakes().global_search, Fakes().refine)
-    seen = _confident_camera()
-    policy.confident(0, seen)
-    guesses = policy.guesses(1, [(0.0, 55.0, -12.0)])
-    assert [label for label, _ in guesses] == ["last confident camera (frame 0)",
-                                              "last confident camera (frame 0) at the tripod"]
-    np.testing.assert_allclose(guesses[1][1].position_m, (0.0, 55.0, -12.0))
-    assert guesses[1][1].pan_rad == seen.pan_rad
-    assert len(policy.guesses(1, [tuple(seen.position_m)])) == 1  # already at the tripod: one guess
-    off = CheapFirstReinit(Fakes().global_search, Fakes().refine, CheapFirstConfig(enabled=False))
-    off.confident(0, seen)
-    assert off.guesses(1, None) == []
+def test_a_returning_camera_is_recognised_by_its_guess_after_a_cut():
+    fakes = Fakes(guess_confidence=0.75)
+    policy = _policy(fakes)
+    policy.switch("high-corner-1")
+    policy.confident(5, CORNER)
+    policy.switch("main")
+    policy.confident(50, MAIN)
+    policy.new_stretch()  # a cut: the camera is unknown, every known camera is guessed
+    decision = _decide(policy, 60)
+    assert decision.camera_id in ("main", "high-corner-1") and decision.continues_chain
+    assert set(fakes.refined) == {"last confident camera of high-corner-1 (frame 5)",
+                                  "last confident camera of main (frame 50)"}
 
 
-def test_an_unconfident_search_at_the_tripod_is_followed_by_one_at_the_default_positions():
-    calls = []
-
-    def global_search(observations, detections, pitch, positions, curves, sampling):
-        calls.append(positions)
-        camera = GLOBAL_CAMERA if positions is None else GLOBAL_CAMERA.replace(focal_px=900.0)
-        return _result(camera, 0.7 if positions is None else 0.3)
-
-    policy = CheapFirstReinit(global_search, Fakes().refine)
-    assert policy(_frame(1), None, None, [(0.0, 60.0, -15.0)]).camera is GLOBAL_CAMERA
-    assert calls == [[(0.0, 60.0, -15.0)], None] and policy.global_searches == 2
+def test_the_held_camera_stays_unless_the_new_one_is_confident_or_better_by_the_margin():
+    fakes = Fakes({None: (MAIN, 0.45)})
+    held = MAIN.replace(pan_rad=0.3)
+    kept = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=True)
+    assert kept.camera is None and "kept the held camera" in kept.reason
+    untrusted = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=False)
+    assert untrusted.camera is MAIN  # a chain not trusted yet takes any better camera
+    fakes = Fakes({None: (MAIN, 0.55)})
+    assert _decide(_policy(fakes), 0, held=held, held_confidence=0.48, chain_trusted=True).camera is MAIN
 
 
-def test_on_a_held_track_the_global_search_runs_at_most_once_per_gap():
-    fakes = Fakes(cheap_confidence=0.4)
-    policy = CheapFirstReinit(fakes.global_search, fakes.refine, CheapFirstConfig(tracking_gap_frames=5))
-    policy.confident(0, _confident_camera())
-    for i in range(1, 13):
-        policy(_frame(i), None, None, tracking=True)
-    assert fakes.global_calls == [1, 6, 11] and policy.skipped_searches == 9
-    # A skipped frame gets the refined guess (the caller keeps whichever scores better).
-    assert policy(_frame(12), None, None, tracking=True).camera is not GLOBAL_CAMERA
-    # A lost frame (no camera held) always gets the global search.
-    policy(_frame(13), None, None)
-    assert fakes.global_calls[-1] == 13
+def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
+    fakes = Fakes()  # nothing is ever found
+    policy = _policy(fakes, search_cost_frames=5.0, search_time_share=0.2, max_search_backoff=8)
+    first = _decide(policy, 0)
+    assert first.camera is None and first.searched and len(fakes.searched) == len(SEARCH_STAGES)
+    # Every stage is paid: the next search waits len(stages) * 5 * 4 frames (and twice that after a failure).
+    blocked = _decide(policy, 1)
+    assert not blocked.searched and "next global search at frame" in blocked.reason
+    # A frame refills 1/20 of a search; the bucket owes len(stages) - 1 and the next search costs 2.
+    next_frame = policy.budget.next_frame(1)
+    assert next_frame == 20 * (len(SEARCH_STAGES) + 1)
+    assert not _decide(policy, next_frame - 1).searched and _decide(policy, next_frame).searched
+    policy.new_stretch()
+    assert _decide(policy, next_frame + 1).searched  # a new shot is searched at its first frame
+    assert policy.counts["skipped_by_budget"] == 2
 
 
-def test_an_unconfident_search_result_replaces_the_refined_guess_only_when_clearly_better():
-    fakes = Fakes(cheap_confidence=0.42, global_confidence=0.48)
-    policy = CheapFirstReinit(fakes.global_search, fakes.refine)
-    policy.confident(0, _confident_camera())
-    assert policy(_frame(1), None, None).camera is not GLOBAL_CAMERA and policy.last_from_guess
-    fakes.cheap_confidence = 0.3  # 0.48 is more than guess_margin (0.1) better: the search's camera
-    assert policy(_frame(2), None, None).camera is GLOBAL_CAMERA and not policy.last_from_guess
+def test_search_budget_in_frames():
+    budget = SearchBudget(refill_frames=10.0, max_backoff=4)
+    assert budget.allows(0)
+    budget.spend(found=False)  # price doubles: the next needs 2 searches' worth
+    assert not budget.allows(10) and budget.next_frame(10) == 20 and budget.allows(20)
+    budget.spend(found=False, searches=2)
+    assert budget.price == 4 and budget.next_frame(20) == 20 + (4 + 2) * 10
+    budget.restart()
+    assert budget.allows(21) and budget.price == 1
+
+
+def test_given_positions_replace_the_stages():
+    position = (10.0, 60.0, -15.0)
+    fakes = Fakes({(position,): (MAIN, 0.6)})
+    policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence, search_positions=[position])
+    assert _decide(policy, 0).camera is MAIN and fakes.searched == [(position,)]
+
+
+def test_known_cameras_are_searched_first():
+    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.7)})
+    policy = _policy(fakes)
+    policy.tripod("high-corner-1", (53.0, 70.0, -22.0))
+    decision = _decide(policy, 0)
+    assert decision.camera is CORNER and decision.camera_id == "high-corner-1" and len(fakes.searched) == 1
+
+
+def test_without_a_marking_map_one_cheap_search_and_no_budget():
+    fakes = Fakes()  # keypoints or labelled lines: searched at once, every frame
+    policy = _policy(fakes)
+    for i in range(3):
+        assert _decide(policy, i, detections=None).searched
+    assert fakes.searched == [None, None, None] and policy.counts["skipped_by_budget"] == 0
+
+
+def test_no_guesses_without_cheap_reinit():
+    fakes = Fakes({None: (MAIN, 0.6)})
+    policy = _policy(fakes, cheap_reinit=False)
+    policy.switch("main")
+    policy.confident(0, MAIN)
+    assert _decide(policy, 1).searched and fakes.refined == []
+
+
+def test_tracking_config_rejects_a_bad_budget():
+    with pytest.raises(ValueError, match="search_time_share"):
+        TrackingConfig(search_time_share=0.0)
+    with pytest.raises(ValueError, match="max_search_backoff"):
+        replace(TrackingConfig(), max_search_backoff=0)

@@ -25,7 +25,7 @@ def test_a_clip_of_crowd_only_writes_no_camera_and_says_so(tmp_path):
         frames.append(FrameInput(i, f"{i + 1:06d}", i / 25.0, image=image))
     result = run_frames(frames, 160, 90, tmp_path / "run", TrackingConfig(mode="online"), detector=NeverCalled(),
                         progress=False)
-    assert result.summary["note"].startswith("no shot of the main (wide) camera")
+    assert result.summary["note"].startswith("no shot of a pitch camera")
     assert result.summary["status_counts"]["other-view"] == 8
     assert not any((tmp_path / "run" / "cameras").glob("*.json"))
     shots = json.loads((tmp_path / "run" / "shots.json").read_text())["shots"]
