@@ -15,7 +15,7 @@ from broadtrack_graph.commands.validate import finite_float, frame_index, int_at
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.config_file import read_config_file
-from broadtrack_graph.io.tripod_file import read_tripod
+from broadtrack_graph.io.tripod_file import read_camera_tripods, read_tripod
 from broadtrack_graph.track.config import MODES, TrackingConfig
 
 _DEFAULT = TrackingConfig()
@@ -88,7 +88,10 @@ def config_from_args(args) -> TrackingConfig:
 
 
 def tripods_from_args(args) -> dict[str, Tripod]:
-    """The known tripods of ``--tripod [CAMERA_ID=]FILE`` (repeatable) by camera id ("main" for a bare FILE).
+    """The known tripods of ``--tripod [CAMERA_ID=]FILE`` (repeatable) by camera id.
+
+    A bare FILE gives every camera of its ``cameras`` (a run's tripod.json), or its top level as the
+    main camera's; CAMERA_ID=FILE gives that camera's entry of the file, or its top level.
 
     Raises:
         InputError: a camera id given twice, or a tripod file that cannot be read.
@@ -100,9 +103,13 @@ def tripods_from_args(args) -> dict[str, Tripod]:
         camera_id, sep, path = str(value).partition("=")
         if not sep or Path(value).is_file():
             camera_id, path = MAIN_CAMERA_ID, str(value)
-        if camera_id in tripods:
-            raise InputError(Path(path), f"a second tripod for camera '{camera_id}'")
-        tripods[camera_id] = read_tripod(Path(path))
+        per_camera = read_camera_tripods(Path(path))
+        found = per_camera if (not sep or Path(value).is_file()) and per_camera else \
+            {camera_id: per_camera.get(camera_id) or read_tripod(Path(path))}
+        for key, tripod in found.items():
+            if key in tripods:
+                raise InputError(Path(path), f"a second tripod for camera '{key}'")
+            tripods[key] = tripod
     return tripods
 
 

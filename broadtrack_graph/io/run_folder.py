@@ -202,8 +202,8 @@ class RunFolder:
         """tripod.json (InputError when missing or malformed)."""
         return read_tripod(self.tripod_path)
 
-    def write_tripod(self, tripod: Tripod, fit_info: dict | None = None) -> None:
-        write_tripod(self.tripod_path, tripod, fit_info)
+    def write_tripod(self, tripod: Tripod, fit_info: dict | None = None, cameras: dict[str, Tripod] | None = None) -> None:
+        write_tripod(self.tripod_path, tripod, fit_info, cameras)
 
     # ----------------------------------------------------------------- track
 

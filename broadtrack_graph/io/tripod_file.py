@@ -1,7 +1,9 @@
-"""The tripod file (``tripod.json``): {"T_w": [x, y, z], "delta_m": d, "fit": {...}}.
+"""The tripod file (``tripod.json``): {"T_w": [x, y, z], "delta_m": d, "fit": {...}, "cameras": {...}}.
 
 Written by a run that fitted or used a tripod, read back with ``track --tripod`` for later
-runs of the same camera (the synthetic clip's ground-truth tripod.json has the same form).
+runs of the same cameras (the synthetic clip's ground-truth tripod.json has the same form).
+The top level is the main camera's tripod (else the last camera's); ``cameras`` holds one
+tripod per camera id of the run ({"main": {"T_w": ..., "delta_m": ...}, "high-corner-1": ...}).
 """
 
 from __future__ import annotations
@@ -16,22 +18,47 @@ from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 TRIPOD_FILE = "tripod.json"
 
 
-def write_tripod(path: str | Path, tripod: Tripod, fit_info: dict | None = None) -> None:
-    """Write ``tripod.json`` ({"T_w": [x, y, z], "delta_m": d}) for later runs of the same camera."""
-    data = {"T_w": [float(v) for v in tripod.T_w], "delta_m": float(tripod.delta_m)}
+def write_tripod(path: str | Path, tripod: Tripod, fit_info: dict | None = None,
+                 cameras: dict[str, Tripod] | None = None) -> None:
+    """Write ``tripod.json`` (module docstring) for later runs of the same cameras."""
+    data = _tripod_dict(tripod)
     if fit_info:
         data["fit"] = {k: v for k, v in fit_info.items() if isinstance(v, (int, float, str, list, type(None)))}
+    if cameras:
+        data["cameras"] = {str(k): _tripod_dict(v) for k, v in sorted(cameras.items())}
     write_json_atomic(path, data, indent=1)
 
 
-def read_tripod(path: str | Path) -> Tripod:
-    """Read a tripod file written by :func:`write_tripod` (or the synthetic clip's tripod.json)."""
+def _tripod_dict(tripod: Tripod) -> dict:
+    return {"T_w": [float(v) for v in tripod.T_w], "delta_m": float(tripod.delta_m)}
+
+
+def read_camera_tripods(path: str | Path) -> dict[str, Tripod]:
+    """The per-camera tripods of a tripod file (its ``cameras``), or {} when it has none.
+
+    Raises:
+        InputError: missing or malformed file, or a malformed camera entry.
+    """
     data = read_json(path)
+    cameras = data.get("cameras") if isinstance(data, dict) else None
+    if cameras is None:
+        return {}
+    if not isinstance(cameras, dict):
+        raise InputError(path, '"cameras" must map camera ids to {"T_w": [x, y, z], "delta_m": d}')
+    return {str(k): _tripod_from(path, v, f"cameras.{k}: ") for k, v in cameras.items()}
+
+
+def read_tripod(path: str | Path) -> Tripod:
+    """Read a tripod file written by :func:`write_tripod` (its top level) or the synthetic clip's tripod.json."""
+    return _tripod_from(path, read_json(path))
+
+
+def _tripod_from(path, data, where: str = "") -> Tripod:
     try:
         T = [float(v) for v in data["T_w"]]
         delta = float(data["delta_m"])
     except (KeyError, TypeError, ValueError):
-        raise InputError(path, "expected {\"T_w\": [x, y, z], \"delta_m\": d}") from None
+        raise InputError(path, where + "expected {\"T_w\": [x, y, z], \"delta_m\": d}") from None
     if len(T) != 3 or not all(map(math.isfinite, T + [delta])):
-        raise InputError(path, "tripod values must be 3 finite coordinates and a finite delta_m")
+        raise InputError(path, where + "tripod values must be 3 finite coordinates and a finite delta_m")
     return Tripod((T[0], T[1], T[2]), delta)

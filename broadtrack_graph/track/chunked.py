@@ -72,4 +72,4 @@ def refined_record(record: TrackRecord, estimate: FrameEstimate | None, observat
                   if (observations.lines_px or observations.keypoints) else record.confidence)
     active = tuple(sorted(k for k, v in (estimate.active_factors or {}).items() if v))
     return TrackRecord(record.frame_index, record.frame_id, record.time_s, estimate.camera, std_fields(estimate),
-                       confidence, record.reinitialised, record.status, record.reason, active)
+                       confidence, record.reinitialised, record.status, record.reason, active, record.camera_id)

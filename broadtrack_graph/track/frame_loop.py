@@ -67,6 +67,7 @@ from broadtrack_graph.track.config import TrackingConfig, graph_config_for, stre
 from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
+from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.reinit_policy import ReinitDecision, ReinitPolicy
 from broadtrack_graph.track.result import RunResult, std_fields
@@ -448,12 +449,13 @@ class TrackingRun:
                 entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, None, {},
                                            None, False, STATUS_FAILED, "no estimate released")
         self._flush()
-        tripod = self.solver.tripod
+        by_camera = self.online_tripod.by_camera(self.solver)
+        tripod = by_camera.get(MAIN_CAMERA_ID, self.solver.tripod)  # the main camera's, else the last camera's
         extra = dict(extra_summary or {})
         fit_info = self.online_tripod.info
         if tripod is not None:
             extra["tripod"] = {"T_w": list(map(float, tripod.T_w)), "delta_m": float(tripod.delta_m)}
-            RunFolder(self.out_dir).write_tripod(tripod, fit_info)
+            RunFolder(self.out_dir).write_tripod(tripod, fit_info, by_camera)
         if fit_info:
             extra["tripod_fit"] = fit_info
         extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
@@ -461,4 +463,4 @@ class TrackingRun:
         extra["reinit_searches"] = dict(self.policy.counts)
         extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
-        return RunResult(self.out_dir, summary, None, tripod)
+        return RunResult(self.out_dir, summary, None, tripod, by_camera)

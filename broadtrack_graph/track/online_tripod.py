@@ -68,8 +68,8 @@ class OnlineTripod:
             return
         if self.camera_id is not None and solver.tripod is not None and not self.provisional:
             self.tripods[self.camera_id] = solver.tripod
-        if self.camera_id is None and camera_id not in self.tripods and self.known_tripod is not None:
-            self.tripods[camera_id] = self.known_tripod  # the run's tripod is the first camera's
+        if self.camera_id is None and not self.tripods and self.known_tripod is not None:
+            self.tripods[camera_id] = self.known_tripod  # a run given one tripod without camera ids: the first camera's
         self.camera_id = camera_id
         tripod = self.tripods.get(camera_id)
         if tripod is not None or self.config.use_tripod:
@@ -77,6 +77,13 @@ class OnlineTripod:
         self.known_tripod = tripod
         self.provisional = False
         self.cameras = []
+
+    def by_camera(self, solver) -> dict[str, Tripod]:
+        """Every camera's tripod so far (fitted or given; the current camera's as the solver holds it)."""
+        out = dict(self.tripods)
+        if self.camera_id is not None and solver.tripod is not None:
+            out[self.camera_id] = solver.tripod
+        return out
 
     def update(self, solver, camera: Camera | None, confidence: float | None) -> None:
         """Add one frame's camera (None: not trusted) and set ``solver.tripod`` when due.

@@ -37,9 +37,10 @@ from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
+from broadtrack_graph.io.track_record import TrackRecord
 from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
-from broadtrack_graph.shots.segmenter import NO_PITCH_KINDS, ShotConfig, place_shot
+from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID, NO_PITCH_KINDS, ShotConfig, place_shot
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
@@ -129,11 +130,12 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     if recover:
         observations = {**given, **run.kept}
         recovery = recover_gaps(pass1.records, observations, pitch or PitchTemplate(), graph_config_for(config, graph_config),
-                                config.confidence_threshold, config.recover_max_frames, pass1.tripod or tripod)
+                                config.confidence_threshold, config.recover_max_frames, pass1.tripod or tripod,
+                                {**(pass1.tripods or {}), **(tripods or {})})
         pass1 = RunResult(pass1.out_dir, {**pass1.summary, "offline_recovery": recovery.info()}, recovery.records,
-                          pass1.tripod)
+                          pass1.tripod, pass1.tripods)
     return refine_run(pass1, observations, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
-                      graph_config, record_observer)
+                      graph_config, record_observer, tripods)
 
 
 def _observe(writer: TrackWriter, record_observer: RecordObserver | None) -> TrackWriter:
@@ -179,7 +181,7 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
     (``record_observer``: see :func:`run_frames`)."""
     pitch = pitch or PitchTemplate()
     recovery = recover_gaps(result.records, observations, pitch, graph, config.confidence_threshold,
-                            config.recover_max_frames, result.tripod)
+                            config.recover_max_frames, result.tripod, result.tripods)
     if not recovery.recovered:
         return result
     records = recovery.records
@@ -193,12 +195,14 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
         window = [r for r in records[lo:hi] if r.camera is not None and r.frame_index in observations]
         if not any(r.frame_index in recovered for r in window):
             continue
+        gap_camera = next(r.camera_id for r in records if r.frame_index == first)
+        window = [r for r in window if r.camera_id == gap_camera]  # one camera's frames, with its tripod
         initial = Track([FrameEstimate(r.frame_index, r.camera) for r in window])
         for k in range(1, len(window)):
             if window[k].frame_index != window[k - 1].frame_index + 1:
                 initial.frames[k].reinitialised = True
-        track, _ = refiner.refine([observations[r.frame_index] for r in window], initial, tripod=result.tripod,
-                                  estimate_tripod=False)
+        track, _ = refiner.refine([observations[r.frame_index] for r in window], initial,
+                                  tripod=result.tripod_of(gap_camera), estimate_tripod=False)
         for estimate in track.frames:
             if estimate is None or estimate.camera is None or estimate.frame_index not in recovered:
                 continue
@@ -219,38 +223,48 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
 def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
                out_dir: str | Path, config: TrackingConfig, tripod: Tripod | None = None,
                pitch: PitchTemplate | None = None, run_info: dict | None = None, progress: bool = True,
-               graph_config: GraphConfig | None = None, record_observer: RecordObserver | None = None) -> RunResult:
-    """Second pass: fit the tripod to the first pass and refine the whole track by batch LM
-    (``record_observer``: see :func:`run_frames`)."""
+               graph_config: GraphConfig | None = None, record_observer: RecordObserver | None = None,
+               tripods: dict[str, Tripod] | None = None) -> RunResult:
+    """Second pass: fit the tripod to the first pass and refine the whole track by batch LM, one camera
+    (camera id) at a time with its own tripod (``record_observer``: see :func:`run_frames`;
+    ``tripods``: known tripods by camera id)."""
     pitch = pitch or PitchTemplate()
     graph = graph_config_for(config, graph_config)
     tracked = [r for r in pass1.records if r.camera is not None and r.frame_index in observations]
     if not tracked:
         raise RuntimeError("the first pass tracked no frame; nothing to refine")
-    frames = [observations[r.frame_index] for r in tracked]
-    initial = Track([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
-    # Frames not consecutive in the input (a gap) are not linked.
-    for previous, current in zip(tracked[:-1], tracked[1:]):
-        if current.frame_index != previous.frame_index + 1:
-            initial.frames[tracked.index(current)].reinitialised = True
+    groups: dict[str | None, list[TrackRecord]] = {}
+    for record in tracked:
+        groups.setdefault(record.camera_id, []).append(record)
+    single = len(groups) == 1
     refiner = BatchRefiner(width_px, height_px, pitch, graph)
     started = time.perf_counter()
     joint = config.use_tripod and config.batch_tripod == "joint"
-    start_tripod, fit_info = (tripod if tripod is not None else pass1.tripod), None
-    if config.use_tripod and start_tripod is None and not joint:
-        start_tripod, fit_info = fit_tripod_for_run([r.camera for r in tracked], graph.solver)
-    track, fitted = refiner.refine(frames, initial, tripod=start_tripod if config.use_tripod else None,
-                                   estimate_tripod=joint, progress=progress)
-    if config.use_tripod and not joint:
-        fitted = start_tripod
-        if fit_info is not None:
-            refiner.last_info["tripod_fit"] = fit_info
-        elif pass1.summary.get("tripod_fit"):
-            refiner.last_info["tripod_fit"] = {"from_first_pass": pass1.summary.get("tripod_fit")}
+    by_index: dict[int, FrameEstimate] = {}
+    fitted_by_camera: dict[str, Tripod] = {}
+    fit_infos: dict = {}
+    fitted = None
+    for camera_id, group in groups.items():
+        given = (tripods or {}).get(camera_id) if camera_id is not None else None
+        if given is None and (single or camera_id in (None, MAIN_CAMERA_ID)):
+            given = tripod
+        start_tripod = given if given is not None else (pass1.tripod if single else pass1.tripod_of(camera_id))
+        track, camera_tripod, info = _refine_camera(refiner, group, observations, config, graph, start_tripod, joint,
+                                                    progress, pass1.summary if single else {})
+        by_index.update({e.frame_index: e for e in track.frames if e is not None})
+        if info is not None:
+            fit_infos[str(camera_id)] = info
+        if camera_tripod is not None and camera_id is not None:
+            fitted_by_camera[camera_id] = camera_tripod
+        if camera_tripod is not None and (fitted is None or single or camera_id == MAIN_CAMERA_ID):
+            fitted = camera_tripod
+    if single and fit_infos:
+        refiner.last_info["tripod_fit"] = next(iter(fit_infos.values()))
+    elif fit_infos:
+        refiner.last_info["tripod_fit"] = fit_infos
     elapsed = time.perf_counter() - started
     curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5)
     sampling = TemplateSampling(pitch)
-    by_index = {e.frame_index: e for e in track.frames if e is not None}
     writer = _observe(TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
                                   run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)}),
                       record_observer)
@@ -267,9 +281,33 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
         extra["offline_recovery"] = pass1.summary["offline_recovery"]
     if fitted is not None:
         extra["tripod"] = {"T_w": list(map(float, fitted.T_w)), "delta_m": float(fitted.delta_m)}
-        RunFolder(out_dir).write_tripod(fitted, refiner.last_info.get("tripod_fit"))
+        RunFolder(out_dir).write_tripod(fitted, refiner.last_info.get("tripod_fit"), fitted_by_camera)
     summary = writer.close(extra)
-    return RunResult(Path(out_dir), summary, records, fitted)
+    return RunResult(Path(out_dir), summary, records, fitted, fitted_by_camera)
+
+
+def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observations: dict[int, FrameObservations],
+                   config: TrackingConfig, graph: GraphConfig, start_tripod: Tripod | None, joint: bool, progress: bool,
+                   first_pass_summary: dict) -> tuple[Track, Tripod | None, dict | None]:
+    """Batch LM over one camera's frames: (refined track, its tripod, the tripod fit's report or None)."""
+    frames = [observations[r.frame_index] for r in tracked]
+    initial = Track([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
+    # Frames not consecutive in the input (a gap, another camera's shot between) are not linked.
+    for k in range(1, len(tracked)):
+        if tracked[k].frame_index != tracked[k - 1].frame_index + 1:
+            initial.frames[k].reinitialised = True
+    fit_info = None
+    if config.use_tripod and start_tripod is None and not joint:
+        start_tripod, fit_info = fit_tripod_for_run([r.camera for r in tracked], graph.solver)
+    track, fitted = refiner.refine(frames, initial, tripod=start_tripod if config.use_tripod else None,
+                                   estimate_tripod=joint, progress=progress)
+    if config.use_tripod and not joint:
+        fitted = start_tripod
+        if fit_info is None and first_pass_summary.get("tripod_fit"):
+            fit_info = {"from_first_pass": first_pass_summary.get("tripod_fit")}
+    elif joint and refiner.last_info.get("tripod_fit"):
+        fit_info = refiner.last_info.get("tripod_fit")
+    return track, fitted, fit_info
 
 
 def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:

@@ -91,7 +91,7 @@ def recoverable_gaps(records: list[TrackRecord], observations: dict[int, FrameOb
 
 def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObservations], pitch: PitchTemplate,
                  graph_config: GraphConfig, confidence_threshold: float, max_frames: int,
-                 tripod: Tripod | None = None) -> Recovery:
+                 tripod: Tripod | None = None, tripods: dict[str, Tripod] | None = None) -> Recovery:
     """Give cameras to the frames of recoverable gaps by walking in from their neighbours.
 
     Args:
@@ -104,6 +104,8 @@ def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObserv
             frame that does not.
         max_frames: longer gaps are left alone.
         tripod: when known, the refinement ties the focal point to it.
+        tripods: tripods by camera id (a broadcast's cameras): a walk uses the tripod of the camera it starts
+            from, and the recovered frames take that camera's id.
     """
     records = list(records)
     result = Recovery(records)
@@ -116,19 +118,24 @@ def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObserv
     for lo, hi in gaps:
         result.gaps.append([records[lo].frame_index, records[hi - 1].frame_index])
         found: dict[int, tuple[Camera, float, int]] = {}
+        def tripod_of(record: TrackRecord) -> Tripod | None:
+            return (tripods.get(record.camera_id) if record.camera_id is not None else None) if tripods else tripod
+
         if lo > 0 and records[lo - 1].camera is not None:
             builder = _walk(records, observations, range(lo, hi), records[lo - 1], pitch, graph_config,
-                            confidence_threshold, tripod, curves, sampling, builder, found)
+                            confidence_threshold, tripod_of(records[lo - 1]), curves, sampling, builder, found)
         if hi < len(records) and records[hi].camera is not None:
             builder = _walk(records, observations, range(hi - 1, lo - 1, -1), records[hi], pitch, graph_config,
-                            confidence_threshold, tripod, curves, sampling, builder, found)
+                            confidence_threshold, tripod_of(records[hi]), curves, sampling, builder, found)
         for position in range(lo, hi):
             record = records[position]
             if position not in found:
                 result.unrecovered.append(record.frame_index)
                 continue
             camera, confidence, source = found[position]
+            source_id = next(r.camera_id for r in records if r.frame_index == source)
             records[position] = replace(record, camera=camera, confidence=confidence, status=STATUS_TRACKED,
+                                        camera_id=source_id,
                                         reinitialised=False, std={},
                                         reason=f"recovered offline from frame {source}",
                                         active_factors=_active(observations[record.frame_index]))

@@ -16,7 +16,8 @@ from broadtrack_graph.io.track_record import TrackRecord
 
 @dataclass
 class RunResult:
-    """What a run produced: its folder, summary, the per-frame records and the tripod used.
+    """What a run produced: its folder, summary, the per-frame records, the tripod used (the main camera's,
+    else the last camera's) and every camera's tripod by camera id.
 
     ``records`` are read back from the run's ``track.jsonl`` on first use when the run did not
     keep them in memory (a long run does not: a record is about 1.5 KB, 200 MB over a match).
@@ -26,6 +27,13 @@ class RunResult:
     summary: dict
     kept_records: list[TrackRecord] | None = None
     tripod: Tripod | None = None
+    tripods: dict[str, Tripod] | None = None
+
+    def tripod_of(self, camera_id: str | None) -> Tripod | None:
+        """The tripod of one camera: its own, else (a run without camera ids) the run's."""
+        if self.tripods:
+            return self.tripods.get(camera_id) if camera_id is not None else None
+        return self.tripod
 
     @property
     def records(self) -> list[TrackRecord]:
