@@ -41,6 +41,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
+from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
 
@@ -79,6 +80,12 @@ class WeightFreeConfig:
     point_spacing_px: float = 3.0  # named points are averaged per cell of this size (working pixels)
     max_points_per_class: int = 250  # more cells: the class is averaged on coarser cells (solver cost ~ points; 100 put the batch tripod of a short 1080p test clip 2.9 m off)
     template_spacing_px: float = 0.5  # densified projected template for naming (working pixels)
+    # Points are named only after template parts that can be seen: a marking at least this wide (working pixels,
+    # the confidence's detectability, reinit.confidence.ConfidenceConfig.min_line_width_px) and outside the
+    # goals (posts and net are thin white lines too).
+    min_named_width_px: float = 1.4
+    goal_depth_m: float = 2.5  # the goals' region left out of naming (geometry.goals.goal_region); 0: not left out
+    goal_margin_m: float = 0.5
 
 
 def presmooth_sigma(frame_width_px: int, work_width_px: int, sigma_px: float) -> float:
@@ -245,13 +252,19 @@ class WeightFreeDetector:
         if not len(points_px):
             return {}
         template = project_template(predicted.camera, self.curves, w, h, c.template_spacing_px)
-        if not len(template.uv_px):
+        seen = template.width_m_px >= c.min_named_width_px * max(1.0, w / predicted.camera.width_px)
+        goals = goal_region(predicted.camera, w, h, self.pitch, c.goal_depth_m, c.goal_margin_m)
+        if goals is not None and len(points_px):
+            points_px = points_px[~goals[np.clip(points_px[:, 1].astype(int), 0, h - 1),
+                                         np.clip(points_px[:, 0].astype(int), 0, w - 1)]]
+        template_uv, template_class = template.uv_px[seen], template.class_index[seen]
+        if not len(template_uv) or not len(points_px):
             return {}
         gate = c.gate_px + c.gate_sigmas * predicted.uncertainty_px * scale
-        d, nearest = cKDTree(template.uv_px).query(points_px, distance_upper_bound=gate)
+        d, nearest = cKDTree(template_uv).query(points_px, distance_upper_bound=gate)
         ok = np.isfinite(d)
         cls = np.full(len(points_px), -1)
-        cls[ok] = template.class_index[nearest[ok]]
+        cls[ok] = template_class[nearest[ok]]
         out = {}
         for j in np.unique(cls[ok]):
             members = cls == j
