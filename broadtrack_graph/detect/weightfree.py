@@ -83,7 +83,7 @@ class WeightFreeConfig:
     # Points are named only after template parts that can be seen: a marking at least this wide (working pixels,
     # the confidence's detectability, reinit.confidence.ConfidenceConfig.min_line_width_px) and outside the
     # goals (posts and net are thin white lines too).
-    min_named_width_px: float = 1.4
+    min_named_width_px: float = 1.4  # at REFERENCE_WIDTH_PX
     goal_depth_m: float = 2.5  # the goals' region left out of naming (geometry.goals.goal_region); 0: not left out
     goal_margin_m: float = 0.5
 
@@ -252,7 +252,9 @@ class WeightFreeDetector:
         if not len(points_px):
             return {}
         template = project_template(predicted.camera, self.curves, w, h, c.template_spacing_px)
-        seen = template.width_m_px >= c.min_named_width_px * max(1.0, w / predicted.camera.width_px)
+        # min_named_width_px is at the reference width, for a frame at least that wide (as the confidence's rule).
+        seen = template.width_m_px >= c.min_named_width_px * (w / REFERENCE_WIDTH_PX) * max(
+            1.0, REFERENCE_WIDTH_PX / predicted.camera.width_px)
         goals = goal_region(predicted.camera, w, h, self.pitch, c.goal_depth_m, c.goal_margin_m)
         if goals is not None and len(points_px):
             points_px = points_px[~goals[np.clip(points_px[:, 1].astype(int), 0, h - 1),

@@ -28,10 +28,10 @@ class TrackingConfig:
     cheap_reinit: bool = True  # a lost frame first tries the last confident cameras, refined (False: search at once)
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
-    # (a search costs about search_cost_frames tracked frames: ~0.7 s against ~35 ms a frame at 720p); each
+    # (a search stage costs about search_cost_frames tracked frames: 0.3-0.7 s against 35-40 ms a frame); each
     # search that finds nothing doubles the wait for the next, up to max_search_backoff times.
     search_time_share: float = 0.2
-    search_cost_frames: float = 20.0
+    search_cost_frames: float = 10.0
     max_search_backoff: int = 8
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)

@@ -67,7 +67,9 @@ from broadtrack_graph.track.config import TrackingConfig, graph_config_for, stre
 from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
+from broadtrack_graph.track.recover import RECOVERABLE_STATUSES
 from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
+from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.reinit_policy import ReinitDecision, ReinitPolicy
 from broadtrack_graph.track.result import RunResult, std_fields
@@ -117,8 +119,10 @@ class TrackingRun:
         confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
             (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
         on_frame_done: observer called after every processed frame (:data:`FrameDone`).
-        tripods: known tripods by camera id (the shot step's camera ids, e.g. "main"), used when that
-            camera's shots come; ``tripod`` is the one of the first camera.
+        tripods: known tripods by camera id (e.g. "main"), used when that camera is found; ``tripod``
+            is the main camera's.
+        backfill: offline modes: frames left without a camera are walked in from their neighbours' cameras
+            (:mod:`broadtrack_graph.track.backfill`; needs a detector that finds its markings ahead).
     """
 
     def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
@@ -126,7 +130,8 @@ class TrackingRun:
                  graph_config: GraphConfig | None = None, run_info: dict | None = None,
                  keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
                  solver_factory=streaming_solver_for, reinitialise=reinitialise, confidence=frame_confidence,
-                 on_frame_done: FrameDone | None = None, tripods: dict[str, Tripod] | None = None) -> None:
+                 on_frame_done: FrameDone | None = None, tripods: dict[str, Tripod] | None = None,
+                 backfill: bool = False) -> None:
         self.W, self.H = int(width_px), int(height_px)
         self.config = config
         self.detector = detector
@@ -165,13 +170,22 @@ class TrackingRun:
         self.shot_camera_ids: dict[int, str] = {}  # shot index -> the camera id of its first confident frame
         # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
         # in the thread that decodes the frames (overlapping the stages here; see track.passes.run_loop).
-        self.timings = {"detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
+        self.backfill = None
+        if backfill and detector is not None and hasattr(detector, "name") and config.recover_max_frames > 0:
+            self.backfill = Backfill(detector.name, confidence, self.pitch, self.curves, self.sampling,
+                                     self.graph_config, config.confidence_threshold, config.recover_max_frames,
+                                     lambda camera_id: self.online_tripod.by_camera(self.solver).get(camera_id))
+        self._ahead: dict[int, tuple[object | None, bool]] = {}  # frame -> (markings found ahead, shot cut before it)
+        self.timings = {"backfill_s": 0.0, "detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0, "markings_ahead_s": 0.0}
 
     # ----------------------------------------------------------------- one frame
 
     def process(self, frame: FrameInput) -> None:
         """Process one frame, write every record that became final, and tell the observer."""
+        if self.backfill is not None:
+            cut = frame.shot is not None and (frame.shot.cut or frame.shot.is_other_view)
+            self._ahead[frame.frame_index] = (frame.markings, cut)
         handed, detections = self._process(frame)
         if self.on_frame_done is not None:
             self.on_frame_done(frame, handed, detections)
@@ -438,7 +452,24 @@ class TrackingRun:
         while self._pending and self._pending[0].record is not None:
             record = self._pending.popleft().record
             self.writer.write(record)  # records are read back from the file (RunResult.records)
+            if self.backfill is not None:
+                self._to_backfill(record)
         self.timings["write_s"] += time.perf_counter() - started
+
+    def _to_backfill(self, record: TrackRecord) -> None:
+        """Hand a final record to the back-fill (its time counted apart from writing)."""
+        started = time.perf_counter()
+        found, cut = self._ahead.pop(record.frame_index, (None, False))
+        if cut:
+            self.backfill.cut()
+        if record.camera is not None:
+            self.backfill.with_camera(record.frame_index, record.camera, record.camera_id)
+        elif record.status in RECOVERABLE_STATUSES or record.status == STATUS_MISSING_FRAME:
+            self.backfill.without_camera(record.frame_index, found)
+        else:
+            self.backfill.cut()  # another view: nothing is walked across it
+        self.timings["backfill_s"] += time.perf_counter() - started
+        self.timings["write_s"] -= time.perf_counter() - started
 
     def finish(self, extra_summary: dict | None = None) -> RunResult:
         """Release the smoother's last frames, write the tripod and close the run."""
@@ -449,6 +480,10 @@ class TrackingRun:
                 entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, None, {},
                                            None, False, STATUS_FAILED, "no estimate released")
         self._flush()
+        if self.backfill is not None:
+            started = time.perf_counter()
+            self.backfill.cut()
+            self.timings["backfill_s"] += time.perf_counter() - started
         by_camera = self.online_tripod.by_camera(self.solver)
         tripod = by_camera.get(MAIN_CAMERA_ID, self.solver.tripod)  # the main camera's, else the last camera's
         extra = dict(extra_summary or {})

@@ -37,7 +37,7 @@ from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
-from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.io.track_record import STATUS_TRACKED, TrackRecord
 from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID, NO_PITCH_KINDS, ShotConfig, place_shot
@@ -108,10 +108,13 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
         # bound): the recovery works on the observations a detections file brought.
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
                           reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
-                          tripods=tripods)
+                          tripods=tripods, backfill=recover)
         _observe(run.writer, record_observer)
         run_loop(run, frames, progress, total, config.mode)
         result = run.finish(_shots_summary(stream, out_dir, run.shot_camera_ids))
+        if run.backfill is not None and run.backfill.recovered:
+            result = _rewritten(result, _backfilled(result.records, run.backfill.recovered), width_px, height_px,
+                                config, run_info, record_observer, {"backfilled_frames": len(run.backfill.recovered)})
         if not recover or not given:
             return result
         return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
@@ -120,13 +123,18 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
                       graph_config_for(first, graph_config), run_info, keep_observations=True,
                       reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
-                      tripods=tripods)
+                      tripods=tripods, backfill=recover)
     _observe(run.writer, record_observer)
     run_loop(run, frames, progress, total, "pass 1 (online)")
     pass1 = run.finish(_shots_summary(stream, out_dir, run.shot_camera_ids))
     if not any(r.camera is not None for r in pass1.records) and stream is not None and stream.shots:
         return pass1
     observations = run.kept
+    if run.backfill is not None and run.backfill.recovered:
+        # The back-filled frames enter the refinement with the points they were named with.
+        observations.update({i: b.observations for i, b in run.backfill.recovered.items()})
+        pass1 = RunResult(pass1.out_dir, {**pass1.summary, "backfilled_frames": len(run.backfill.recovered)},
+                          _backfilled(pass1.records, run.backfill.recovered), pass1.tripod, pass1.tripods)
     if recover:
         observations = {**given, **run.kept}
         recovery = recover_gaps(pass1.records, observations, pitch or PitchTemplate(), graph_config_for(config, graph_config),
@@ -210,14 +218,34 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
             obs = observations[estimate.frame_index]
             records[i] = replace(records[i], camera=estimate.camera, std=std_fields(estimate),
                                  confidence=frame_confidence(estimate.camera, obs, None, curves, sampling))
-    extra = {k: v for k, v in result.summary.items() if k not in _WRITER_KEYS}
-    extra["offline_recovery"] = recovery.info()
+    return _rewritten(result, records, width_px, height_px, config, run_info, record_observer,
+                      {"offline_recovery": recovery.info()})
+
+
+def _backfilled(records: list[TrackRecord], recovered: dict) -> list[TrackRecord]:
+    """The records with the back-fill's cameras (:class:`~broadtrack_graph.track.backfill.Backfilled`) put in."""
+    out = []
+    for record in records:
+        found = recovered.get(record.frame_index)
+        if found is not None and record.camera is None:
+            record = replace(record, camera=found.camera, confidence=found.confidence, status=STATUS_TRACKED,
+                             reinitialised=False, std={}, camera_id=found.camera_id,
+                             reason=f"back-filled offline from frame {found.source}",
+                             active_factors=("lines",))
+        out.append(record)
+    return out
+
+
+def _rewritten(result: RunResult, records: list[TrackRecord], width_px: int, height_px: int, config: TrackingConfig,
+               run_info: dict | None, record_observer: RecordObserver | None, extra: dict) -> RunResult:
+    """The run folder written again with these records (offline recovery, back-fill); the summary keeps its fields."""
+    kept = {k: v for k, v in result.summary.items() if k not in _WRITER_KEYS}
     writer = _observe(TrackWriter(result.out_dir, width_px, height_px, also_960x540=config.write_960x540,
                                   run_info=result.summary.get("run", run_info or {})), record_observer)
     for record in records:
         writer.write(record)
-    summary = writer.close(extra)
-    return RunResult(Path(result.out_dir), summary, records, result.tripod)
+    summary = writer.close({**kept, **extra})
+    return RunResult(Path(result.out_dir), summary, records, result.tripod, result.tripods)
 
 
 def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,

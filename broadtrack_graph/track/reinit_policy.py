@@ -14,9 +14,16 @@ What is tried, cheapest first:
    guess is taken at once and continues its camera's chain: this is how a camera returning
    after a close-up or a replay is recognised.
 2. **The global search**, when the search budget allows, in stages run while nothing
-   confident has been found: the known cameras' positions; the default positions (main,
-   16 m, behind the goal); the main camera further back; each low gantry position; the other
-   camera kinds (:mod:`broadtrack_graph.reinit.positions`).
+   confident has been found. In a shot whose camera is not known yet: the known cameras'
+   positions; the default positions (main, 16 m, behind the goal); the main camera further
+   back; each low gantry position; the other camera kinds (:mod:`broadtrack_graph.reinit.positions`).
+   In a shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
+   that camera's position, then its kind's stage (the main camera's: the default positions,
+   in case its position came from a provisional tripod).
+
+Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is
+identified by its position (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`): a known
+camera's id, or a new id when it is confident and far from every known camera.
 
 One margin, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
@@ -25,7 +32,9 @@ unconfident one (a later stage's camera must also be better by the margin). All 
 are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
 **The search budget** (searches of the marking map; keypoints and labelled lines are searched
-at once, in milliseconds). A global search costs up to a second or two on a real frame, about
+at once, in milliseconds). A known camera lost mid-shot (a blurred sweep) is still there: it is
+searched again after 1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each.
+A shot whose camera is not known is searched through every stage, paid from the budget: a global search costs up to a second or two on a real frame, about
 ``search_cost_frames`` tracked frames. Searches are paid from a bucket that fills by one search
 every ``search_cost_frames * (1 - s) / s`` frames (s = ``search_time_share``), holding at most
 one; a search through several stages costs one each (the bucket goes into debt): over any stretch where nothing is found, searching takes about the share s of the run.
@@ -47,7 +56,9 @@ from broadtrack_graph.reinit.positions import (
     CAMERA_KINDS,
     DEFAULT_TRIPOD_POSITIONS_W,
     FAR_MAIN_POSITIONS_W,
+    MAIN_KIND,
     NEAR_MAIN_POSITIONS_W,
+    camera_kind,
 )
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
@@ -60,14 +71,21 @@ Refiner = Callable[[list, object, object], ReinitResult]
 Confidence = Callable[..., float | None]
 """``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
 
-SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = (
+MAIN_STAGES: tuple[tuple[str, tuple | None], ...] = (
     ("default positions", None),
     ("main camera further back", FAR_MAIN_POSITIONS_W),
     *((f"low gantry {p}", (p,)) for p in NEAR_MAIN_POSITIONS_W),
-    *((f"{kind.name} cameras", tuple(p for p in kind.positions_w if p not in DEFAULT_TRIPOD_POSITIONS_W.values()))
-      for kind in CAMERA_KINDS[1:] if any(p not in DEFAULT_TRIPOD_POSITIONS_W.values() for p in kind.positions_w)),
 )
-"""The global search's stages after the known cameras' positions: (label, positions; None = the defaults)."""
+"""Stages that find the main camera (the default positions also hold the 16 m and behind-the-goal guesses)."""
+
+KIND_STAGES: dict[str, tuple[str, tuple]] = {
+    kind.name: (f"{kind.name} cameras", tuple(p for p in kind.positions_w if p not in DEFAULT_TRIPOD_POSITIONS_W.values()))
+    for kind in CAMERA_KINDS[1:] if any(p not in DEFAULT_TRIPOD_POSITIONS_W.values() for p in kind.positions_w)
+}
+"""Per other camera kind: the stage that searches its positions the default search does not try."""
+
+SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_STAGES.values())
+"""The stages of a shot whose camera is not known yet, after the known cameras' positions."""
 
 
 @dataclass(frozen=True)
@@ -95,15 +113,20 @@ class ReinitDecision:
 class SearchBudget:
     """The global search's budget in frames (module docstring).
 
-    refill_frames: frames that pay for one search.
-    max_backoff: the price of a search doubles after each that finds nothing, up to this many searches.
+    refill_frames: frames that pay for one search stage (a shot whose camera is not known).
+    max_backoff: the price of a search doubles after each that finds nothing, up to this many searches;
+        a known camera lost mid-shot is searched again after 1, 2, 4, ... frames, up to this many times
+        ``max_gap_frames``.
     """
 
     refill_frames: float
     max_backoff: int = 8
     tokens: float = 1.0
     price: float = 1.0
+    max_gap_frames: int = 8
     _last_frame: int | None = None
+    _gap: int = 1
+    _next_known: int | None = None
 
     def _refill(self, frame_index: int) -> None:
         if self.refill_frames <= 0:  # no budget: every search is paid for
@@ -112,24 +135,33 @@ class SearchBudget:
             self.tokens = min(self.price, self.tokens + (frame_index - self._last_frame) / self.refill_frames)
         self._last_frame = frame_index
 
-    def allows(self, frame_index: int) -> bool:
-        """A search may run at this frame."""
+    def allows(self, frame_index: int, known_camera: bool = False) -> bool:
+        """A search may run at this frame (known_camera: the shot's camera is known, lost mid-shot)."""
         self._refill(frame_index)
+        if known_camera:
+            return self.refill_frames <= 0 or self._next_known is None or frame_index >= self._next_known
         return self.tokens >= self.price - 1e-9
 
-    def next_frame(self, frame_index: int) -> int:
+    def next_frame(self, frame_index: int, known_camera: bool = False) -> int:
         """The first frame at which a search will be allowed (from frame_index on)."""
         self._refill(frame_index)
+        if known_camera:
+            return max(frame_index, self._next_known if self._next_known is not None else frame_index)
         return frame_index + max(0, int(np.ceil((self.price - self.tokens) * self.refill_frames - 1e-9)))
 
-    def spend(self, found: bool, searches: int = 1) -> None:
-        """A search of ``searches`` stages ran; found: it gave a confident camera."""
+    def spend(self, frame_index: int, found: bool, searches: int = 1, known_camera: bool = False) -> None:
+        """A search of ``searches`` stages ran at frame_index; found: it gave a confident camera."""
+        if known_camera:
+            # The camera is still there, only lost: searched again soon, then less and less often.
+            self._next_known = None if found else frame_index + self._gap
+            self._gap = 1 if found else min(2 * self._gap, self.max_gap_frames * self.max_backoff)
+            return
         self.tokens -= self.price * max(1, searches)
         self.price = 1.0 if found else min(self.price * 2.0, float(self.max_backoff))
 
     def restart(self) -> None:
         """A new stretch (a cut, a view change, a confident frame): the next search is paid at once."""
-        self.tokens, self.price = 1.0, 1.0
+        self.tokens, self.price, self._gap, self._next_known = 1.0, 1.0, 1, None
 
 
 class ReinitPolicy:
@@ -205,9 +237,10 @@ class ReinitPolicy:
             return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
                                         "refined " + guess.reason, held, held_confidence, chain_trusted)
         with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
-        if with_map and not self.budget.allows(i):
+        known = self.camera_id is not None and self.camera_id in self.registry.positions
+        if with_map and not self.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
-            why = f"search budget: the next global search at frame {self.budget.next_frame(i)}"
+            why = f"search budget: the next global search at frame {self.budget.next_frame(i, known)}"
             if guess is not None:
                 return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
                                             f"refined {guess.reason} ({why})", held, held_confidence, chain_trusted)
@@ -217,7 +250,8 @@ class ReinitPolicy:
                                                       with_map)
         self.counts["global"] += 1
         if with_map:
-            self.budget.spend(found is not None and found_confidence >= threshold, self.counts["stages"] - stages_before)
+            self.budget.spend(i, found is not None and found_confidence >= threshold,
+                              self.counts["stages"] - stages_before, known)
         if guess is not None and (found is None or (found_confidence < threshold
                                                     and found_confidence <= guess_confidence + margin)):
             # Nothing confident found: the refined guess (a confident camera's continuation) stays
@@ -227,8 +261,12 @@ class ReinitPolicy:
                                         held_confidence, chain_trusted)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
-        camera_id = self.registry.nearest(found.camera.position_m) if found_confidence < threshold \
-            else self.registry.identify(found.camera.position_m)
+        if self.camera_id is not None:
+            camera_id = self.camera_id  # a shot's camera does not change
+        elif found_confidence >= threshold:
+            camera_id = self.registry.identify(found.camera.position_m)
+        else:
+            camera_id = self.registry.nearest(found.camera.position_m)
         return self._switch_or_keep(found, found_confidence, camera_id, False, True, label, held, held_confidence,
                                     chain_trusted)
 
@@ -289,8 +327,15 @@ class ReinitPolicy:
         known: list = []
         if self.search_positions is not None:
             stages = [("the given positions", self.search_positions)]
+        elif self.camera_id is not None and self.camera_id in self.registry.positions:
+            # Mid-shot: the camera has not moved; its own position, then its kind's stages.
+            known = [tuple(self.registry.positions[self.camera_id])]
+            kind, _ = camera_kind(known[0])
+            # The main camera's default stage guards against a wrong provisional tripod (its position).
+            own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES else ())
+            stages = [(f"camera {self.camera_id}", known)] + list(own)
         else:
-            known = [tuple(p) for cid, p in sorted(self.registry.positions.items(), key=lambda kv: kv[0] != self.camera_id)]
+            known = [tuple(p) for p in self.registry.positions.values()]
             stages = ([("known cameras", known)] if known else []) + list(SEARCH_STAGES if with_map else SEARCH_STAGES[:1])
         best, best_confidence, label, reasons = None, 0.0, "", []
         for k, (stage_label, positions) in enumerate(stages):

@@ -142,12 +142,24 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
 def test_search_budget_in_frames():
     budget = SearchBudget(refill_frames=10.0, max_backoff=4)
     assert budget.allows(0)
-    budget.spend(found=False)  # price doubles: the next needs 2 searches' worth
+    budget.spend(0, found=False)  # price doubles: the next needs 2 searches' worth
     assert not budget.allows(10) and budget.next_frame(10) == 20 and budget.allows(20)
-    budget.spend(found=False, searches=2)
+    budget.spend(20, found=False, searches=2)
     assert budget.price == 4 and budget.next_frame(20) == 20 + (4 + 2) * 10
     budget.restart()
     assert budget.allows(21) and budget.price == 1
+
+
+def test_a_known_camera_lost_mid_shot_is_searched_again_after_growing_gaps():
+    budget = SearchBudget(refill_frames=10.0, max_backoff=2, max_gap_frames=4)
+    searched = []
+    for i in range(40):
+        if budget.allows(i, known_camera=True):
+            searched.append(i)
+            budget.spend(i, found=False, known_camera=True)
+    assert searched == [0, 1, 3, 7, 15, 23, 31, 39]  # gaps 1, 2, 4, 8, then at most 4 * 2
+    budget.spend(39, found=True, known_camera=True)
+    assert budget.allows(40, known_camera=True)
 
 
 def test_given_positions_replace_the_stages():
