@@ -16,6 +16,7 @@ so memory stays bounded over a match. No I/O.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, replace
 from typing import Callable
 
@@ -30,6 +31,10 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.builder import GraphBuilder
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.single_frame import refine_single_frame
+from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_MISSING_FRAME, STATUS_NO_PITCH, STATUS_UNPLACED
+
+WALKABLE_STATUSES = (STATUS_FAILED, STATUS_NO_PITCH, STATUS_UNPLACED, STATUS_MISSING_FRAME)
+"""Statuses of frames a gap is made of (a missing frame has nothing to name: it stops a walk)."""
 
 NAMING_UNCERTAINTY_PX = 3.0
 """How far (pixels, 1 sigma) a neighbour's camera is taken to be off when it names a frame's points."""
@@ -114,6 +119,34 @@ class Backfill:
         self._too_long = False
         self._last: tuple[int, Camera, str | None] | None = None  # the last frame with a camera in this shot
         self._builder: GraphBuilder | None = None
+        self._ahead: dict[int, tuple[object | None, bool]] = {}  # frame -> (markings found ahead, a cut before it)
+        self.seconds = 0.0
+
+    def note(self, frame) -> None:
+        """A frame entering the loop (a :class:`~broadtrack_graph.track.inputs.FrameInput`): keep what it found
+        ahead until its record is final (a few frames; the lag of the smoother)."""
+        cut = frame.shot is not None and (frame.shot.cut or frame.shot.is_other_view)
+        self._ahead[frame.frame_index] = (frame.markings, cut)
+
+    def final(self, record) -> None:
+        """A record became final (a :class:`~broadtrack_graph.io.track_record.TrackRecord`, frame order)."""
+        started = time.perf_counter()
+        found, cut = self._ahead.pop(record.frame_index, (None, False))
+        if cut:
+            self._cut()
+        if record.camera is not None:
+            self.with_camera(record.frame_index, record.camera, record.camera_id)
+        elif record.status in WALKABLE_STATUSES:
+            self.without_camera(record.frame_index, found)
+        else:
+            self._cut()  # another view: nothing is walked across it
+        self.seconds += time.perf_counter() - started
+
+    def finish(self) -> None:
+        """The end of the run: an open gap is walked forwards from the camera before it."""
+        started = time.perf_counter()
+        self._cut()
+        self.seconds += time.perf_counter() - started
 
     def without_camera(self, frame_index: int, found) -> None:
         """A final frame without a camera (found: its FoundMarkings, or None: nothing to name)."""
@@ -132,7 +165,7 @@ class Backfill:
         self._gap, self._too_long = [], False
         self._last = (frame_index, camera, camera_id)
 
-    def cut(self) -> None:
+    def _cut(self) -> None:
         """The shot ends: an open gap is walked forwards from the camera before it; nothing crosses the cut."""
         if self._gap and not self._too_long and self._last is not None:
             self._walk(self._gap, *self._last)

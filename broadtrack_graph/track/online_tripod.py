@@ -16,6 +16,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
 from broadtrack_graph.reinit.frame import plausible_position
+from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
 from broadtrack_graph.track.config import TrackingConfig
 
 log = logging.getLogger(__name__)
@@ -84,6 +85,18 @@ class OnlineTripod:
         if self.camera_id is not None and solver.tripod is not None:
             out[self.camera_id] = solver.tripod
         return out
+
+    def write(self, solver, folder, summary: dict) -> tuple[Tripod | None, dict[str, Tripod]]:
+        """At the end of a run: the tripod file (the main camera's tripod, else the last camera's, and every
+        camera's) in the run folder and the summary's ``tripod`` / ``tripod_fit``; returns (that tripod, by id)."""
+        by_camera = self.by_camera(solver)
+        tripod = by_camera.get(MAIN_CAMERA_ID, solver.tripod)
+        if tripod is not None:
+            summary["tripod"] = {"T_w": list(map(float, tripod.T_w)), "delta_m": float(tripod.delta_m)}
+            folder.write_tripod(tripod, self.info, by_camera)
+        if self.info:
+            summary["tripod_fit"] = self.info
+        return tripod, by_camera
 
     def update(self, solver, camera: Camera | None, confidence: float | None) -> None:
         """Add one frame's camera (None: not trusted) and set ``solver.tripod`` when due.

@@ -31,8 +31,8 @@ from broadtrack_graph.io.track_record import (
     STATUS_FAILED,
     STATUS_NO_DETECTIONS,
     STATUS_NO_PITCH,
-    STATUS_UNPLACED,
     STATUS_TRACKED,
+    STATUS_UNPLACED,
     TrackRecord,
 )
 from broadtrack_graph.reinit.frame import frame_confidence

@@ -5,7 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.distortion import ExtraDistortion, distort_normalized, undistort_normalized, unfolded_radius2
+from broadtrack_graph.geometry.distortion import (
+    ExtraDistortion,
+    distort_normalized,
+    undistort_normalized,
+    unfolded_radius2,
+)
 
 
 def test_full_distortion_model_matches_formula():

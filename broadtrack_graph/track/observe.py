@@ -1,0 +1,124 @@
+"""A frame's observations for the solver: its markings named with the predicted camera, and optical flow.
+
+The detector names the markings with the predicted camera (the markings found ahead, in the
+thread that decodes the frames, when the detector offers it); the static graphics mask is taken
+out; optical flow links the frame to the previous one while the previous camera is trusted
+(:func:`~broadtrack_graph.detect.flow.grid_flow`: back-projected through that camera, kept only on
+the field and off the players). A detections file's frames bring their observations; flow is added
+when their images come too. No I/O beyond a detections file's mask images.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from broadtrack_graph.detect.detector import Detections, PredictedCamera
+from broadtrack_graph.detect.flow import grid_flow, prepare
+from broadtrack_graph.detect.graphics import mask_graphics
+from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
+
+RENAMING_UNCERTAINTY_PX = 3.0
+"""How far (pixels, 1 sigma) a re-initialised camera is taken to be off when it names its frame's markings."""
+
+
+class FrameObserver:
+    """Turns frames into (observations, detections), keeping the previous frame for flow.
+
+    Args:
+        detector: a FieldDetector for image input (None when every frame brings observations).
+        config: tracking options (flow settings, ``use_flow``).
+        width_px, height_px: the run's resolution (observations are rescaled to it).
+        pitch: the template (flow keeps points within its bounds).
+        mask_paths: frame index -> marking-mask PNG named by a detections file.
+        timings: the run's seconds per stage (``detect_s``, ``flow_s``, ``markings_ahead_s`` are added to).
+    """
+
+    def __init__(self, detector, config: TrackingConfig, width_px: int, height_px: int, pitch: PitchTemplate,
+                 mask_paths: dict, timings: dict) -> None:
+        self.detector, self.config, self.W, self.H = detector, config, width_px, height_px
+        self.half_pitch_m = (pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2)
+        self.mask_paths, self.timings = mask_paths, timings
+        self._prev_grey: np.ndarray | None = None
+        self._prev_keep_mask: np.ndarray | None = None
+
+    def unlink(self) -> None:
+        """The next frame is not linked to the previous one by flow."""
+        self._prev_grey = None
+
+    def detect(self, frame: FrameInput, predicted: PredictedCamera | None) -> Detections:
+        """The frame's detections without what lies under graphics; from the markings found ahead when there."""
+        if frame.markings is not None:
+            detections = self.detector.name(frame.markings, predicted)
+        else:
+            detections = self.detector.detect(frame.image, predicted)
+        return mask_graphics(detections, frame.graphics_mask)
+
+    def observe(self, frame: FrameInput, predicted: PredictedCamera | None,
+                previous: Camera | None) -> tuple[FrameObservations, Detections | None]:
+        """(observations at the run's resolution, detections or None) of one frame.
+
+        Args:
+            predicted: the camera the markings are named with (None: lost, nothing is named).
+            previous: the previous frame's trusted camera (None: no flow).
+
+        Raises:
+            ValueError: the detector refused the image.
+        """
+        detections, grey, observations = None, None, frame.observations
+        if frame.image is not None:
+            if observations is None:
+                started = time.perf_counter()
+                detections = self.detect(frame, predicted)
+                self.timings["detect_s"] += time.perf_counter() - started
+                if frame.markings is not None:
+                    self.timings["markings_ahead_s"] += frame.markings.seconds
+            started = time.perf_counter()
+            if self.config.use_flow:
+                grey = frame.flow_frame if frame.flow_frame is not None else prepare(frame.image, self.config.flow)
+            self.timings["flow_s"] += time.perf_counter() - started
+        if detections is None and frame.frame_index in self.mask_paths and observations is not None:
+            detections = mask_file_detections(self.mask_paths[frame.frame_index], observations, self.W, self.H)
+        flow = None
+        if grey is not None and self._prev_grey is not None and previous is not None:
+            started = time.perf_counter()
+            flow = grid_flow(self._prev_grey, grey, self.W, self.H, previous, self._prev_keep_mask, self.config.flow,
+                             self.half_pitch_m)
+            self.timings["flow_s"] += time.perf_counter() - started
+        if detections is not None and frame.observations is None:
+            observations = detections.to_observations(frame.frame_index, flow)
+            keep = detections.field_mask
+            if keep is not None and detections.player_mask is not None:
+                keep = keep & ~detections.player_mask
+            self._prev_keep_mask = keep
+        elif flow is not None:
+            observations = replace(observations, flow=flow)
+        self._prev_grey = grey
+        if observations.width_px != self.W or observations.height_px != self.H:
+            observations = observations.rescaled(self.W, self.H)
+        return observations, detections
+
+    def named_by(self, frame: FrameInput, observations: FrameObservations, detections: Detections | None,
+                 camera: Camera) -> tuple[FrameObservations, Detections | None]:
+        """A re-initialised frame's observations without flow, its unnamed markings named with its new camera
+        (so the first frame of a chain has line factors)."""
+        observations = replace(observations, flow=None)
+        if (self.detector is not None and frame.image is not None and detections is not None
+                and detections.marking_mask is not None and not observations.lines_px):
+            detections = self.detect(frame, PredictedCamera(camera, RENAMING_UNCERTAINTY_PX))
+            observations = detections.to_observations(frame.frame_index, None)
+        return observations, detections
+
+    def shows_no_pitch(self, observations: FrameObservations, detections: Detections | None) -> bool:
+        """Too little to fit: too little grass or too few marking points (``min_grass_share``, ``min_marking_points``)."""
+        if detections is not None:
+            grass = detections.field_mask.mean() if detections.field_mask is not None else 1.0
+            points = len(detections.marking_points_px) + sum(len(p) for p in detections.lines_px.values())
+            return grass < self.config.min_grass_share or points < self.config.min_marking_points
+        return observations.is_empty or (observations.line_point_count < 4 and not observations.keypoints)
