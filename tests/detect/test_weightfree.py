@@ -150,3 +150,27 @@ def test_reinit_from_the_marking_map_alone_finds_the_camera():
     assert np.median(np.linalg.norm(uv_est - uv_true[ok], axis=1)) < 2.0
     empty = reinit_from_mask(np.zeros((H, W), bool), np.zeros((0, 2)), (W, H), PITCH)
     assert empty.camera is None and empty.reason
+
+
+def test_no_point_is_named_inside_a_goal_or_after_a_marking_too_thin_to_see():
+    from broadtrack_graph.geometry.goals import goal_region
+
+    detector = WeightFreeDetector(PITCH)
+    camera = Camera.from_degrees(1500.0, 0.0, -7.0, 72.0, 0.0, (53.0, 70.0, -22.0), 960, 540)  # beside the goal
+    points = []
+    for name in ("Side line right", "Big rect. right main"):
+        uv, front = camera.project(FINE.samples_w[name])
+        points.append(uv[front & camera.in_image(uv)])
+    points = np.vstack(points)
+    points = points[(points[:, 0] < 959) & (points[:, 1] < 539)]
+    named = detector.name_points(points, PredictedCamera(camera, 1.0), 1.0, (960, 540))
+    goals = goal_region(camera, 960, 540, PITCH)
+    in_goal = goals[np.round(points[:, 1]).astype(int), np.round(points[:, 0]).astype(int)]
+    assert in_goal.sum() > 10 and (~in_goal).sum() > 100
+    named_all = np.vstack(list(named.values()))
+    assert not goals[np.clip(np.round(named_all[:, 1]).astype(int), 0, 539),
+                     np.clip(np.round(named_all[:, 0]).astype(int), 0, 959)].any()
+    assert {"Side line right", "Big rect. right main"} <= set(named)
+    # A marking thinner than min_named_width_px (a far line at a grazing angle) names nothing.
+    thin = WeightFreeDetector(PITCH, WeightFreeConfig(min_named_width_px=50.0))
+    assert thin.name_points(points, PredictedCamera(camera, 1.0), 1.0, (960, 540)) == {}

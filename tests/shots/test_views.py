@@ -61,3 +61,48 @@ def test_the_segmenter_keeps_a_shot_s_majority_view():
     # The shot step does not know the pitch camera: the tracker names it (place_shot).
     assert [(s.start, s.end, s.kind, s.camera_id) for s in segmenter.shots] == [(0, 6, "main", None),
                                                                                 (6, 12, "close-up", None)]
+
+
+def _without_cuts(segmenter: ShotSegmenter) -> ShotSegmenter:
+    """The segmenter with a cut step that finds no cut (a dissolve it missed)."""
+    from types import SimpleNamespace
+
+    segmenter.cuts = SimpleNamespace(update=lambda image: SimpleNamespace(cut=False, kind=None))
+    return segmenter
+
+
+def test_a_pitch_view_after_a_missed_cut_starts_its_own_shot():
+    segmenter = _without_cuts(ShotSegmenter())
+    close = grass()
+    cv2.ellipse(close, (320, 260), (90, 200), 0, 0, 360, (230, 200, 180), -1)  # a light shirt
+    for i in range(10):
+        segmenter.update(i, close)
+    # The close-up melts into the main camera's view without a cut the cut step sees (same grass colours).
+    kinds = [segmenter.update(10 + i, wide_view()) for i in range(12)]
+    assert [s.kind for s in segmenter.shots] == ["close-up", "main"]
+    first, second = segmenter.shots
+    n = segmenter.config.view_change_frames
+    assert (first.start, first.end, first.views) == (0, 10, {"close-up": 10}) and second.boundary == "view"
+    assert second.start == 10 and second.end == 22 and second.views == {"main": 12}
+    assert kinds[n - 1].cut and kinds[n - 1].shot_index == 1 and not kinds[n - 1].is_other_view
+    assert all(k.is_other_view for k in kinds[:n - 1])  # those frames were already judged in the close-up shot
+
+
+def test_a_main_shot_is_not_split_by_frames_taken_for_close_ups():
+    segmenter = _without_cuts(ShotSegmenter())
+    close = grass()
+    cv2.ellipse(close, (320, 260), (90, 200), 0, 0, 360, (230, 200, 180), -1)
+    for i in range(10):
+        segmenter.update(i, wide_view())
+    kinds = [segmenter.update(10 + i, close) for i in range(12)]
+    assert len(segmenter.shots) == 1 and all(not k.cut for k in kinds)
+
+
+def test_place_shot_names_the_pitch_camera():
+    from broadtrack_graph.shots.segmenter import Shot, place_shot
+
+    pitch = Shot(0, 10, "main", None)
+    assert (place_shot(pitch, "main").kind, place_shot(pitch, "main").camera_id) == ("main", "main")
+    assert place_shot(pitch, "high-corner-1").kind == "other-camera"
+    assert (place_shot(pitch, None).kind, place_shot(pitch, None).camera_id) == ("pitch", None)
+    assert place_shot(Shot(10, 20, "close-up", None), "main").camera_id is None

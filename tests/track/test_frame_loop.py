@@ -339,3 +339,34 @@ def test_a_trusted_chain_switches_to_an_unconfident_camera_only_when_clearly_bet
     assert records[2].status == "tracked" and records[2].confidence == pytest.approx(0.45)  # 0.48: not 0.05 better
     assert records[15].status == "reinitialised" and records[15].confidence == pytest.approx(0.52)  # confident
     assert len(solver.resets) == 1
+
+
+def test_each_shot_gets_its_camera_s_id_and_a_returning_camera_its_own(tmp_path):
+    import json
+
+    from broadtrack_graph.shots.segmenter import FrameShot
+
+    corner = Camera(4400.0, 0.0, -0.1, 1.25, 0.0, (53.0, 70.0, -22.0), W, H)
+
+    class TwoCameras(Scripted):
+        def reinitialise(self, observations, detections, pitch, positions, curves, sampling):
+            i = observations.frame_index
+            self.reinit_calls.append(i)
+            return ReinitResult(corner if 4 <= i < 8 else reinit_camera(i), None, "lines")
+
+    script = TwoCameras()
+    run = run_of(tmp_path, FakeSolver(), script)
+    cuts = {0: 0, 4: 1, 8: 2}
+    shot = 0
+    for i in range(11):
+        shot = cuts.get(i, shot)
+        f = frame(i)
+        f.shot = FrameShot(shot, i in cuts, "main", "")
+        run.process(f)
+    result = run.finish()
+    records = read_track(tmp_path / "run").records
+    assert [r.camera_id for r in records] == ["main"] * 4 + ["high-corner-1"] * 4 + ["main"] * 3
+    assert run.shot_camera_ids == {0: "main", 1: "high-corner-1", 2: "main"}
+    camera_file = json.loads((tmp_path / "run" / "cameras" / "camera_000006.json").read_text())
+    assert camera_file["camera_id"] == "high-corner-1" and camera_file["position_meters"] == [53.0, 70.0, -22.0]
+    assert result.summary["cuts"] == 2

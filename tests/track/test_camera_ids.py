@@ -1,0 +1,43 @@
+"""Camera ids by tripod position (broadtrack_graph.track.camera_ids) and camera kinds (reinit.positions)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from broadtrack_graph.reinit.positions import CAMERA_KINDS, camera_kind, mirrored_position
+from broadtrack_graph.track.camera_ids import CameraRegistry
+
+
+@pytest.mark.parametrize("kind", CAMERA_KINDS, ids=[k.name for k in CAMERA_KINDS])
+def test_every_kind_s_positions_and_their_mirrors_are_that_kind(kind):
+    for position in kind.positions_w:
+        for p in (position, mirrored_position(position)):
+            name, distance = camera_kind(p)
+            assert name == kind.name and distance == pytest.approx(0.0)
+
+
+def test_a_camera_a_few_metres_off_a_guess_is_of_its_kind():
+    assert camera_kind((1.5, 57.0, -13.0))[0] == "main"
+    assert camera_kind((53.9, 71.2, -23.1)) == ("high-corner", pytest.approx(np.linalg.norm([1.4, 1.2, 1.1])))
+    assert camera_kind((-66.0, 1.0, -16.0))[0] == "high-behind"
+    assert camera_kind((37.0, 41.0, -5.5))[0] == "low-16m"
+
+
+def test_the_first_main_camera_is_main_and_others_get_numbered_ids():
+    registry = CameraRegistry(same_camera_m=8.0)
+    assert registry.identify((0.5, 56.0, -12.5)) == "main"
+    assert registry.identify((1.0, 58.0, -13.0)) == "main"  # the same tripod, 2 m off
+    assert registry.identify((53.9, 71.2, -23.1)) == "high-corner-1"
+    assert registry.identify((-54.0, 70.0, -22.0)) == "high-corner-2"  # the other corner
+    assert registry.identify((0.0, 80.0, -17.0)) == "main-1"  # a second camera on the main camera's line
+    assert registry.nearest((53.0, 70.5, -22.5)) == "high-corner-1"
+    assert registry.nearest((0.0, -55.0, -12.0)) is None
+
+
+def test_known_tripods_and_updates_identify_their_cameras():
+    registry = CameraRegistry(known={"main": (0.0, 55.0, -12.0), "high-behind-1": (-75.0, 0.0, -24.0)})
+    assert registry.identify((-74.0, 0.5, -23.5)) == "high-behind-1"
+    registry.update("main", (0.0, 70.0, -15.0))  # the fitted tripod moved it
+    assert registry.identify((0.0, 71.0, -15.0)) == "main"
+    assert registry.identify((0.0, 55.0, -12.0)) == "main-1"
