@@ -367,6 +367,6 @@ def test_each_shot_gets_its_camera_s_id_and_a_returning_camera_its_own(tmp_path)
     records = read_track(tmp_path / "run").records
     assert [r.camera_id for r in records] == ["main"] * 4 + ["high-corner-1"] * 4 + ["main"] * 3
     assert run.shot_camera_ids == {0: "main", 1: "high-corner-1", 2: "main"}
-    camera_file = json.loads((tmp_path / "run" / "cameras" / "camera_000006.json").read_text())
+    camera_file = json.loads((tmp_path / "run" / "cameras" / "camera_000005.json").read_text())  # re-initialised
     assert camera_file["camera_id"] == "high-corner-1" and camera_file["position_meters"] == [53.0, 70.0, -22.0]
     assert result.summary["cuts"] == 2
