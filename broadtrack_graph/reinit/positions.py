@@ -21,8 +21,9 @@ the few positions that cover its usual range. Where the numbers come from:
 - ``high-corner``: high in the stand behind and to the side of a goal, on the goal line's
   extension about 35 m behind the touchline, looking into the penalty area: (+-52.5, 70, -22) m
   (a real broadcast's camera of this kind was fitted at (53.9, 71.2, -23.1) m).
-- ``low-16m``: pitch-side cameras on the extension of a 16.5 m line, a few metres behind the
-  touchline at head height on a platform: (+-36, 40, -5) m.
+- ``low-16m``: pitch-side cameras on the extension of a 16.5 m line, between the boards and the
+  first rows of the stand, on a platform 5-8 m up: (+-36, 40, -5) and (+-36, 44, -8) m (so near
+  the pitch a guess more than 2-3 m off does not converge, hence two per side).
 
 Only cameras on the main camera's side (y >= 0) and behind the goals are listed: a camera at
 the mirror image of a position through the centre spot (x, y -> -x, -y) sees the unlabelled
@@ -70,7 +71,7 @@ CAMERA_KINDS: tuple[CameraKind, ...] = (
     CameraKind("high-16m", ((-36.0, 55.0, -12.0), (36.0, 55.0, -12.0))),
     CameraKind("high-behind", ((-65.0, 0.0, -15.0), (-75.0, 0.0, -24.0))),
     CameraKind("high-corner", ((52.5, 70.0, -22.0), (-52.5, 70.0, -22.0))),
-    CameraKind("low-16m", ((36.0, 40.0, -5.0), (-36.0, 40.0, -5.0))),
+    CameraKind("low-16m", ((36.0, 40.0, -5.0), (-36.0, 40.0, -5.0), (36.0, 44.0, -8.0), (-36.0, 44.0, -8.0))),
 )
 """The camera kinds of a broadcast (module docstring), the main camera first."""
 

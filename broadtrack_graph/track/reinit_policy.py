@@ -17,7 +17,9 @@ What is tried, cheapest first:
    confident has been found. In a shot whose camera is not known yet: the known cameras'
    positions; the default positions (main, 16 m, behind the goal); the main camera further
    back; each low gantry position; the other camera kinds (:mod:`broadtrack_graph.reinit.positions`).
-   In a shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
+   A shot whose camera is not known is searched through every stage (until a camera reaches
+   :data:`CERTAIN_CONFIDENCE`): a view of one camera can be explained, less well, by a camera
+   elsewhere. In a shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
    that camera's position, then its kind's stage (the main camera's: the default positions,
    in case its position came from a provisional tripod).
 
@@ -86,6 +88,11 @@ KIND_STAGES: dict[str, tuple[str, tuple]] = {
 
 SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_STAGES.values())
 """The stages of a shot whose camera is not known yet, after the known cameras' positions."""
+
+
+CERTAIN_CONFIDENCE = 0.9
+"""A camera found this confident at a shot's start is not searched past (the later stages cannot do better by
+the margin); below it, every stage is searched."""
 
 
 @dataclass(frozen=True)
@@ -337,9 +344,14 @@ class ReinitPolicy:
         else:
             known = [tuple(p) for p in self.registry.positions.values()]
             stages = ([("known cameras", known)] if known else []) + list(SEARCH_STAGES if with_map else SEARCH_STAGES[:1])
+        # A shot whose camera is not known is searched through every stage (until a camera is certain): a view
+        # of one camera can be explained, less well, by a camera elsewhere (a penalty area seen from behind the
+        # goal by a camera on the 16 m line); mid-shot the first confident camera ends the search.
+        enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
+            else threshold
         best, best_confidence, label, reasons = None, 0.0, "", []
         for k, (stage_label, positions) in enumerate(stages):
-            if best is not None and best_confidence >= threshold:
+            if best is not None and best_confidence >= enough:
                 break
             self.counts["stages"] += 1
             result = self.search(observations, detections, pitch, positions, curves, sampling)

@@ -60,18 +60,32 @@ def _decide(policy, i, detections=WITH_MAP, **kw):
     return policy.decide(FrameObservations(i, W, H), detections, None, None, None, **kw)
 
 
-def test_a_lost_frame_is_searched_in_stages_until_a_confident_camera():
+def test_a_new_shot_is_searched_through_every_stage_and_the_best_camera_wins():
     corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
     fakes = Fakes({None: (MAIN, 0.3), corner_stage: (CORNER, 0.62)})
     decision = _decide(_policy(fakes), 0)
     assert decision.camera is CORNER and decision.confidence == pytest.approx(0.62) and decision.searched
     assert decision.camera_id == "high-corner-1" and not decision.continues_chain
-    stages = [p for _, p in SEARCH_STAGES]
-    assert fakes.searched == stages[:stages.index(corner_stage) + 1]  # stopped at the first confident stage
+    assert fakes.searched == [p for _, p in SEARCH_STAGES]
+    # A confident camera of the default positions is bettered by a later stage only by the margin.
+    fakes = Fakes({None: (MAIN, 0.78), corner_stage: (CORNER, 0.9)})
+    assert _decide(_policy(fakes), 0).camera is CORNER
+    fakes = Fakes({None: (MAIN, 0.78), corner_stage: (CORNER, 0.85)})
+    assert _decide(_policy(fakes), 0).camera is MAIN
 
 
-def test_a_confident_default_camera_stops_the_search_and_is_the_main_camera():
-    fakes = Fakes({None: (MAIN, 0.7)})
+def test_mid_shot_the_first_confident_stage_ends_the_search():
+    fakes = Fakes({((0.0, 55.0, -12.0),): (MAIN, 0.3), None: (MAIN, 0.6)})
+    policy = _policy(fakes)
+    policy.switch("main")
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    decision = _decide(policy, 5)
+    assert decision.camera is MAIN and decision.camera_id == "main"
+    assert fakes.searched == [((0.0, 55.0, -12.0),), None]  # the camera's position, then its kind's stage
+
+
+def test_a_certain_default_camera_stops_the_search_and_is_the_main_camera():
+    fakes = Fakes({None: (MAIN, 0.95)})
     decision = _decide(_policy(fakes), 0)
     assert decision.camera is MAIN and decision.camera_id == "main" and fakes.searched == [None]
 
@@ -169,7 +183,7 @@ def test_given_positions_replace_the_stages():
 
 
 def test_known_cameras_are_searched_first():
-    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.7)})
+    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.92)})
     policy = _policy(fakes)
     policy.tripod("high-corner-1", (53.0, 70.0, -22.0))
     decision = _decide(policy, 0)
