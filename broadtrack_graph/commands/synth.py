@@ -12,7 +12,8 @@ HELP = "render a synthetic broadcast clip (frames, cameras, SoccerNet annotation
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--preset", default="main", choices=sorted(PRESETS), help="camera and play preset (default main)")
+    parser.add_argument("--preset", default="main", choices=sorted(PRESETS) + ["broadcast"],
+                        help="camera and play preset, or broadcast: cuts between several cameras, close-ups and crowd shots (default main)")
     parser.add_argument("--frames", type=int_at_least(1), default=750, help="number of frames (default 750, 30 s at 25 fps); with --cameras at most this many")
     parser.add_argument("--width", type=image_side, default=1920, help="image width in pixels (default 1920)")
     parser.add_argument("--height", type=image_side, default=1080, help="image height in pixels (default 1080)")
