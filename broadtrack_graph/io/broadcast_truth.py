@@ -14,7 +14,6 @@ Per-frame ground-truth cameras (``cameras/``) and annotations exist for pitch fr
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,6 +21,7 @@ from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 from broadtrack_graph.io.shots_file import read_shots, write_shots
+from broadtrack_graph.io.tripod_file import tripods_from_json, tripods_to_json
 from broadtrack_graph.shots.segmenter import Shot
 
 SHOTS_TRUTH_FILE = "shots_truth.json"
@@ -47,28 +47,6 @@ def has_broadcast_truth(folder: str | Path) -> bool:
     """True when the folder holds all three truth files."""
     folder = Path(folder)
     return all((folder / name).is_file() for name in (SHOTS_TRUTH_FILE, TRIPODS_TRUTH_FILE, CAMERA_IDS_TRUTH_FILE))
-
-
-def tripods_to_json(tripods: dict[str, Tripod]) -> dict:
-    """{camera_id: {"T_w": [x, y, z], "delta_m": d}}."""
-    return {str(cid): {"T_w": [float(v) for v in t.T_w], "delta_m": float(t.delta_m)} for cid, t in tripods.items()}
-
-
-def tripods_from_json(data, source: str | Path) -> dict[str, Tripod]:
-    """Inverse of :func:`tripods_to_json`; InputError naming ``source`` on a malformed entry."""
-    if not isinstance(data, dict):
-        raise InputError(source, 'expected {camera_id: {"T_w": [x, y, z], "delta_m": d}}')
-    tripods = {}
-    for cid, entry in data.items():
-        try:
-            T = [float(v) for v in entry["T_w"]]
-            delta = float(entry["delta_m"])
-        except (KeyError, TypeError, ValueError):
-            raise InputError(source, f'camera {cid!r}: expected {{"T_w": [x, y, z], "delta_m": d}}') from None
-        if len(T) != 3 or not all(map(math.isfinite, T + [delta])):
-            raise InputError(source, f"camera {cid!r}: 3 finite coordinates and a finite delta_m expected")
-        tripods[str(cid)] = Tripod((T[0], T[1], T[2]), delta)
-    return tripods
 
 
 def write_broadcast_truth(folder: str | Path, shots: list[Shot], tripods: dict[str, Tripod],
