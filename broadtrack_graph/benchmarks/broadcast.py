@@ -208,18 +208,20 @@ def summary_table(report: dict) -> str:
     lines = []
     synthetic = report.get("synthetic")
     if synthetic:
-        lines.append("mode       fps   reinit  cuts    kinds(grp/exact)  ids 1:1 right  main JaC@5  other JaC@5  no-pitch cams")
+        lines.append(f"{'mode':<10} {'fps':>6} {'reinit':>7} {'cuts':>6} {'kinds grp/exact':>16} {'ids 1:1':>7} "
+                     f"{'right':>6} {'main JaC@5':>10} {'other JaC@5':>11} {'no-pitch cams':>13}")
         for mode, m in synthetic["modes"].items():
             if "cuts" not in m:
                 lines.append(f"{mode:<10} error: {m.get('error')}")
                 continue
-            by_kind = m["by_kind"]
+            by_kind, kinds = m["by_kind"], m["shot_kinds"]
+            cuts = f"{m['cuts']['found']}/{m['cuts']['true_cuts']}"
             lines.append(
-                f"{mode:<10} {_fmt(m['fps']):>5} {_fmt(m['reinit_time_share']):>7}  "
-                f"{m['cuts']['found']}/{m['cuts']['true_cuts']:<5} {_fmt(m['shot_kinds']['group_agreement']):>6} / "
-                f"{_fmt(m['shot_kinds']['exact_agreement']):<8} {str(m['camera_ids']['one_to_one']):<5} "
-                f"{_fmt(m['camera_ids']['right_camera_share']):>6}  {_fmt(by_kind['main']['jac_5']):>10}  "
-                f"{_fmt(by_kind['other-camera']['jac_5']):>11}  {m['cameras_on_no_pitch_frames']}")
+                f"{mode:<10} {_fmt(m['fps']):>6} {_fmt(m['reinit_time_share']):>7} {cuts:>6} "
+                f"{_fmt(kinds['group_agreement']) + ' / ' + _fmt(kinds['exact_agreement']):>16} "
+                f"{str(m['camera_ids']['one_to_one']):>7} {_fmt(m['camera_ids']['right_camera_share']):>6} "
+                f"{_fmt(by_kind['main']['jac_5']):>10} {_fmt(by_kind['other-camera']['jac_5']):>11} "
+                f"{m['cameras_on_no_pitch_frames']:>13}")
     real = report.get("real")
     if real:
         lines.append(f"real splice: {real['frames']} frames, {_fmt(real['fps'])} fps, reinit share "

@@ -33,6 +33,14 @@ def run(args) -> int:
     if args.frames < 1 or args.width < 16 or args.height < 16:
         raise InputError(None, f"--frames must be >= 1 and the size at least 16x16, got {args.frames} frames of "
                                f"{args.width}x{args.height}")
+    if args.preset == "broadcast":
+        from broadtrack_graph.synth.broadcast import DEFAULT_PLAN
+
+        if args.cameras is not None:
+            raise InputError(args.cameras, "--preset broadcast generates its own cameras; leave out --cameras")
+        if args.frames < 2 * len(DEFAULT_PLAN):
+            raise InputError(None, f"--preset broadcast has {len(DEFAULT_PLAN)} shots of at least 2 frames: give "
+                                   f"--frames {2 * len(DEFAULT_PLAN)} or more, got {args.frames}")
     summary = write_synthetic_clip(
         args.out, preset=args.preset, frame_count=args.frames, width_px=args.width, height_px=args.height,
         seed=args.seed, cameras_dir=args.cameras, jpeg_quality=args.jpeg_quality, write_mp4=args.mp4,

@@ -97,3 +97,12 @@ def test_close_ups_and_crowd_shots_are_classified_as_such(clip):
         for i in range(shot.start, shot.end):
             view = classify_view(cv2.imread(str(clip / "img1" / f"{i + 1:06d}.jpg")))
             assert view.kind == shot.kind, (i, view.reason)
+
+
+def test_synth_command_refuses_a_broadcast_too_short_or_along_given_cameras(tmp_path):
+    from broadtrack_graph.cli import main
+
+    assert main(["synth", "--preset", "broadcast", "--frames", "21", "--out", str(tmp_path / "a")]) == 2
+    assert main(["synth", "--preset", "broadcast", "--frames", "30", "--cameras", str(tmp_path),
+                 "--out", str(tmp_path / "b")]) == 2
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
