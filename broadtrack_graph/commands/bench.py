@@ -22,6 +22,7 @@ SUITES = (
     "real",
     "players",
     "scale",
+    "broadcast",
 )
 
 

@@ -12,7 +12,8 @@ HELP = "render a synthetic broadcast clip (frames, cameras, SoccerNet annotation
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--preset", default="main", choices=sorted(PRESETS), help="camera and play preset (default main)")
+    parser.add_argument("--preset", default="main", choices=sorted(PRESETS) + ["broadcast"],
+                        help="camera and play preset, or broadcast: cuts between several cameras, close-ups and crowd shots (default main)")
     parser.add_argument("--frames", type=int_at_least(1), default=750, help="number of frames (default 750, 30 s at 25 fps); with --cameras at most this many")
     parser.add_argument("--width", type=image_side, default=1920, help="image width in pixels (default 1920)")
     parser.add_argument("--height", type=image_side, default=1080, help="image height in pixels (default 1080)")
@@ -32,6 +33,14 @@ def run(args) -> int:
     if args.frames < 1 or args.width < 16 or args.height < 16:
         raise InputError(None, f"--frames must be >= 1 and the size at least 16x16, got {args.frames} frames of "
                                f"{args.width}x{args.height}")
+    if args.preset == "broadcast":
+        from broadtrack_graph.synth.broadcast import DEFAULT_PLAN
+
+        if args.cameras is not None:
+            raise InputError(args.cameras, "--preset broadcast generates its own cameras; leave out --cameras")
+        if args.frames < 2 * len(DEFAULT_PLAN):
+            raise InputError(None, f"--preset broadcast has {len(DEFAULT_PLAN)} shots of at least 2 frames: give "
+                                   f"--frames {2 * len(DEFAULT_PLAN)} or more, got {args.frames}")
     summary = write_synthetic_clip(
         args.out, preset=args.preset, frame_count=args.frames, width_px=args.width, height_px=args.height,
         seed=args.seed, cameras_dir=args.cameras, jpeg_quality=args.jpeg_quality, write_mp4=args.mp4,

@@ -338,6 +338,33 @@ def read_track(run_dir: str | Path, width_px: int | None = None, height_px: int 
     return RunFolder(run_dir).read_track(width_px, height_px)
 
 
+def read_frame_camera_ids(run_dir: str | Path, default_id: str = "main") -> dict[int, str | None]:
+    """frame index -> the ``camera_id`` field of each track.jsonl line (the camera a frame was tracked as).
+
+    A line without the field (runs that tracked one camera) gives ``default_id`` when it has a
+    camera (a focal length) and None otherwise. A truncated or malformed line is skipped.
+
+    Raises:
+        InputError: no track.jsonl in the folder.
+    """
+    folder = RunFolder(run_dir)
+    if not folder.has_track():
+        raise InputError(folder.track_path, "no track.jsonl")
+    ids: dict[int, str | None] = {}
+    for line in folder.track_path.read_text(encoding="utf-8").splitlines():
+        try:
+            data = json.loads(line) if line.strip() else None
+        except json.JSONDecodeError:
+            continue
+        if not isinstance(data, dict) or not isinstance(data.get("frame"), int):
+            continue
+        if "camera_id" in data:
+            ids[data["frame"]] = None if data["camera_id"] is None else str(data["camera_id"])
+        else:
+            ids[data["frame"]] = default_id if data.get("focal_px") is not None else None
+    return ids
+
+
 def _read_camera_folder(folder: Path, width_px: int | None, height_px: int | None) -> Track:
     if (folder / CAMERA_DIR).is_dir() and not list_camera_files(folder):
         folder = folder / CAMERA_DIR

@@ -4,6 +4,8 @@ Written by a run that fitted or used a tripod, read back with ``track --tripod``
 runs of the same cameras (the synthetic clip's ground-truth tripod.json has the same form).
 The top level is the main camera's tripod (else the last camera's); ``cameras`` holds one
 tripod per camera id of the run ({"main": {"T_w": ..., "delta_m": ...}, "high-corner-1": ...}).
+A file of tripods by camera id alone ({camera_id: {"T_w", "delta_m"}}, also under a
+``tripods`` key; the synthetic broadcast's truth) is read by :func:`read_tripods_by_camera`.
 """
 
 from __future__ import annotations
@@ -25,12 +27,13 @@ def write_tripod(path: str | Path, tripod: Tripod, fit_info: dict | None = None,
     if fit_info:
         data["fit"] = {k: v for k, v in fit_info.items() if isinstance(v, (int, float, str, list, type(None)))}
     if cameras:
-        data["cameras"] = {str(k): _tripod_dict(v) for k, v in sorted(cameras.items())}
+        data["cameras"] = tripods_to_json(dict(sorted(cameras.items())))
     write_json_atomic(path, data, indent=1)
 
 
-def _tripod_dict(tripod: Tripod) -> dict:
-    return {"T_w": [float(v) for v in tripod.T_w], "delta_m": float(tripod.delta_m)}
+def read_tripod(path: str | Path) -> Tripod:
+    """Read a tripod file written by :func:`write_tripod` (its top level) or the synthetic clip's tripod.json."""
+    return _tripod_from(path, read_json(path))
 
 
 def read_camera_tripods(path: str | Path) -> dict[str, Tripod]:
@@ -41,16 +44,42 @@ def read_camera_tripods(path: str | Path) -> dict[str, Tripod]:
     """
     data = read_json(path)
     cameras = data.get("cameras") if isinstance(data, dict) else None
-    if cameras is None:
-        return {}
-    if not isinstance(cameras, dict):
-        raise InputError(path, '"cameras" must map camera ids to {"T_w": [x, y, z], "delta_m": d}')
-    return {str(k): _tripod_from(path, v, f"cameras.{k}: ") for k, v in cameras.items()}
+    return {} if cameras is None else tripods_from_json(cameras, path)
 
 
-def read_tripod(path: str | Path) -> Tripod:
-    """Read a tripod file written by :func:`write_tripod` (its top level) or the synthetic clip's tripod.json."""
-    return _tripod_from(path, read_json(path))
+def read_tripods_by_camera(path: str | Path, default_id: str = "main") -> dict[str, Tripod]:
+    """Tripods by camera id from a tripod file of any form (module docstring).
+
+    A run's file gives its ``cameras`` (or its top level as ``default_id`` when it has none).
+
+    Raises:
+        InputError: missing or malformed.
+    """
+    data = read_json(path)
+    if not isinstance(data, dict):
+        raise InputError(path, 'expected {"T_w": [x, y, z], "delta_m": d} or {camera_id: {"T_w": ..., "delta_m": ...}}')
+    for key in ("cameras", "tripods"):
+        if isinstance(data.get(key), dict):
+            return tripods_from_json(data[key], path)
+    if "T_w" in data:
+        return {default_id: _tripod_from(path, data)}
+    return tripods_from_json({k: v for k, v in data.items() if k != "fit"}, path)
+
+
+def tripods_to_json(tripods: dict[str, Tripod]) -> dict:
+    """{camera_id: {"T_w": [x, y, z], "delta_m": d}}."""
+    return {str(camera_id): _tripod_dict(tripod) for camera_id, tripod in tripods.items()}
+
+
+def tripods_from_json(data, source: str | Path) -> dict[str, Tripod]:
+    """Inverse of :func:`tripods_to_json`; an InputError naming ``source`` on a malformed entry."""
+    if not isinstance(data, dict):
+        raise InputError(source, 'expected {camera_id: {"T_w": [x, y, z], "delta_m": d}}')
+    return {str(k): _tripod_from(source, v, f"cameras.{k}: ") for k, v in data.items()}
+
+
+def _tripod_dict(tripod: Tripod) -> dict:
+    return {"T_w": [float(v) for v in tripod.T_w], "delta_m": float(tripod.delta_m)}
 
 
 def _tripod_from(path, data, where: str = "") -> Tripod:

@@ -144,6 +144,7 @@ def iter_clip_frames(
     players: PlayerTrack | None = None,
     settings: RenderSettings = RenderSettings(),
     want_masks: bool = True,
+    cut_frames: frozenset[int] = frozenset(),
 ) -> Iterator[SyntheticFrame]:
     """Render frames along a camera track, one at a time, with their ground truth.
 
@@ -154,11 +155,14 @@ def iter_clip_frames(
         players: players to draw (None: no players).
         settings: image formation effects.
         want_masks: also build the per-class masks (costs ~10 ms per HD frame).
+        cut_frames: indices of frames that start a shot after a hard cut (no motion blur from the frame before).
     """
     renderer = Renderer(width_px, height_px, seed=seed, settings=settings)
     annotator = Annotator()
     previous = None
     for index, camera in enumerate(cameras):
+        if index in cut_frames:
+            previous = None
         if camera.width_px != width_px or camera.height_px != height_px:
             camera = camera.rescaled(width_px, height_px)
         rendered = renderer.render(camera, players, index, previous, want_class_ids=want_masks)

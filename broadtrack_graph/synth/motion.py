@@ -166,10 +166,27 @@ PRESETS: dict[str, MotionPreset] = {
         roll_max_deg=0.3, lambda_wide_m=0.04, lambda_tele_m=0.3, k1_wide=0.06, k1_tele=0.012,
         player_count=22, player_spread_m=22.0,
     ),
+    # A low camera on the extension of the right 16.5 m line (x = 52.5 - 16.5 = 36 m), as the stadium camera
+    # plans of broadcasters place one on each 16 m line (e.g. UEFA's and FIFA's standard plans: main camera at
+    # the halfway line high in the main stand, "16 m left / right" cameras, low ones in the first rows): here
+    # 8 m behind the near touchline (y = 42 m, just inside the stands' foot at 43 m, behind the 38.5 m boards)
+    # and 7 m up (a platform in the first rows). It follows play in the right half, tighter than the main
+    # camera because it is closer to it.
+    "low-16m": MotionPreset(
+        name="low-16m", tripod_T_w=(36.0, 42.0, -7.0), delta_m=0.2,
+        ball_x_range_m=(8.0, 50.0), ball_y_range_m=(-24.0, 26.0),
+        hfov_range_deg=(18.0, 52.0), hfov_typical_deg=38.0,
+        dribble_speed_mps=(1.5, 7.0), pass_speed_mps=(12.0, 20.0), pass_probability=0.18, pause_probability=0.15,
+        follow_time_s=0.5, zoom_time_s=1.0,
+        sparse_zoom_per_min=1.0, sparse_zoom_hfov_deg=(16.0, 22.0), sparse_zoom_duration_s=(2.0, 3.5),
+        aim_offset_y_m=3.0, aim_x_range_m=(6.0, 44.0), aim_y_range_m=(-16.0, 22.0), jitter_deg=0.012,
+        roll_max_deg=0.25, lambda_wide_m=0.04, lambda_tele_m=0.35, k1_wide=0.055, k1_tele=0.01,
+        player_count=22, player_spread_m=18.0,
+    ),
 }
 """Preset name -> camera placement and operating style."""
 
-PRESET_STREAMS = ("16m", "hard", "high-behind", "long", "main", "wide", "low")
+PRESET_STREAMS = ("16m", "hard", "high-behind", "long", "main", "wide", "low", "low-16m")
 """The random stream of each preset's clips, by position: fixed, so a new preset (added at the end) changes no
 existing clip."""
 
@@ -355,7 +372,7 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     """A smooth broadcast camera track on a fixed tripod.
 
     Args:
-        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low").
+        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low", "low-16m").
         frame_count: number of frames (>= 1), at FPS = 25.
         width_px, height_px: image size of the cameras.
         seed: random seed; the same arguments always give the same track.

@@ -20,6 +20,12 @@ Layout of OUT (the same folder is a valid tracker input)::
     clip.json                           preset, seed, size, fps, frame counts, files
     clip.mp4                            optional (mp4v)
 
+The ``broadcast`` preset (:mod:`broadtrack_graph.synth.broadcast`: hard cuts between several
+tripod cameras, close-ups and crowd shots) writes cameras, annotations, keypoints and masks
+for its pitch frames only, ``tripod.json`` of the main camera, ``camera_id`` and ``shot_kind``
+per frame in ground_truth.json, and the truth files of :mod:`broadtrack_graph.io.broadcast_truth`
+(shots_truth.json, tripods_truth.json, camera_ids_truth.json).
+
 Frames are written as they are rendered (with a progress bar); the clip-level files
 are written at the end, also after an interruption, so finished frames stay usable.
 """
@@ -37,8 +43,10 @@ from tqdm import tqdm
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.annotations import GAMESTATE_FILE, write_annotation_file, write_gamestate_labels
+from broadtrack_graph.io.broadcast_truth import write_broadcast_truth
 from broadtrack_graph.io.cameras import camera_file_name, read_camera_file, resolve_camera_folder, write_camera_file
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
+from broadtrack_graph.synth.broadcast import BROADCAST_PRESET, broadcast_scene, broadcast_truth_shots
 from broadtrack_graph.synth.clip import clip_scene, iter_clip_frames
 from broadtrack_graph.synth.clip_folder import prepare_clip_folder
 
@@ -96,7 +104,8 @@ def write_synthetic_clip(
     Args:
         out_dir: output folder (created; an earlier synthetic clip in it is replaced whole, a file or a
             non-empty folder that is not a clip is refused: :mod:`broadtrack_graph.synth.clip_folder`).
-        preset: motion / play preset (broadtrack_graph.synth.motion.PRESETS).
+        preset: motion / play preset (broadtrack_graph.synth.motion.PRESETS), or "broadcast" (several cameras
+            and cuts: :mod:`broadtrack_graph.synth.broadcast`; not with cameras_dir).
         frame_count: frames to render (with cameras_dir: at most that many of its cameras).
         width_px, height_px: image size.
         seed: random seed; the same arguments give the same files.
@@ -116,8 +125,17 @@ def write_synthetic_clip(
         frame_count = len(cameras)
     if frame_count < 1:
         raise ValueError(f"frame_count must be >= 1, got {frame_count}")
+    scene, pitch_frames, cut_frames = None, None, frozenset()
+    if preset == BROADCAST_PRESET:
+        if cameras is not None:
+            raise ValueError("the broadcast preset generates its own cameras; give no camera folder")
+        scene = broadcast_scene(frame_count, width_px, height_px, seed)
+        pitch_frames, cut_frames = scene.pitch_frames, scene.cut_frames
     prepare_clip_folder(out)  # an earlier clip here is replaced whole; a file or a foreign folder is refused
-    cams, tripod, lambdas, players = clip_scene(preset, frame_count, width_px, height_px, seed, cameras)
+    if scene is None:
+        cams, tripod, lambdas, players = clip_scene(preset, frame_count, width_px, height_px, seed, cameras)
+    else:
+        cams, tripod, lambdas, players = scene.cameras, scene.tripods["main"], scene.lambdas_m, scene.players
     for sub in ("img1", "annotations", "cameras", "keypoints") + (("masks",) if write_masks else ()):
         (out / sub).mkdir(parents=True, exist_ok=True)
     info = {
@@ -140,31 +158,37 @@ def write_synthetic_clip(
     truth_frames = []
     started = time.perf_counter()
     interrupted = False
-    frames = iter_clip_frames(cams, width_px, height_px, seed, players, want_masks=write_masks)
+    frames = iter_clip_frames(cams, width_px, height_px, seed, players, want_masks=write_masks, cut_frames=cut_frames)
     try:
         for frame in tqdm(frames, total=frame_count, desc="synth", unit="frame", disable=not progress):
             fid = frame.frame_id
+            on_pitch = pitch_frames is None or bool(pitch_frames[frame.index])  # no truth camera on close-ups, crowd
+            lines = frame.lines_norm if on_pitch else {}
             if not cv2.imwrite(str(out / "img1" / f"{fid}.jpg"), frame.image, [cv2.IMWRITE_JPEG_QUALITY, int(jpeg_quality)]):
                 raise InputError(out / "img1" / f"{fid}.jpg", "cannot write image")
             if video is not None:
                 video.write(frame.image)
-            if frame.lines_norm:  # a frame showing no marking has no line annotation (as in SoccerNet)
-                write_annotation_file(out / "annotations" / f"{fid}.json", frame.lines_norm)
-            write_camera_file(out / "cameras" / camera_file_name(fid), frame.camera, width_px, height_px)
-            write_json_atomic(out / "keypoints" / f"{fid}.json",
-                              {name: [float(v) for v in uv] for name, uv in frame.keypoints_px.items()})
-            if write_masks and frame.mask is not None:
+            if lines:  # a frame showing no marking has no line annotation (as in SoccerNet)
+                write_annotation_file(out / "annotations" / f"{fid}.json", lines)
+            if on_pitch:
+                write_camera_file(out / "cameras" / camera_file_name(fid), frame.camera, width_px, height_px)
+                write_json_atomic(out / "keypoints" / f"{fid}.json",
+                                  {name: [float(v) for v in uv] for name, uv in frame.keypoints_px.items()})
+            if write_masks and frame.mask is not None and on_pitch:
                 cv2.imwrite(str(out / "masks" / f"{fid}.png"), frame.mask, [cv2.IMWRITE_PNG_COMPRESSION, 1])
-            lines_by_frame[fid] = frame.lines_norm or None
+            lines_by_frame[fid] = lines or None
             boxes_by_frame[fid] = [[int(b[0]), *(round(float(v), 2) for v in b[1:])] for b in frame.player_boxes_px]
             feet_by_frame[fid] = {int(b[0]): players.positions_w[frame.index, int(b[0])] for b in frame.player_boxes_px}
-            truth_frames.append({
+            entry = {
                 "frame_id": fid,
-                "lambda_m": None if lambdas is None else float(lambdas[frame.index]),
-                "annotated": bool(frame.lines_norm),
-                "occluded_classes": frame.occluded_classes,
-                "folded_classes": frame.folded_classes,
-            })
+                "lambda_m": None if lambdas is None or not on_pitch else float(lambdas[frame.index]),
+                "annotated": bool(lines),
+                "occluded_classes": frame.occluded_classes if on_pitch else [],
+                "folded_classes": frame.folded_classes if on_pitch else [],
+            }
+            if scene is not None:
+                entry.update(camera_id=scene.camera_ids[frame.index], shot_kind=scene.kinds[frame.index])
+            truth_frames.append(entry)
     except KeyboardInterrupt:
         interrupted = True
         logger.warning("interrupted after %d frames; writing the clip files for them", len(truth_frames))
@@ -174,6 +198,8 @@ def write_synthetic_clip(
         _write_clip_files(out, info, lines_by_frame, boxes_by_frame, feet_by_frame, players.teams, truth_frames,
                           width_px, height_px, tripod)
         write_player_truth(out, players, [f["frame_id"] for f in truth_frames], info["fps"])
+        if scene is not None:
+            write_broadcast_truth(out, broadcast_truth_shots(scene), scene.tripods, scene.camera_ids)
     elapsed = time.perf_counter() - started
     if interrupted:
         raise KeyboardInterrupt
