@@ -84,7 +84,11 @@ def frame_confidence(
 
     By what the frame carries: the marking map (confidence.camera_confidence), else labelled lines
     (mean of the per-class Jaccard and the inlier share at 5 px), else keypoints (share within 10 px).
+    A camera whose focal point is not a broadcast camera's (under 1 m, or over the pitch:
+    :func:`plausible_position`) has confidence 0, however well it explains the markings.
     """
+    if not plausible_position(camera.position_m, curves.pitch):
+        return 0.0
     if detections is not None and detections.marking_mask is not None and detections.marking_mask.any():
         return camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
                                  player_mask=detections.player_mask)

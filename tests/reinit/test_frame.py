@@ -1,0 +1,38 @@
+"""The frame confidence's plausibility rule (broadtrack_graph.reinit.frame)."""
+
+from __future__ import annotations
+
+from broadtrack_graph.detect.observations import FrameObservations
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.reinit.frame import frame_confidence, plausible_position
+
+PITCH = PitchTemplate()
+CURVES = TemplateCurves(PITCH, line_step_m=1.0, circle_step_m=0.5)
+
+
+def _lines_seen_by(camera: Camera) -> dict:
+    """Labelled line points exactly where the camera projects each class."""
+    out = {}
+    for name, points in CURVES.samples_w.items():
+        if not PITCH.is_on_ground(name):
+            continue
+        uv, front = camera.project(points)
+        keep = front & camera.in_image(uv)
+        if keep.sum() >= 4:
+            out[name] = uv[keep]
+    return out
+
+
+def test_a_camera_over_the_pitch_has_no_confidence_however_well_it_fits():
+    good = Camera.from_degrees(1000.0, 0.0, 0.0, 70.0, 0.0, (0.0, 55.0, -12.0), 960, 540)
+    over = Camera.from_degrees(1000.0, 0.0, 0.0, 60.0, 0.0, (0.0, 30.0, -12.0), 960, 540)  # inside the touchlines
+    scores = {}
+    for name, camera in (("good", good), ("over", over)):
+        observations = FrameObservations(0, 960, 540, lines_px=_lines_seen_by(camera))
+        assert len(observations.lines_px) >= 2
+        scores[name] = frame_confidence(camera, observations, None, CURVES, TemplateSampling(PITCH))
+    assert scores["good"] > 0.9 and scores["over"] == 0.0  # both fit their points exactly
+    assert not plausible_position((0.0, 30.0, -12.0), PITCH) and not plausible_position((0.0, 55.0, -0.5), PITCH)
+    assert plausible_position((0.0, 55.0, -12.0), PITCH) and plausible_position((-75.0, 0.0, -24.0), PITCH)
