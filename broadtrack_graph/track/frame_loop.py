@@ -103,9 +103,7 @@ class TrackingRun:
                  solver_factory=streaming_solver_for, reinitialise=reinitialise, confidence=frame_confidence,
                  on_frame_done: FrameDone | None = None, tripods: dict[str, Tripod] | None = None,
                  backfill: bool = False) -> None:
-        self.W, self.H = int(width_px), int(height_px)
-        self.config = config
-        self.detector = detector
+        self.W, self.H, self.config, self.detector = int(width_px), int(height_px), config, detector
         self.pitch = pitch or PitchTemplate()
         self.graph_config = graph_config or graph_config_for(config)
         self.curves = TemplateCurves(self.pitch, line_step_m=1.0, circle_step_m=0.5)
@@ -131,6 +129,7 @@ class TrackingRun:
         self._carried = 0  # frames in a row carried on the motion prior alone
         self._chain_confident = False  # a frame of the current chain reached the confidence threshold
         self._reinit_continues = False  # the frame's re-initialisation continues a confident camera's chain
+        self._trust_at = config.confidence_threshold  # the confidence that makes the chain trusted
         self.cuts = 0  # cuts that broke the chain
         self.camera_id: str | None = None  # the camera id of the current chain (None: not known yet)
         self.shot_index: int | None = None  # the current shot (None: no shot information)
@@ -148,8 +147,6 @@ class TrackingRun:
         self.records = RecordQueue(self.writer, lambda camera, observations, detections: self.confidence(
             camera, observations, detections, self.curves, self.sampling),
             None if self.backfill is None else self.backfill.final, self.timings)
-
-    # ----------------------------------------------------------------- one frame
 
     def process(self, frame: FrameInput) -> None:
         """Process one frame, write every record that became final, and tell the observer."""
@@ -254,6 +251,8 @@ class TrackingRun:
         """Restarting from the decision's camera: its camera id (and that camera's tripod) from now on."""
         if decision.camera_id is not None and decision.camera_id != self.camera_id:
             self._set_camera(decision.camera_id)
+        if not decision.continues_chain:  # a new camera's chain is trusted from a frame confident by the margin
+            self._trust_at = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
 
     def _set_camera(self, camera_id: str) -> None:  # the camera's tripod and guesses from now on
         self.online_tripod.switch(self.solver, camera_id)
@@ -290,7 +289,8 @@ class TrackingRun:
             # A new chain starts at this frame (a refined guess, a confident camera moved onto this
             # frame, continues the chain it came from).
             self._chain_confident = False
-        if confidence is not None and confidence >= self.config.confidence_threshold:
+        if confidence is not None and confidence >= (0.0 if self._chain_confident else self._trust_at) and \
+                confidence >= self.config.confidence_threshold:
             self._chain_confident = True
         elif (not lost_now and camera is not None and confidence is not None and not self._chain_confident
               and detections is not None and detections.marking_mask is not None):
@@ -298,7 +298,7 @@ class TrackingRun:
             # seeds the next frame, it is not written (a map search can settle on a wrong camera that still
             # explains part of the map; labelled lines and keypoints name what they show).
             entry.status = STATUS_FAILED
-            entry.reason = (f"confidence {confidence:.2f} below {self.config.confidence_threshold:.2f} and no "
+            entry.reason = (f"confidence {confidence:.2f} below {self._trust_at:.2f} and no "
                             "confident frame since the re-initialisation; camera not written")
             entry.suppress_camera = True
         if lost_now and camera is not None and confidence is not None:

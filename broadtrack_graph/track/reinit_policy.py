@@ -48,7 +48,7 @@ budget counts frames, not seconds, so a run gives the same cameras on any machin
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -106,6 +106,9 @@ class ReinitDecision:
         chain (and the trust it earned) goes on.
     searched: a global search ran for this frame.
     reason: one line.
+    new_camera: ``camera`` was searched for a shot whose camera was not known: its chain is trusted
+        only from a frame confident by the margin (a shot's first frame can be explained, nearly as
+        well, by a wrong camera).
     """
 
     camera: Camera | None
@@ -114,6 +117,7 @@ class ReinitDecision:
     continues_chain: bool
     searched: bool
     reason: str
+    new_camera: bool = False
 
 
 @dataclass
@@ -268,14 +272,16 @@ class ReinitPolicy:
                                         held_confidence, chain_trusted)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
+        new_camera = self.camera_id is None and self.search_positions is None and with_map
         if self.camera_id is not None:
             camera_id = self.camera_id  # a shot's camera does not change
         elif found_confidence >= threshold:
             camera_id = self.registry.identify(found.camera.position_m)
         else:
             camera_id = self.registry.nearest(found.camera.position_m)
-        return self._switch_or_keep(found, found_confidence, camera_id, False, True, label, held, held_confidence,
-                                    chain_trusted)
+        decision = self._switch_or_keep(found, found_confidence, camera_id, False, True, label, held,
+                                        held_confidence, chain_trusted)
+        return replace(decision, new_camera=new_camera) if decision.camera is not None else decision
 
     def _switch_or_keep(self, result: ReinitResult, confidence: float, camera_id: str | None, from_guess: bool,
                         searched: bool, reason: str, held: Camera | None, held_confidence: float | None,
