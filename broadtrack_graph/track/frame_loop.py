@@ -252,7 +252,8 @@ class TrackingRun:
         if decision.camera_id is not None and decision.camera_id != self.camera_id:
             self._set_camera(decision.camera_id)
         if not decision.continues_chain:  # a new camera's chain is trusted from a frame confident by the margin
-            self._trust_at = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
+            bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
+            self._trust_at = bar if self._chain_confident else max(self._trust_at, bar)  # (see low below)
 
     def _set_camera(self, camera_id: str) -> None:  # the camera's tripod and guesses from now on
         self.online_tripod.switch(self.solver, camera_id)
@@ -268,7 +269,8 @@ class TrackingRun:
             started = time.perf_counter()
             confidence = self.confidence(camera, observations, detections, self.curves, self.sampling)
             self.timings["confidence_s"] += time.perf_counter() - started
-        low = confidence is not None and confidence < self.config.confidence_threshold
+        low = confidence is not None and confidence < (self.config.confidence_threshold if self._chain_confident
+                                                       else self._trust_at)  # a new camera's untrusted chain too
         lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
         continues_chain = reinitialised and self._reinit_continues
         if camera is None or (low and not reinitialised):
@@ -325,7 +327,7 @@ class TrackingRun:
 
     def _break_chain(self) -> None:
         """The next frame is not linked to the previous one (no flow, re-initialise)."""
-        self._lost = True
+        self._lost, self._trust_at = True, self.config.confidence_threshold
         self.observer.unlink()
         self._history.clear()
         self._carried = 0
