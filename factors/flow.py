@@ -14,9 +14,8 @@ import numpy as np
 from broadtrack_graph.geometry.distortion import undistort_normalized
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
 from factors.custom import custom_factor
-from factors.robust import cauchy_rows
+from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
-INVALID_RESIDUAL_SIGMAS = 10.0
 MAX_GROUND_DISTANCE_M = 1000.0
 """Rays meeting the ground further than this from camera t-1 are not used (near-horizontal)."""
 

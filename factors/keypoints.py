@@ -10,9 +10,8 @@ import numpy as np
 
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
 from factors.custom import custom_factor
-from factors.robust import cauchy_rows
+from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
-INVALID_RESIDUAL_SIGMAS = 10.0
 MIN_CONFIDENCE = 0.05
 
 

@@ -17,10 +17,7 @@ import numpy as np
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_and_derivatives
 from factors.custom import custom_factor
-from factors.robust import cauchy_rows
-
-INVALID_RESIDUAL_SIGMAS = 10.0
-"""Whitened residual given to a point with no projected element (constant: no gradient)."""
+from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 
+INVALID_RESIDUAL_SIGMAS = 10.0
+"""Whitened residual given to a point with nothing to measure it against (constant: no gradient)."""
+
 
 def cauchy_rho(e2: np.ndarray, scale: float) -> np.ndarray:
     """Cauchy cost ``c^2 / 2 log(1 + e^2 / c^2)`` of squared whitened residual norms e2 (N,)."""

@@ -130,8 +130,14 @@ def score_broadcast_run(run_dir: Path, truth, annotations, width_px: int, height
     from broadtrack_graph.io.run_folder import RunFolder, read_frame_camera_ids
     from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
     from broadtrack_graph.io.tripod_file import read_tripods_by_camera
-    from broadtrack_graph.metrics.broadcast import (camera_id_scores, cut_scores, frame_kinds, frames_by_kind,
-                                                    kind_scores, tripod_scores)
+    from broadtrack_graph.metrics.broadcast import (
+        camera_id_scores,
+        cut_scores,
+        frame_kinds,
+        frames_by_kind,
+        kind_scores,
+        tripod_scores,
+    )
     from broadtrack_graph.synth.clip import frame_id
 
     folder = RunFolder(run_dir)

@@ -27,7 +27,7 @@ import cv2
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder, read_frame_camera_ids
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.metrics.broadcast import cut_scores
@@ -152,7 +152,7 @@ def score_splice(video: Path, run_dir: Path, segments: list[Segment], wall_s: fl
     records = {r.frame_index: r for r in track.records}
     summary = track.summary
     ids = read_frame_camera_ids(run_dir)
-    curves = TemplateCurves(PitchTemplate(), line_step_m=1.0, circle_step_m=0.5)
+    curves = fitting_curves(PitchTemplate())
     aligned: dict[int, bool] = {}
     capture = cv2.VideoCapture(str(video))
     index = 0

@@ -91,14 +91,14 @@ def per_frame_run(clip: Path, run_dir: Path, progress: bool = True) -> dict:
 
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.pitch import PitchTemplate
-    from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+    from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_REINITIALISED, TrackRecord
     from broadtrack_graph.io.track_writer import TrackWriter
     from broadtrack_graph.reinit.frame import reinitialise
 
     pitch = PitchTemplate()
     detector = WeightFreeDetector(pitch)
-    curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5)
+    curves = fitting_curves(pitch)
     sampling = TemplateSampling(pitch)
     images = sorted((clip / "img1").glob("*.jpg"))
     first = cv2.imread(str(images[0]))

@@ -18,7 +18,7 @@ import numpy as np
 
 from broadtrack_graph.actions.track import track_input
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.io.track_record import STATUS_OTHER_VIEW
@@ -65,7 +65,7 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
     known = KNOWN_OTHER_VIEWS.get(video.stem, [])
     other_known = {i for a, b in known for i in range(a, b)}
     other_found = {i for i, r in records.items() if r.status == STATUS_OTHER_VIEW}
-    curves = TemplateCurves(PitchTemplate(), line_step_m=1.0, circle_step_m=0.5)
+    curves = fitting_curves(PitchTemplate())
     capture = cv2.VideoCapture(str(video))
     scores, shifted, scored = {}, {}, []
     index = 0

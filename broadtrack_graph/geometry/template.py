@@ -348,3 +348,8 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
         keep = (uv[:, 0] >= 0) & (uv[:, 0] <= width_px - 1) & (uv[:, 1] >= 0) & (uv[:, 1] <= height_px - 1)
         uv, cls, wid = uv[keep], cls[keep], wid[keep]
     return ImageTemplate(uv, cls, wid)
+
+
+def fitting_curves(pitch: PitchTemplate | None = None) -> TemplateCurves:
+    """The template sampled as the tracker fits, names and scores it: every 1 m along lines, 0.5 m along circles."""
+    return TemplateCurves(pitch or PitchTemplate(), line_step_m=1.0, circle_step_m=0.5)

@@ -42,8 +42,8 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.synth.motion import generate_camera_track, hfov_to_focal_px, smooth_noise
 from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.synth.motion import generate_camera_track, hfov_to_focal_px, smooth_noise
 from broadtrack_graph.synth.scene import PlayerTrack, simulate_players
 
 BROADCAST_PRESET = "broadcast"

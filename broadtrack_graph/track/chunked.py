@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
@@ -57,7 +57,7 @@ def refine_window_records(records: list[TrackRecord], observations: dict[int, Fr
     refiner = BatchRefiner(width_px, height_px, pitch, graph_config_for(config, graph_config))
     estimates = refiner.refine_window([observations[r.frame_index] for r in tracked], initial, tripod)
     by_index = {e.frame_index: e for e in estimates if e is not None}
-    curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5)
+    curves = fitting_curves(pitch)
     sampling = TemplateSampling(pitch)
     return [refined_record(r, by_index.get(r.frame_index), observations.get(r.frame_index), curves, sampling)
             for r in records]

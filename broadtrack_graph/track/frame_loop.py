@@ -33,7 +33,7 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
@@ -106,7 +106,7 @@ class TrackingRun:
         self.W, self.H, self.config, self.detector = int(width_px), int(height_px), config, detector
         self.pitch = pitch or PitchTemplate()
         self.graph_config = graph_config or graph_config_for(config)
-        self.curves = TemplateCurves(self.pitch, line_step_m=1.0, circle_step_m=0.5)
+        self.curves = fitting_curves(self.pitch)
         self.sampling = TemplateSampling(self.pitch)
         self.known_tripod = tripod
         known = {camera_id: t.T_w for camera_id, t in (tripods or {}).items()}

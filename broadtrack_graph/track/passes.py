@@ -28,7 +28,7 @@ from broadtrack_graph.detect.flow import prepare
 from broadtrack_graph.detect.graphics import GraphicsConfig
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
@@ -196,7 +196,7 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
     recovered = set(recovery.recovered)
     position = {r.frame_index: i for i, r in enumerate(records)}
     refiner = BatchRefiner(width_px, height_px, pitch, graph)
-    curves, sampling = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5), TemplateSampling(pitch)
+    curves, sampling = fitting_curves(pitch), TemplateSampling(pitch)
     for first, last in recovery.gaps:
         lo = max(0, position[first] - config.lag_frames)
         hi = min(len(records), position[last] + 1 + config.lag_frames)
@@ -291,7 +291,7 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     elif fit_infos:
         refiner.last_info["tripod_fit"] = fit_infos
     elapsed = time.perf_counter() - started
-    curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5)
+    curves = fitting_curves(pitch)
     sampling = TemplateSampling(pitch)
     writer = _observe(TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
                                   run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)}),

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field, replace
 from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
+from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.builder import GraphBuilder
 from broadtrack_graph.graph.config import GraphConfig
@@ -112,7 +112,7 @@ def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObserv
     gaps = recoverable_gaps(records, observations, max_frames)
     if not gaps:
         return result
-    curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.5)
+    curves = fitting_curves(pitch)
     sampling = TemplateSampling(pitch)
     builder = None
     for lo, hi in gaps:

@@ -8,8 +8,13 @@ import pytest
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.io.broadcast_truth import (CAMERA_IDS_TRUTH_FILE, TRIPODS_TRUTH_FILE, has_broadcast_truth,
-                                                 read_broadcast_truth, write_broadcast_truth)
+from broadtrack_graph.io.broadcast_truth import (
+    CAMERA_IDS_TRUTH_FILE,
+    TRIPODS_TRUTH_FILE,
+    has_broadcast_truth,
+    read_broadcast_truth,
+    write_broadcast_truth,
+)
 from broadtrack_graph.io.run_folder import read_frame_camera_ids
 from broadtrack_graph.io.tripod_file import read_tripods_by_camera, write_tripod
 from broadtrack_graph.shots.segmenter import Shot

@@ -5,8 +5,15 @@ from __future__ import annotations
 import pytest
 
 from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.metrics.broadcast import (camera_id_scores, cut_scores, frame_kinds, frames_by_kind, kind_group,
-                                                kind_scores, tripod_scores)
+from broadtrack_graph.metrics.broadcast import (
+    camera_id_scores,
+    cut_scores,
+    frame_kinds,
+    frames_by_kind,
+    kind_group,
+    kind_scores,
+    tripod_scores,
+)
 from broadtrack_graph.shots.segmenter import Shot
 
 TRUE = [Shot(0, 10, "main", "main"), Shot(10, 14, "close-up", None, "hard"), Shot(14, 20, "main", "main", "hard"),
