@@ -18,8 +18,9 @@ What is tried, cheapest first:
    positions; the default positions (main, 16 m, behind the goal); the main camera further
    back; each low gantry position; the other camera kinds (:mod:`broadtrack_graph.reinit.positions`).
    A shot whose camera is not known is searched through every stage (until a camera reaches
-   :data:`CERTAIN_CONFIDENCE`): a view of one camera can be explained, less well, by a camera
-   elsewhere. In a shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
+   :data:`CERTAIN_CONFIDENCE`, or a known camera is found confidently at its own position: a
+   camera returning after a cut): a view of one camera can be explained, less well, by a camera
+   elsewhere, so each camera's first appearance costs a full search. In a shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
    that camera's position, then its kind's stage (the main camera's: the default positions,
    in case its position came from a provisional tripod).
 
@@ -352,12 +353,13 @@ class ReinitPolicy:
             stages = ([("known cameras", known)] if known else []) + list(SEARCH_STAGES if with_map else SEARCH_STAGES[:1])
         # A shot whose camera is not known is searched through every stage (until a camera is certain): a view
         # of one camera can be explained, less well, by a camera elsewhere (a penalty area seen from behind the
-        # goal by a camera on the 16 m line); mid-shot the first confident camera ends the search.
+        # goal by a camera on the 16 m line). A known camera found confidently at its own position (a camera
+        # returning after a cut), and mid-shot the first confident camera, end the search.
         enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
             else threshold
-        best, best_confidence, label, reasons = None, 0.0, "", []
+        best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         for k, (stage_label, positions) in enumerate(stages):
-            if best is not None and best_confidence >= enough:
+            if best is not None and best_confidence >= (threshold if best_known else enough):
                 break
             self.counts["stages"] += 1
             result = self.search(observations, detections, pitch, positions, curves, sampling)
@@ -374,6 +376,7 @@ class ReinitPolicy:
                                 else confidence >= threshold and confidence > best_confidence + margin):
                 best, best_confidence = result, float(confidence)
                 label = f"global search, {stage_label}: {result.reason}"
+                best_known = stage_label == "known cameras"  # a returning camera, confidently found: no more stages
         if best is None:
             return None, 0.0, "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
         return best, best_confidence, label

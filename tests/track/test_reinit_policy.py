@@ -183,7 +183,7 @@ def test_given_positions_replace_the_stages():
 
 
 def test_known_cameras_are_searched_first():
-    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.92)})
+    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.6)})  # confident at a known camera's position: returning
     policy = _policy(fakes)
     policy.tripod("high-corner-1", (53.0, 70.0, -22.0))
     decision = _decide(policy, 0)
