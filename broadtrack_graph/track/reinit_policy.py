@@ -3,7 +3,7 @@
 The frame loop asks :meth:`ReinitPolicy.decide` once for a frame without a trusted camera
 (lost, or held at a confidence under the threshold) and gets one :class:`ReinitDecision`:
 the camera to restart the solver from (or None: keep what is held / nothing found), its
-confidence, the camera id it belongs to, and why.
+confidence, the camera id it belongs to, and why. No I/O.
 
 What is tried, cheapest first:
 
@@ -13,38 +13,45 @@ What is tried, cheapest first:
    of milliseconds (:func:`broadtrack_graph.reinit.cheap.refine_guesses`). A confident refined
    guess is taken at once and continues its camera's chain: this is how a camera returning
    after a close-up or a replay is recognised.
-2. **The global search**, when the search budget allows, in stages run while nothing
-   confident has been found. In a shot whose camera is not known yet: the known cameras'
-   positions; the default positions (main, 16 m, behind the goal); the main camera further
-   back; each low gantry position; the other camera kinds (:mod:`broadtrack_graph.reinit.positions`).
-   A shot whose camera is not known is searched through every stage (until a camera reaches
-   :data:`CERTAIN_CONFIDENCE`, or a known camera is found confidently at its own position: a
-   camera returning after a cut): a view of one camera can be explained, less well, by a camera
-   elsewhere, so each camera's first appearance costs a full search. In a shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
-   that camera's position, then its kind's stage (the main camera's: the default positions,
-   in case its position came from a provisional tripod).
+2. **The global search** in stages, when the search budget allows.
+
+   * A shot whose camera is not known yet: the known cameras' positions, the default
+     positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
+     the other camera kinds (:mod:`broadtrack_graph.reinit.positions`). Every stage is
+     searched (a view of one camera can be explained, less well, by a camera elsewhere) until
+     a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found confidently at its
+     own position (a camera returning after a cut): each camera's first appearance costs a
+     full search.
+   * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
+     that camera's position, then its kind's stage (the main camera's: the default positions,
+     in case its position came from a provisional tripod); the first confident stage ends it.
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is
 identified by its position (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`): a known
 camera's id, or a new id when it is confident and far from every known camera.
 
-One margin, ``reinit_switch_margin``: a camera that is not confident replaces another (the
+**One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
 search stage) only when it is that much more confident; a confident camera replaces an
-unconfident one (a later stage's camera must also be better by the margin). All thresholds
-are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
+unconfident one (a later stage's camera must also be better by the margin); the chain of a
+new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
+All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
 **The search budget** (searches of the marking map; keypoints and labelled lines are searched
-at once, in milliseconds). A known camera lost mid-shot (a blurred sweep) is still there: it is
-searched again after 1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each.
-A shot whose camera is not known is searched through every stage, paid from the budget: a global search costs up to a second or two on a real frame, about
-``search_cost_frames`` tracked frames. Searches are paid from a bucket that fills by one search
-every ``search_cost_frames * (1 - s) / s`` frames (s = ``search_time_share``), holding at most
-one; a search through several stages costs one each (the bucket goes into debt): over any stretch where nothing is found, searching takes about the share s of the run.
-Each search that finds nothing confident doubles the price of the next (up to
-``max_search_backoff``): growing intervals. A cut or a view change (:meth:`new_stretch`) and a
-confident frame (:meth:`confident`) restart it: a new shot is searched at its first frame. The
-budget counts frames, not seconds, so a run gives the same cameras on any machine. No I/O.
+at once, in milliseconds), counted in frames, not seconds, so a run gives the same cameras on
+any machine:
+
+* a known camera lost mid-shot (a blurred sweep) is still there: it is searched again after
+  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each;
+* a shot whose camera is not known is searched at its first frame, then paid from a bucket
+  that fills by one stage every ``search_cost_frames * (1 - s) / s`` frames (s =
+  ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
+  at most one, each stage paid (the bucket goes into debt): over any stretch where nothing is
+  found, searching takes about the share s of the run. Each search that finds nothing
+  confident doubles the price of the next (up to ``max_search_backoff``).
+
+A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame
+(:meth:`ReinitPolicy.confident`) restart the budget.
 """
 
 from __future__ import annotations
