@@ -32,7 +32,6 @@ import numpy as np
 
 from broadtrack_graph.actions.track import DetectorOptions, make_detector
 from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
@@ -48,6 +47,7 @@ from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
 from broadtrack_graph.track.passes import run_loop
 from broadtrack_graph.track.result import RunResult
+from broadtrack_graph.types.observations import FrameObservations
 
 log = logging.getLogger(__name__)
 

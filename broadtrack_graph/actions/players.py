@@ -32,7 +32,7 @@ from tqdm import tqdm
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.ground import DEFAULT_MAX_DISTANCE_M, GROUND_OK, foot_positions
 from broadtrack_graph.io.jsonfile import write_json_atomic
-from broadtrack_graph.io.player_boxes import PlayerBoxes, PlayerFrame, read_player_boxes
+from broadtrack_graph.io.player_boxes import read_player_boxes
 from broadtrack_graph.io.players_file import (
     PLAYERS_FILE,
     PREDICTIONS_FILE,
@@ -41,9 +41,10 @@ from broadtrack_graph.io.players_file import (
     positions_from_lines,
     write_gamestate_predictions,
 )
-from broadtrack_graph.io.run_folder import Track, read_track
-from broadtrack_graph.io.track_record import TrackRecord, covariance_from_std
+from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.metrics.players import AnalyticsConfig, analytics_summary, fps_from_times, track_analytics
+from broadtrack_graph.types.player_boxes import PlayerBoxes, PlayerFrame
+from broadtrack_graph.types.track_record import RunRecords, TrackRecord, covariance_from_std
 
 log = logging.getLogger(__name__)
 
@@ -84,13 +85,13 @@ class PlayersResult:
         self.no_camera += located.no_camera
 
 
-def clip_fps(track: Track, default: float = 25.0) -> float:
+def clip_fps(track: RunRecords, default: float = 25.0) -> float:
     """Frames per second of a run from its records' times (:func:`~broadtrack_graph.metrics.players.fps_from_times`)."""
     times = np.array([np.nan if r.time_s is None else r.time_s for r in track.records], dtype=float)
     return fps_from_times(times, track.frame_indices, default)
 
 
-def locate_players(track: Track, boxes: PlayerBoxes, options: PlayersOptions = PlayersOptions(),
+def locate_players(track: RunRecords, boxes: PlayerBoxes, options: PlayersOptions = PlayersOptions(),
                    writer: PlayersWriter | None = None, progress: bool = False) -> PlayersResult:
     """Pitch positions of every box with its frame's camera (see the module docstring).
 
@@ -197,7 +198,7 @@ def players_from_run(run_dir: str | Path, boxes: str | Path | PlayerBoxes, out_d
     return result
 
 
-def write_players_outputs(track: Track, boxes: PlayerBoxes, result: PlayersResult, options: PlayersOptions,
+def write_players_outputs(track: RunRecords, boxes: PlayerBoxes, result: PlayersResult, options: PlayersOptions,
                           run_label: str, progress: bool = True) -> None:
     """Everything but ``players.jsonl`` from the located lines: the game-state predictions, the summary (stored in
     ``result.summary``), the video on request; written to ``result.out_dir``.

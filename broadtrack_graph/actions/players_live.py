@@ -48,10 +48,12 @@ from broadtrack_graph.actions.players import (
     write_players_outputs,
 )
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.player_boxes import PlayerBoxes, PlayerFrame, read_player_boxes
+from broadtrack_graph.io.player_boxes import read_player_boxes
 from broadtrack_graph.io.players_file import PLAYERS_FILE, PREDICTIONS_FILE, PlayersWriter
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.io.track_record import record_from_json
+from broadtrack_graph.types.player_boxes import PlayerBoxes, PlayerFrame
+from broadtrack_graph.types.track_record import TrackRecord
 
 log = logging.getLogger(__name__)
 
@@ -77,7 +79,7 @@ class FolderPlayers:
     def record_written(self, record: TrackRecord, line: dict) -> None:
         """Observer of the folder's writer (:data:`~broadtrack_graph.io.track_writer.RecordWritten`)."""
         del record  # the camera as track.jsonl holds it is rebuilt from the line, as reading the run back does
-        self.held.append(TrackRecord.from_json(line, self.width_px, self.height_px))
+        self.held.append(record_from_json(line, self.width_px, self.height_px))
         self.release()
 
     def release(self) -> None:

@@ -73,7 +73,7 @@ def parse_ablation(items, default_seed: int = 0) -> list[tuple[str, str, int]]:
     InputError on an unknown factor or preset or a seed that is not an integer.
     """
     from broadtrack_graph.errors import InputError
-    from broadtrack_graph.synth.motion import PRESETS
+    from broadtrack_graph.synth.presets import PRESETS
 
     triples = []
     for item in items:
@@ -87,8 +87,8 @@ def parse_ablation(items, default_seed: int = 0) -> list[tuple[str, str, int]]:
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.synth.motion import PRESETS
-    from broadtrack_graph.track.config import MODES
+    from broadtrack_graph.synth.presets import PRESETS
+    from broadtrack_graph.types.modes import MODES
 
     parser.add_argument("--presets", nargs="+", default=["main", "16m"], choices=sorted(PRESETS),
                         help="synthetic presets (default main 16m)")

@@ -49,7 +49,7 @@ TAUS_PX = (5.0, 10.0)
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.track.config import MODES
+    from broadtrack_graph.types.modes import MODES
 
     parser.add_argument("--frames", type=int, default=1500, help="frames of the synthetic clip (default 1500)")
     parser.add_argument("--width", type=int, default=1920, help="synthetic clip width (default 1920)")

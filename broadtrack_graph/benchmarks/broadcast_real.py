@@ -32,7 +32,7 @@ from broadtrack_graph.io.run_folder import RunFolder, read_frame_camera_ids
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.metrics.broadcast import cut_scores
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment, line_pixels
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 SEGMENT_LENGTHS = (1.0, 1.17, 0.83, 1.25, 1.08)
 """Relative segment lengths, cycled (120 frames -> 120, 140, 100, 150, 130)."""

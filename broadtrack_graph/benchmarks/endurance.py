@@ -76,7 +76,7 @@ log = logging.getLogger(__name__)
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.synth.motion import PRESETS
+    from broadtrack_graph.synth.presets import PRESETS
 
     parser.add_argument("--preset", default="long", choices=sorted(PRESETS), help="synthetic preset (default long)")
     parser.add_argument("--frames", type=int, default=20000, help="frames of the tracked clip (default 20000)")

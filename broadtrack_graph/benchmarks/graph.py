@@ -25,7 +25,7 @@ from tqdm import tqdm
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig, MeasurementSigmas, SolverSettings
-from broadtrack_graph.graph.estimates import Track
+from broadtrack_graph.graph.estimates import EstimateSequence
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.simulate import SimulationSettings, reprojection_error_px, simulate_frames
@@ -154,7 +154,7 @@ def _accuracy(args) -> dict:
     # Online (the tripod is unknown at the start of a clip: no tripod factor).
     tracker = OnlineTracker(W, H, pitch, config)
     times = []
-    online = Track()
+    online = EstimateSequence()
     for i, obs in enumerate(tqdm(observations, desc="online", unit="frame")):
         t0 = time.perf_counter()
         online.frames.append(tracker.add_frame(obs, initial_guess=truth[0] if i == 0 else None))
@@ -163,7 +163,7 @@ def _accuracy(args) -> dict:
                         "median_update_ms": 1000 * float(np.median(times)), "mean_update_ms": 1000 * float(np.mean(times))}
     # Fixed lag.
     smoother = FixedLagSmoother(W, H, pitch, config, lag=args.lag)
-    lagged = Track()
+    lagged = EstimateSequence()
     times = []
     for i, obs in enumerate(tqdm(observations, desc=f"fixed lag {args.lag}", unit="frame")):
         t0 = time.perf_counter()

@@ -45,7 +45,8 @@ REAL_CLIP = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "re
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.track.config import MODES, TrackingConfig
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.types.modes import MODES
 
     parser.add_argument("--frames", type=int, default=200, help="synthetic frames (default 200)")
     parser.add_argument("--seed", type=int, default=0, help="synthetic clip seed (default 0)")
@@ -92,9 +93,10 @@ def per_frame_run(clip: Path, run_dir: Path, progress: bool = True) -> dict:
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
-    from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_REINITIALISED, TrackRecord
     from broadtrack_graph.io.track_writer import TrackWriter
     from broadtrack_graph.reinit.frame import reinitialise
+    from broadtrack_graph.types.status import FrameStatus
+    from broadtrack_graph.types.track_record import TrackRecord
 
     pitch = PitchTemplate()
     detector = WeightFreeDetector(pitch)
@@ -111,10 +113,10 @@ def per_frame_run(clip: Path, run_dir: Path, progress: bool = True) -> dict:
             result = reinitialise(detections.to_observations(index), detections, pitch, None, curves, sampling)
             if result.camera is None:
                 failed += 1
-                writer.write(TrackRecord(index, path.stem, index / 25.0, None, status=STATUS_FAILED,
+                writer.write(TrackRecord(index, path.stem, index / 25.0, None, status=FrameStatus.FAILED,
                                          reason=result.reason or "no camera"))
             else:
-                writer.write(TrackRecord(index, path.stem, index / 25.0, result.camera, status=STATUS_REINITIALISED,
+                writer.write(TrackRecord(index, path.stem, index / 25.0, result.camera, status=FrameStatus.REINITIALISED,
                                          reinitialised=True))
     return {"wall_s": round(time.perf_counter() - started, 1), "failed_frames": failed}
 

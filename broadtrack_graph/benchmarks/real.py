@@ -28,7 +28,7 @@ import logging
 import time
 from pathlib import Path
 
-from broadtrack_graph.track.config import MODES
+from broadtrack_graph.types.modes import MODES
 
 HELP = ("the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a "
         "per-frame fit, and real broadcast videos (alignment, re-initialisations, other views, cuts, fps)")

@@ -21,9 +21,9 @@ from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
-from broadtrack_graph.io.track_record import STATUS_OTHER_VIEW
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment, line_pixels
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.types.status import FrameStatus
 
 SHIFTED_TILT_DEG = 0.3
 """Every scored camera is also scored tilted by this much: the share of those passing is the check's false-accept rate."""
@@ -64,7 +64,7 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
     summary = folder.read_summary() if folder.has_summary() else {}
     known = KNOWN_OTHER_VIEWS.get(video.stem, [])
     other_known = {i for a, b in known for i in range(a, b)}
-    other_found = {i for i, r in records.items() if r.status == STATUS_OTHER_VIEW}
+    other_found = {i for i, r in records.items() if r.status == FrameStatus.OTHER_VIEW}
     curves = fitting_curves(PitchTemplate())
     capture = cv2.VideoCapture(str(video))
     scores, shifted, scored = {}, {}, []

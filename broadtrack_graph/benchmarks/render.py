@@ -13,7 +13,7 @@ import numpy as np
 
 from broadtrack_graph.synth.annotate import Annotator
 from broadtrack_graph.synth.clip import clip_scene
-from broadtrack_graph.synth.motion import PRESETS
+from broadtrack_graph.synth.presets import PRESETS
 from broadtrack_graph.synth.render import Renderer
 from broadtrack_graph.synth.texture import build_textures
 

@@ -35,8 +35,8 @@ AHEAD_STAGES = ("markings_ahead_s",)
 
 
 def add_arguments(parser) -> None:
-    from broadtrack_graph.synth.motion import PRESETS
-    from broadtrack_graph.track.config import MODES
+    from broadtrack_graph.synth.presets import PRESETS
+    from broadtrack_graph.types.modes import MODES
 
     parser.add_argument("--preset", default="main", choices=sorted(PRESETS), help="synthetic preset (default main)")
     parser.add_argument("--frames", type=int, default=200, help="frames of the clip (default 200)")

@@ -13,7 +13,7 @@ import sys
 
 log = logging.getLogger(__name__)
 
-from broadtrack_graph.io.track_record import STATUSES_WITH_CAMERA
+from broadtrack_graph.types.status import FrameStatus
 
 EXIT_OK = 0
 EXIT_INPUT_ERROR = 2  # bad input: a one-line error, nothing run
@@ -73,7 +73,7 @@ def run_summary_line(command: str, summary: dict) -> str:
     """
     counts = summary.get("status_counts") or {}
     frames = int(summary.get("frames_written") or 0)
-    cameras = sum(int(counts.get(s, 0)) for s in STATUSES_WITH_CAMERA)
+    cameras = sum(int(counts.get(s, 0)) for s in FrameStatus if s.has_camera)
     statuses = ", ".join(f"{name} {count}" for name, count in counts.items() if count)
     marker = " INTERRUPTED" if summary.get("interrupted") else ""
     return (f"{command}:{marker} {frames} frames, {cameras} cameras ({statuses or 'no frame'}), "
@@ -83,7 +83,7 @@ def run_summary_line(command: str, summary: dict) -> str:
 def finish_run(command: str, summary: dict) -> int:
     """Print the run's closing line and return its exit code: 3 (logged as an error) when it produced no camera."""
     counts = summary.get("status_counts") or {}
-    cameras = sum(int(counts.get(s, 0)) for s in STATUSES_WITH_CAMERA)
+    cameras = sum(int(counts.get(s, 0)) for s in FrameStatus if s.has_camera)
     if cameras == 0:
         log.error("the run produced no camera in %d frames (see the statuses and warnings above); exit code %d",
                   int(summary.get("frames_written") or 0), EXIT_NO_CAMERA)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from broadtrack_graph.commands.validate import image_side, int_at_least, int_between
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.synth.motion import PRESETS
+from broadtrack_graph.synth.presets import PRESETS
 
 HELP = "render a synthetic broadcast clip (frames, cameras, SoccerNet annotations, masks, keypoints)"
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.track.config import MODES
+from broadtrack_graph.types.modes import MODES
 
 HELP = "track many clips in parallel units on Ray (local by default, a cluster by --address); resumable"
 

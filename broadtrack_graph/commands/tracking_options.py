@@ -16,7 +16,8 @@ from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.config_file import read_config_file
 from broadtrack_graph.io.tripod_file import read_camera_tripods, read_tripod
-from broadtrack_graph.track.config import MODES, TrackingConfig
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.types.modes import MODES
 
 _DEFAULT = TrackingConfig()
 _DETECTOR = DetectorOptions()
@@ -96,7 +97,7 @@ def tripods_from_args(args) -> dict[str, Tripod]:
     Raises:
         InputError: a camera id given twice, or a tripod file that cannot be read.
     """
-    from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
+    from broadtrack_graph.types.shot import MAIN_CAMERA_ID
 
     tripods: dict[str, Tripod] = {}
     for value in args.tripod or ():
@@ -121,7 +122,7 @@ def tripod_from_args(args) -> tuple[Tripod | None, tuple | None]:
         InputError: a --reinit-position on or under the pitch (z must be negative: the camera is above it).
     """
     if args.tripod:
-        from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
+        from broadtrack_graph.types.shot import MAIN_CAMERA_ID
 
         tripods = tripods_from_args(args)
         return tripods.get(MAIN_CAMERA_ID, next(iter(tripods.values()))), None

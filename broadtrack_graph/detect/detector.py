@@ -4,7 +4,7 @@ A detector is any object with ``detect(image_bgr, predicted=None) -> Detections`
 (:class:`FieldDetector`). ``predicted`` is the tracker's predicted camera with its
 uncertainty; detectors that need it to name the markings (the weight-free one)
 use it, learned ones ignore it. :meth:`Detections.to_observations` turns the result
-into the graph's :class:`~broadtrack_graph.detect.observations.FrameObservations`.
+into the graph's :class:`~broadtrack_graph.types.observations.FrameObservations`.
 
 All coordinates are pixels of the frame that was passed in (principal point at the
 centre). No I/O.
@@ -17,8 +17,8 @@ from typing import Protocol
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FlowMatches, FrameObservations, KeypointObservations
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.types.observations import FlowMatches, FrameObservations, KeypointObservations
 
 
 @dataclass(frozen=True)

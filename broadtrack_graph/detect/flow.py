@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.observations import FlowMatches
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.types.observations import FlowMatches
 
 
 @dataclass(frozen=True)

@@ -40,10 +40,10 @@ import numpy as np
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.meanshift import mean_shift_thin
-from broadtrack_graph.detect.observations import KeypointObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.io.jsonfile import read_json
+from broadtrack_graph.types.observations import KeypointObservations
 
 KINDS = ("lines", "keypoints")
 ACTIVATIONS = ("softmax", "sigmoid", "none")

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from broadtrack_graph.io.player_boxes import NO_TRACK_ID, PlayerBoxes, PlayerFrame
+from broadtrack_graph.types.player_boxes import NO_TRACK_ID, PlayerBoxes, PlayerFrame
 
 
 def box_iou(a_px: np.ndarray, b_px: np.ndarray) -> np.ndarray:

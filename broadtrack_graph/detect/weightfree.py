@@ -41,6 +41,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
+from broadtrack_graph.detect.point_cells import capped_cell_means, grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
@@ -334,7 +335,7 @@ class WeightFreeDetector:
                   np.clip(np.round(points[:, 0]).astype(int), 0, work_w - 1)] = True
         unnamed = Detections(
             width_px=W, height_px=H,
-            marking_points_px=_to_frame_px(_grid_thin(points, self.config.point_spacing_px), scale),
+            marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
             marking_mask=marks,
             player_boxes_px=(boxes / scale) if len(boxes) else boxes,
             player_mask=player_mask > 0, field_mask=field > 0,
@@ -347,7 +348,7 @@ class WeightFreeDetector:
         lines = self.name_points(found.points_work_px, predicted, found.scale, found.work_size) \
             if predicted is not None else {}
         detect_s = found.seconds + time.perf_counter() - started
-        return replace(found.unnamed, lines_px={name: _to_frame_px(p, found.scale) for name, p in lines.items()},
+        return replace(found.unnamed, lines_px={name: work_to_frame_px(p, found.scale) for name, p in lines.items()},
                        info={"detect_ms": 1000 * detect_s, "work_scale": found.scale})
 
     def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
@@ -370,48 +371,3 @@ class FoundMarkings:
     work_size: tuple[int, int]
     scale: float
     seconds: float
-
-
-def _to_frame_px(points_work_px, scale: float) -> np.ndarray:
-    """Working pixels -> frame pixels (pixel centres at integer coordinates in both)."""
-    return (np.asarray(points_work_px, float) + 0.5) / scale - 0.5
-
-
-def cell_means(points: np.ndarray, spacing: float) -> np.ndarray:
-    """The mean of the points in each cell of ``spacing`` pixels: (M, 2), one per occupied cell.
-
-    Along a marking this averages the sub-pixel jitter of neighbouring centre-line points
-    (a cell holds a few of them) and spreads the output evenly.
-    """
-    if len(points) == 0:
-        return np.zeros((0, 2))
-    cells = np.floor(points / spacing).astype(np.int64)
-    _, inverse, counts = np.unique(cells[:, 0] * 1_000_003 + cells[:, 1], return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    sums = np.column_stack([np.bincount(inverse, points[:, 0]), np.bincount(inverse, points[:, 1])])
-    return sums / counts[:, None]
-
-
-def capped_cell_means(points: np.ndarray, spacing: float, max_points: int) -> np.ndarray:
-    """:func:`cell_means` with at most ``max_points`` cells: (M <= max_points, 2).
-
-    A marking's cells lie along a curve, so their count falls about inversely with the cell
-    size: too many cells at ``spacing`` are redone once at ``spacing * count / max_points``
-    (more averaging per point, same coverage); a rare remainder is subsampled evenly.
-    """
-    means = cell_means(points, spacing)
-    if max_points <= 0 or len(means) <= max_points:
-        return means
-    means = cell_means(points, spacing * len(means) / max_points)
-    if len(means) > max_points:
-        means = means[np.linspace(0, len(means) - 1, max_points).round().astype(int)]
-    return means
-
-
-def _grid_thin(points: np.ndarray, spacing: float) -> np.ndarray:
-    """One point per cell of ``spacing`` pixels (the first in input order)."""
-    if len(points) == 0:
-        return np.zeros((0, 2))
-    cells = np.floor(points / spacing).astype(np.int64)
-    _, first = np.unique(cells[:, 0] * 1_000_003 + cells[:, 1], return_index=True)
-    return points[np.sort(first)]

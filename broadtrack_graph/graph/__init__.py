@@ -8,7 +8,7 @@ Public entry points:
 * :mod:`broadtrack_graph.graph.streaming` - one push / finish interface over both, rebuilt on GTSAM errors;
 * :class:`broadtrack_graph.graph.batch.BatchRefiner` - LM over a clip with the tripod;
 * :func:`broadtrack_graph.graph.tripod_fit.fit_tripod` - T and delta from a track;
-* :mod:`broadtrack_graph.graph.estimates` - FrameEstimate / Track (camera, std, active factors);
+* :mod:`broadtrack_graph.graph.estimates` - FrameEstimate / EstimateSequence (camera, std, active factors);
 * :mod:`broadtrack_graph.graph.config` - the sigmas and solver settings (frozen dataclasses);
 * :mod:`broadtrack_graph.graph.builder` - FrameObservations -> factors (shared by all solvers);
 * :mod:`broadtrack_graph.graph.keys` - the GTSAM keys of the camera and tripod variables;

@@ -16,16 +16,16 @@ import gtsam
 import numpy as np
 from tqdm import tqdm
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.builder import GraphBuilder, graph_of
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.keys import camera_key, tripod_key
 from broadtrack_graph.graph.noise import lm_params
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
+from broadtrack_graph.types.observations import FrameObservations
 from factors.priors import make_anchor_factor
 
 logger = logging.getLogger(__name__)
@@ -49,17 +49,17 @@ class BatchRefiner:
     def refine(
         self,
         observations: list[FrameObservations],
-        initial: Track | list[Camera | None],
+        initial: EstimateSequence | list[Camera | None],
         tripod: Tripod | None = None,
         estimate_tripod: bool = True,
         progress: bool = False,
-    ) -> tuple[Track, Tripod | None]:
+    ) -> tuple[EstimateSequence, Tripod | None]:
         """Refine every frame jointly (and the tripod).
 
         Args:
             observations: one FrameObservations per frame, in order.
-            initial: starting cameras (a Track or a list; None entries start from the nearest
-                earlier camera). Frames flagged ``reinitialised`` in a Track are not linked to
+            initial: starting cameras (a EstimateSequence or a list; None entries start from the nearest
+                earlier camera). Frames flagged ``reinitialised`` in a EstimateSequence are not linked to
                 their predecessor (no flow, no motion prior).
             tripod: starting / fixed tripod. With estimate_tripod and no tripod, it is fitted to
                 the initial track (:func:`fit_tripod`); if that fails no tripod factor is used.
@@ -72,7 +72,7 @@ class BatchRefiner:
         """
         frames = list(observations)
         start = self._starting_cameras(initial, len(frames))
-        reinit = [bool(getattr(f, "reinitialised", False)) for f in initial] if isinstance(initial, Track) else [False] * len(frames)
+        reinit = [bool(getattr(f, "reinitialised", False)) for f in initial] if isinstance(initial, EstimateSequence) else [False] * len(frames)
         info: dict = {"chunks": []}
         use_tripod = self.config.use_tripod
         if use_tripod and tripod is None and estimate_tripod:
@@ -108,15 +108,15 @@ class BatchRefiner:
                 estimates[i] = est
             previous_chunk = {lo + i: est for i, est in enumerate(chunk_estimates)}
         self.last_info = info
-        return Track(estimates), tripod
+        return EstimateSequence(estimates), tripod
 
-    def refine_window(self, observations: list[FrameObservations], initial: Track,
+    def refine_window(self, observations: list[FrameObservations], initial: EstimateSequence,
                       tripod: Tripod | None) -> list[FrameEstimate | None]:
         """One LM over a window of frames with the tripod held fixed and no link to a previous window.
 
         The unit of parallel refinement (:mod:`broadtrack_graph.track.chunked`): windows of a clip
         are independent, so they can run in any order or at once. Arguments as :meth:`refine`
-        (``initial`` a Track of the same length as ``observations``).
+        (``initial`` a EstimateSequence of the same length as ``observations``).
 
         Returns:
             One estimate per frame (camera None where LM gave a non-finite state).
@@ -132,7 +132,7 @@ class BatchRefiner:
     # ----------------------------------------------------------------- internals
 
     def _starting_cameras(self, initial, count: int) -> list[Camera]:
-        cameras = initial.cameras() if isinstance(initial, Track) else list(initial)
+        cameras = initial.cameras() if isinstance(initial, EstimateSequence) else list(initial)
         if len(cameras) != count:
             raise ValueError(f"initial track has {len(cameras)} frames, observations have {count}")
         out: list[Camera | None] = []

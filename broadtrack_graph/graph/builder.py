@@ -12,11 +12,11 @@ from dataclasses import dataclass, field
 import gtsam
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.keys import camera_key, tripod_key
+from broadtrack_graph.types.observations import FrameObservations
 from factors.flow import make_flow_factor
 from factors.keypoints import make_keypoint_factor
 from factors.lines import MarkingPolylines, make_line_factor

@@ -42,7 +42,7 @@ class FrameEstimate:
 
 
 @dataclass
-class Track:
+class EstimateSequence:
     """A sequence of frame estimates in frame order."""
 
     frames: list[FrameEstimate] = field(default_factory=list)
@@ -64,5 +64,5 @@ class Track:
         return np.array([f.camera.to_vector() if f.camera is not None else np.full(8, np.nan) for f in self.frames]).reshape(-1, 8)
 
     @classmethod
-    def from_cameras(cls, cameras: list[Camera | None], first_index: int = 0) -> "Track":
+    def from_cameras(cls, cameras: list[Camera | None], first_index: int = 0) -> "EstimateSequence":
         return cls([FrameEstimate(first_index + i, c) for i, c in enumerate(cameras)])

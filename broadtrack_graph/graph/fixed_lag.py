@@ -9,13 +9,13 @@ from __future__ import annotations
 
 from collections import deque
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.online import OnlineTracker
+from broadtrack_graph.types.observations import FrameObservations
 
 
 class FixedLagSmoother:
@@ -28,7 +28,7 @@ class FixedLagSmoother:
     Usage::
 
         smoother = FixedLagSmoother(960, 540, pitch, lag=25)
-        track = Track()
+        track = EstimateSequence()
         for i, obs in enumerate(stream):
             track.frames += smoother.add_frame(obs, initial_guess=camera0 if i == 0 else None)
         track.frames += smoother.finish()
@@ -79,9 +79,9 @@ class FixedLagSmoother:
         self._pending.clear()
         return out
 
-    def run(self, observations, initial_guess: Camera) -> Track:
+    def run(self, observations, initial_guess: Camera) -> EstimateSequence:
         """Convenience: smooth a whole iterable of observations starting from initial_guess."""
-        track = Track()
+        track = EstimateSequence()
         for i, obs in enumerate(observations):
             track.frames += self.add_frame(obs, initial_guess=initial_guess if i == 0 else None)
         track.frames += self.finish()

@@ -17,7 +17,6 @@ import logging
 import gtsam
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
@@ -26,6 +25,7 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.keys import camera_key
 from broadtrack_graph.graph.noise import isam2_params
+from broadtrack_graph.types.observations import FrameObservations
 from factors.flow import flow_residuals
 from factors.robust import cauchy_weight
 

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FlowMatches, FrameObservations, KeypointObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
+from broadtrack_graph.types.observations import FlowMatches, FrameObservations, KeypointObservations
 
 
 @dataclass(frozen=True)

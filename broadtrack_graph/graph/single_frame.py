@@ -14,7 +14,6 @@ import logging
 import gtsam
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
@@ -22,6 +21,7 @@ from broadtrack_graph.graph.builder import GraphBuilder, graph_of
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.keys import camera_key
 from broadtrack_graph.graph.noise import lm_params
+from broadtrack_graph.types.observations import FrameObservations
 from factors.keypoints import keypoint_residuals
 from factors.lines import line_residuals
 from factors.priors import make_anchor_factor

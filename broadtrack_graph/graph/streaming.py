@@ -11,7 +11,6 @@ from __future__ import annotations
 import logging
 from dataclasses import replace
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
@@ -19,6 +18,7 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
+from broadtrack_graph.types.observations import FrameObservations
 
 log = logging.getLogger(__name__)
 

@@ -22,7 +22,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 from broadtrack_graph.io.shots_file import read_shots, write_shots
 from broadtrack_graph.io.tripod_file import tripods_from_json, tripods_to_json
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 SHOTS_TRUTH_FILE = "shots_truth.json"
 TRIPODS_TRUTH_FILE = "tripods_truth.json"

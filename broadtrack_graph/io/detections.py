@@ -40,10 +40,10 @@ from pathlib import Path
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations, KeypointObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.io.jsonfile import read_text
+from broadtrack_graph.types.observations import FrameObservations, KeypointObservations
 
 log = logging.getLogger(__name__)
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.jsonfile import read_json
-from broadtrack_graph.io.player_boxes import NO_TRACK_ID, PlayerBoxes
+from broadtrack_graph.types.player_boxes import NO_TRACK_ID, PlayerBoxes
 
 
 def read_gamestate_players(path: str | Path) -> PlayerBoxes:

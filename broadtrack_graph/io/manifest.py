@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.track.config import MODES
+from broadtrack_graph.types.modes import MODES
 
 KEYS = ("input", "detections", "name", "tripod", "start", "end", "mode", "chunk_frames")
 

@@ -15,11 +15,11 @@ import numpy as np
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.jsonfile import read_text
-from broadtrack_graph.io.player_boxes import PlayerBoxes
+from broadtrack_graph.types.player_boxes import PlayerBoxes
 
 
 def read_mot(path: str | Path, image_size: tuple[int, int] | None = None) -> PlayerBoxes:
-    """Read a MOT file into :class:`~broadtrack_graph.io.player_boxes.PlayerBoxes` (frame index = MOT frame - 1).
+    """Read a MOT file into :class:`~broadtrack_graph.types.player_boxes.PlayerBoxes` (frame index = MOT frame - 1).
 
     Args:
         path: the file.

@@ -28,8 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations, KeypointObservations
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.types.observations import FrameObservations, KeypointObservations
 
 NBJW_KEYPOINTS_W: dict[int, tuple[float, float, float]] = {
     # corners, touchline ends of the halfway line, penalty and goal areas (far side first)

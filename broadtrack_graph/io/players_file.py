@@ -222,9 +222,9 @@ def read_gamestate_predictions(path: str | Path) -> list[dict]:
 
 
 def boxes_from_positions(positions: PlayerPositions, source: str = "players.jsonl"):
-    """The boxes of a players file as :class:`~broadtrack_graph.io.player_boxes.PlayerBoxes` (to locate the same
+    """The boxes of a players file as :class:`~broadtrack_graph.types.player_boxes.PlayerBoxes` (to locate the same
     boxes through another run's cameras)."""
-    from broadtrack_graph.io.player_boxes import PlayerBoxes
+    from broadtrack_graph.types.player_boxes import PlayerBoxes
 
     out = PlayerBoxes(source=source, kind="players")
     for frame in np.unique(positions.frame):

@@ -31,18 +31,16 @@ from __future__ import annotations
 
 import json
 import logging
-from dataclasses import dataclass
 from pathlib import Path
-
-import numpy as np
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.cameras import camera_file_name, list_camera_files, read_camera_file, write_camera_file
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
-from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.io.track_record import record_from_json
 from broadtrack_graph.io.tripod_file import TRIPOD_FILE, read_tripod, write_tripod
+from broadtrack_graph.types.track_record import RunRecords, TrackRecord
 
 logger = logging.getLogger(__name__)
 
@@ -213,7 +211,7 @@ class RunFolder:
             return 0
         return sum(1 for line in self.track_path.read_text(encoding="utf-8").splitlines() if line.strip())
 
-    def read_track(self, width_px: int | None = None, height_px: int | None = None) -> "Track":
+    def read_track(self, width_px: int | None = None, height_px: int | None = None) -> RunRecords:
         """The run's records (see :func:`read_track`)."""
         if not self.path.is_dir():
             raise InputError(self.path, "run folder not found")
@@ -238,7 +236,7 @@ class RunFolder:
             if not line.strip():
                 continue
             try:
-                record = TrackRecord.from_json(json.loads(line), file_w, file_h)
+                record = record_from_json(json.loads(line), file_w, file_h)
             except (json.JSONDecodeError, ValueError) as exc:
                 if number == len(lines):
                     logger.warning("%s: line %d is truncated or malformed (interrupted run?); skipped", track_path, number)
@@ -250,7 +248,7 @@ class RunFolder:
             records.append(record)
         out_w = width_px or file_w
         out_h = height_px or (file_h if width_px is None else round(file_h * width_px / file_w))
-        return Track(records, out_w, out_h, summary, self.path, skipped)
+        return RunRecords(records, out_w, out_h, summary, self.path, skipped)
 
     def _resolution_from_cameras(self) -> tuple[int, int]:
         files = self.camera_files()
@@ -263,58 +261,7 @@ class RunFolder:
 # --------------------------------------------------------------------------- reading
 
 
-@dataclass
-class Track:
-    """A run read back from disk.
-
-    records: per-frame records in file order.
-    width_px, height_px: resolution of the cameras.
-    summary: summary.json (empty when absent).
-    path: the run folder.
-    skipped_lines: lines of track.jsonl that could not be read (a truncated last line).
-    """
-
-    records: list[TrackRecord]
-    width_px: int
-    height_px: int
-    summary: dict
-    path: Path
-    skipped_lines: int = 0
-
-    def __len__(self) -> int:
-        return len(self.records)
-
-    @property
-    def cameras(self) -> dict[str, Camera | None]:
-        """frame id -> camera (None for frames without an estimate)."""
-        return {r.frame_id: r.camera for r in self.records}
-
-    @property
-    def frame_indices(self) -> np.ndarray:
-        """(N,) frame indices."""
-        return np.array([r.frame_index for r in self.records], dtype=int)
-
-    def by_frame_id(self) -> dict[str, TrackRecord]:
-        return {r.frame_id: r for r in self.records}
-
-    def states(self) -> np.ndarray:
-        """(N, 8) ``[f_px, k1, pan_deg, tilt_deg, roll_deg, Cx_m, Cy_m, Cz_m]``; NaN rows for frames without camera.
-
-        Note: angles in DEGREES here (the plots and comparisons use degrees).
-        """
-        out = np.full((len(self.records), 8), np.nan)
-        for i, record in enumerate(self.records):
-            cam = record.camera
-            if cam is not None:
-                out[i] = [cam.focal_px, cam.k1, cam.pan_deg, cam.tilt_deg, cam.roll_deg, *cam.position_m]
-        return out
-
-    def confidences(self) -> np.ndarray:
-        """(N,) confidence per record, NaN where unknown."""
-        return np.array([np.nan if r.confidence is None else r.confidence for r in self.records])
-
-
-def read_track(run_dir: str | Path, width_px: int | None = None, height_px: int | None = None) -> Track:
+def read_track(run_dir: str | Path, width_px: int | None = None, height_px: int | None = None) -> RunRecords:
     """Read a run folder written by a track writer, or a folder of camera files.
 
     For a run folder the cameras are rebuilt from track.jsonl at the resolution of
@@ -365,7 +312,7 @@ def read_frame_camera_ids(run_dir: str | Path, default_id: str = "main") -> dict
     return ids
 
 
-def _read_camera_folder(folder: Path, width_px: int | None, height_px: int | None) -> Track:
+def _read_camera_folder(folder: Path, width_px: int | None, height_px: int | None) -> RunRecords:
     if (folder / CAMERA_DIR).is_dir() and not list_camera_files(folder):
         folder = folder / CAMERA_DIR
     files = list_camera_files(folder)
@@ -376,4 +323,4 @@ def _read_camera_folder(folder: Path, width_px: int | None, height_px: int | Non
         camera = read_camera_file(path, width_px, height_px)
         records.append(TrackRecord(int(frame_id), frame_id, None, camera))
     first = records[0].camera
-    return Track(records, first.width_px, first.height_px, {}, folder, 0)
+    return RunRecords(records, first.width_px, first.height_px, {}, folder, 0)

@@ -16,7 +16,7 @@ from pathlib import Path
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
 from broadtrack_graph.io.run_folder import SHOTS_FILE  # noqa: F401  (the run folder names its files)
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 
 def write_shots(path: str | Path, shots: list[Shot]) -> None:

@@ -1,7 +1,7 @@
 """Writing a run folder frame by frame: camera files, flushed ``track.jsonl`` lines, ``summary.json``.
 
 The folder's layout is :class:`~broadtrack_graph.io.run_folder.RunFolder`'s; each line is a
-:class:`~broadtrack_graph.io.track_record.TrackRecord`.
+:class:`~broadtrack_graph.types.track_record.TrackRecord`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,9 @@ from pathlib import Path
 from typing import Callable
 
 from broadtrack_graph.io.run_folder import CAMERA_DIR, CAMERA_DIR_960, TRACK_FILE, RunFolder
-from broadtrack_graph.io.track_record import STATUSES, STATUSES_WITH_CAMERA, TrackRecord
+from broadtrack_graph.io.track_record import record_to_json
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 logger = logging.getLogger(__name__)
 
@@ -68,7 +70,7 @@ class TrackWriter:
         self._track = open(self.folder.track_path, "w", encoding="utf-8")
         self._started_wall = time.time()
         self._started_utc = datetime.now(timezone.utc).isoformat(timespec="seconds")
-        self._status_counts = {status: 0 for status in STATUSES}
+        self._status_counts = {status.value: 0 for status in FrameStatus}
         self._frames = 0
         self._reinitialisations = 0
         self._confidence_sum = 0.0
@@ -92,7 +94,7 @@ class TrackWriter:
                 camera = camera.rescaled(self.width_px, self.height_px)
             camera_file = self.folder.write_camera(record.frame_id, camera, self.also_960x540, record.camera_id)
             record = TrackRecord(**{**record.__dict__, "camera": camera})
-        line = record.to_json(camera_file)
+        line = record_to_json(record, camera_file)
         self._track.write(json.dumps(line, allow_nan=False) + "\n")
         self._track.flush()
         self._frames += 1
@@ -126,7 +128,7 @@ class TrackWriter:
     def summary(self, complete: bool, extra: dict | None = None) -> dict:
         """The summary.json object for the frames written so far."""
         elapsed = time.time() - self._started_wall
-        with_camera = sum(self._status_counts[s] for s in STATUSES_WITH_CAMERA)
+        with_camera = sum(self._status_counts[s] for s in FrameStatus if s.has_camera)
         return {
             "complete": bool(complete),
             "interrupted": False,  # True (set by interrupt()) when Ctrl-C or SIGTERM stopped the run

@@ -1,6 +1,6 @@
 """Scores of a tracked broadcast against its truth: cuts, shot kinds, camera ids, tripods per camera.
 
-Pure functions of shot lists (:class:`~broadtrack_graph.shots.segmenter.Shot`, 0-based frame
+Pure functions of shot lists (:class:`~broadtrack_graph.types.shot.Shot`, 0-based frame
 indices, end exclusive), per-frame lists and tripods; no files. Used by ``bench broadcast``.
 
 * Cuts: a true cut (the start of every true shot after the first) is found when a
@@ -24,7 +24,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 PITCH_KINDS = ("main", "other-camera")
 NO_PITCH_KINDS = ("close-up", "crowd")

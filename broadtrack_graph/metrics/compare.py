@@ -28,7 +28,7 @@ import logging
 
 import numpy as np
 
-from broadtrack_graph.io.run_folder import Track
+from broadtrack_graph.types.track_record import RunRecords
 
 logger = logging.getLogger(__name__)
 
@@ -99,7 +99,7 @@ def focal_point_spread(positions_m: np.ndarray) -> dict:
     }
 
 
-def track_statistics(track: Track) -> dict:
+def track_statistics(track: RunRecords) -> dict:
     """Jitter, focal point spread and counts of one track (see the module docstring)."""
     states = track.states()
     frames = track.frame_indices
@@ -122,7 +122,7 @@ def track_statistics(track: Track) -> dict:
     }
 
 
-def ground_truth_errors(track: Track, truth: Track) -> dict:
+def ground_truth_errors(track: RunRecords, truth: RunRecords) -> dict:
     """Camera parameter errors against ground truth, over frame ids present in both with cameras.
 
     Returns:
@@ -153,7 +153,7 @@ def ground_truth_errors(track: Track, truth: Track) -> dict:
     }
 
 
-def metric_summary(annotations, track: Track, width_px: int, height_px: int, taus=COMPARE_TAUS) -> dict:
+def metric_summary(annotations, track: RunRecords, width_px: int, height_px: int, taus=COMPARE_TAUS) -> dict:
     """The SoccerNet metric of one track on the annotated frames (JaC per tau, completeness, MRE).
 
     Returns:
@@ -186,7 +186,7 @@ def metric_summary(annotations, track: Track, width_px: int, height_px: int, tau
 # --------------------------------------------------------------------------- several tracks
 
 
-def tripod_from_summary(track: Track):
+def tripod_from_summary(track: RunRecords):
     """(3,) tripod point T_w of a run's summary.json (``"tripod": {"T_w": [x, y, z]}``), or None."""
     tripod = track.summary.get("tripod") if isinstance(track.summary, dict) else None
     if isinstance(tripod, dict) and isinstance(tripod.get("T_w"), list) and len(tripod["T_w"]) == 3:
@@ -211,7 +211,7 @@ def player_statistics(positions, fps: float = 25.0, smooth_frames: int = 5) -> d
             "per_track_distance_m": {str(k): round(v["distance_m"], 3) for k, v in per_track.items()}}
 
 
-def compare_tracks(tracks: dict[str, Track], truth: Track | None = None, annotations=None,
+def compare_tracks(tracks: dict[str, RunRecords], truth: RunRecords | None = None, annotations=None,
                    eval_size_px: tuple[int, int] | None = None, taus=COMPARE_TAUS,
                    players: dict | None = None, fps: dict | None = None) -> dict:
     """The figures of several tracks: {"runs": name -> figures, "taus": [...]}.

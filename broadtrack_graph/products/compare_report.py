@@ -10,8 +10,8 @@ from pathlib import Path
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.jsonfile import write_json_atomic
-from broadtrack_graph.io.run_folder import Track
 from broadtrack_graph.metrics.compare import COMPARE_TAUS
+from broadtrack_graph.types.track_record import RunRecords
 
 
 def _fmt(value, digits: int = 3, scale: float = 1.0, suffix: str = "") -> str:
@@ -87,7 +87,7 @@ def format_table(report: dict) -> str:
     return "\n".join(lines)
 
 
-def write_comparison(report: dict, tracks: dict[str, Track], truth: Track | None, out_dir: str | Path) -> dict:
+def write_comparison(report: dict, tracks: dict[str, RunRecords], truth: RunRecords | None, out_dir: str | Path) -> dict:
     """Write compare.json, compare.md, series.png, focal_points.png into out_dir; returns their paths."""
     from broadtrack_graph.products.plots import plot_focal_points, plot_track_series
 

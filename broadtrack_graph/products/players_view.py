@@ -78,7 +78,7 @@ def write_players_birdseye(track, positions, out_path: str | Path, fps: float = 
     """Write an mp4 of the run from above: footprint and players per record; returns the frames written.
 
     Args:
-        track: the run (:class:`~broadtrack_graph.io.run_folder.Track`).
+        track: the run (:class:`~broadtrack_graph.types.track_record.RunRecords`).
         positions: :class:`~broadtrack_graph.io.players_file.PlayerPositions` of the run.
         out_path: the .mp4 file.
 

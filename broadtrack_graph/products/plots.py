@@ -1,6 +1,6 @@
 """Plots of camera tracks (matplotlib, Agg backend): parameters over time and focal point positions.
 
-Every function takes :class:`~broadtrack_graph.io.run_folder.Track` objects keyed by
+Every function takes :class:`~broadtrack_graph.types.track_record.RunRecords` objects keyed by
 run name and writes one PNG; nothing is shown on screen.
 """
 
@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from broadtrack_graph.io.run_folder import Track
+from broadtrack_graph.types.track_record import RunRecords
 
 GROUND_TRUTH_NAME = "ground truth"
 
@@ -31,13 +31,13 @@ SERIES = {
 }
 
 
-def _frame_axis(track: Track, id_to_index: dict[str, int]) -> np.ndarray:
+def _frame_axis(track: RunRecords, id_to_index: dict[str, int]) -> np.ndarray:
     """(N,) x values: the frame index the runs give the frame id (so a reference folder
     of camera files, whose index is the number in the file name, lines up), else its own index."""
     return np.array([id_to_index.get(r.frame_id, r.frame_index) for r in track.records], dtype=float)
 
 
-def _id_to_index(tracks: dict[str, Track]) -> dict[str, int]:
+def _id_to_index(tracks: dict[str, RunRecords]) -> dict[str, int]:
     table: dict[str, int] = {}
     for track in tracks.values():
         for record in track.records:
@@ -46,9 +46,9 @@ def _id_to_index(tracks: dict[str, Track]) -> dict[str, int]:
 
 
 def plot_track_series(
-    tracks: dict[str, Track],
+    tracks: dict[str, RunRecords],
     out_path: str | Path,
-    ground_truth: Track | None = None,
+    ground_truth: RunRecords | None = None,
     series: tuple[str, ...] = ("pan", "tilt", "focal", "Cx", "Cy", "Cz"),
     title: str | None = None,
 ) -> Path:
@@ -113,10 +113,10 @@ def plot_track_series(
 
 
 def plot_focal_points(
-    tracks: dict[str, Track],
+    tracks: dict[str, RunRecords],
     out_path: str | Path,
     tripod_T_w: np.ndarray | None = None,
-    ground_truth: Track | None = None,
+    ground_truth: RunRecords | None = None,
     title: str | None = None,
 ) -> Path:
     """Focal point positions C of every frame seen from above (x, y) and from the side (y, z).

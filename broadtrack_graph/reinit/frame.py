@@ -8,7 +8,6 @@ from dataclasses import replace
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
@@ -17,6 +16,7 @@ from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
 from broadtrack_graph.reinit.lines import reinit_from_lines
 from broadtrack_graph.reinit.mask import reinit_from_mask
 from broadtrack_graph.reinit.scoring import ReinitResult, score_labelled
+from broadtrack_graph.types.observations import FrameObservations
 
 
 def reinitialise(

@@ -8,7 +8,7 @@ follow in a shot whose majority is a no-pitch view, a new shot starts at the fir
 a close-up melting into the main camera's centre-circle view must not stay a close-up).
 
 The camera of a pitch shot is not known here: the tracker finds it (its camera id names
-the tripod it stands on, :mod:`broadtrack_graph.track.camera_ids`) and :func:`place_shot`
+the tripod it stands on, :mod:`broadtrack_graph.track.camera_ids`) and :func:`~broadtrack_graph.types.shot.place_shot`
 writes it into the shot: kind ``main`` (the main camera), ``other-camera`` (another pitch
 camera: behind a goal, near a corner, ...) or ``pitch`` (a pitch view no camera was
 placed for); ``close-up`` and ``crowd`` shots have no camera.
@@ -16,20 +16,13 @@ placed for); ``close-up`` and ``crowd`` shots have no camera.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from broadtrack_graph.shots.cuts import CutConfig, CutDetector
 from broadtrack_graph.shots.views import VIEW_MAIN, ViewConfig, classify_view
-
-MAIN_CAMERA_ID = "main"
-"""Camera id of the main camera's shots."""
-
-KIND_MAIN, KIND_OTHER_CAMERA, KIND_PITCH = "main", "other-camera", "pitch"
-NO_PITCH_KINDS = ("close-up", "crowd")
-SHOT_KINDS = (KIND_MAIN, KIND_OTHER_CAMERA, KIND_PITCH, *NO_PITCH_KINDS)
-"""Kinds of a shot: a pitch camera's (main, another, or not placed) or a view with no pitch to fit."""
+from broadtrack_graph.types.shot import Shot
 
 
 @dataclass(frozen=True)
@@ -40,26 +33,6 @@ class ShotConfig:
     views: ViewConfig = ViewConfig()  # view classification
     vote_frames: int = 5  # frames of a shot after which its majority view decides
     view_change_frames: int = 8  # pitch-view frames in a row in a no-pitch shot start a new (pitch) shot
-
-
-@dataclass
-class Shot:
-    """A run of frames between two boundaries.
-
-    start, end: first frame index and one past the last (0-based, end exclusive).
-    kind: one of :data:`SHOT_KINDS`: the majority view of its frames ("main" for a pitch view,
-        "close-up", "crowd") until :func:`place_shot` names the pitch camera.
-    camera_id: the pitch camera's id (set by the tracker), None for other views or when unknown.
-    boundary: how it began: "start" (first frame of the input), "hard", "dissolve" or "view" (a view change).
-    views: frames per view kind.
-    """
-
-    start: int
-    end: int
-    kind: str
-    camera_id: str | None
-    boundary: str = "start"
-    views: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -146,13 +119,3 @@ class ShotSegmenter:
         for kind in moved:
             new.views[kind] = new.views.get(kind, 0) + 1
         self.shots.append(new)
-
-
-def place_shot(shot: Shot, camera_id: str | None) -> Shot:
-    """The shot with its pitch camera named (module docstring); no-pitch shots are returned as they are."""
-    if shot.kind in NO_PITCH_KINDS:
-        return replace(shot, camera_id=None)
-    if camera_id is None:
-        return replace(shot, kind=KIND_PITCH, camera_id=None)
-    kind = KIND_MAIN if camera_id == MAIN_CAMERA_ID else KIND_OTHER_CAMERA
-    return replace(shot, kind=kind, camera_id=camera_id)

@@ -1,6 +1,6 @@
 """Synthetic broadcast clips: tripod camera motion, ray-cast rendering and exact ground truth.
 
-Modules: ``motion`` (camera tracks on a tripod, presets), ``scene`` (stadium geometry,
+Modules: ``presets`` (where each synthetic camera stands, how it moves), ``motion`` (camera tracks on a tripod), ``scene`` (stadium geometry,
 players), ``texture`` (precomputed grass / boards / stands textures), ``render``
 (per-pixel ray casting), ``annotate`` (SoccerNet annotations, masks, keypoints),
 ``clip`` (in-memory clips). Writing clip folders: :mod:`broadtrack_graph.synth.writer`.
@@ -9,7 +9,8 @@ players), ``texture`` (precomputed grass / boards / stands textures), ``render``
 ``iter_clip_frames`` and ``SyntheticClip`` are loaded on first use.
 """
 
-from broadtrack_graph.synth.motion import PRESETS, CameraTrack, MotionPreset, generate_camera_track
+from broadtrack_graph.synth.motion import CameraTrack, generate_camera_track
+from broadtrack_graph.synth.presets import PRESETS, MotionPreset
 
 __all__ = ["PRESETS", "CameraTrack", "MotionPreset", "generate_camera_track", "render_clip", "iter_clip_frames",
            "SyntheticClip", "SyntheticFrame"]

@@ -42,9 +42,9 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.shots.segmenter import Shot
 from broadtrack_graph.synth.motion import generate_camera_track, hfov_to_focal_px, smooth_noise
 from broadtrack_graph.synth.scene import PlayerTrack, simulate_players
+from broadtrack_graph.types.shot import Shot
 
 BROADCAST_PRESET = "broadcast"
 """Name of the scene on the command line (``synth --preset broadcast``)."""

@@ -13,14 +13,15 @@ from typing import Iterator, Sequence
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations, KeypointObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.synth.annotate import Annotator
-from broadtrack_graph.synth.motion import FPS, PRESETS, generate_camera_track, get_preset
+from broadtrack_graph.synth.motion import FPS, generate_camera_track
+from broadtrack_graph.synth.presets import PRESETS, get_preset
 from broadtrack_graph.synth.render import Renderer, RenderSettings
 from broadtrack_graph.synth.scene import PlayerTrack, simulate_players
+from broadtrack_graph.types.observations import FrameObservations, KeypointObservations
 
 IN_MEMORY_SETTINGS = RenderSettings(jpeg_quality=90)
 """Default effects of in-memory clips: like the files, which are JPEG (quality 90)."""

@@ -12,11 +12,11 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.simulate import SimulationSettings, simulate_frames
 from broadtrack_graph.io.detections import DetectionsWriter
 from broadtrack_graph.synth.motion import generate_camera_track
+from broadtrack_graph.types.observations import FrameObservations
 
 SETTINGS = SimulationSettings(line_points=200, flow_matches=0, noise_px=1.0, outlier_ratio=0.05)
 """Per frame: up to 200 line points, 1 px noise, 5 % outliers, no flow."""

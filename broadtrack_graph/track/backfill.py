@@ -23,7 +23,6 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
@@ -31,9 +30,10 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.builder import GraphBuilder
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.single_frame import refine_single_frame
-from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_MISSING_FRAME, STATUS_NO_PITCH, STATUS_UNPLACED
+from broadtrack_graph.types.observations import FrameObservations
+from broadtrack_graph.types.status import FrameStatus
 
-WALKABLE_STATUSES = (STATUS_FAILED, STATUS_NO_PITCH, STATUS_UNPLACED, STATUS_MISSING_FRAME)
+WALKABLE_STATUSES = (FrameStatus.FAILED, FrameStatus.NO_PITCH, FrameStatus.UNPLACED, FrameStatus.MISSING_FRAME)
 """Statuses of frames a gap is made of (a missing frame has nothing to name: it stops a walk)."""
 
 NAMING_UNCERTAINTY_PX = 3.0
@@ -129,7 +129,7 @@ class Backfill:
         self._ahead[frame.frame_index] = (frame.markings, cut)
 
     def final(self, record) -> None:
-        """A record became final (a :class:`~broadtrack_graph.io.track_record.TrackRecord`, frame order)."""
+        """A record became final (a :class:`~broadtrack_graph.types.track_record.TrackRecord`, frame order)."""
         started = time.perf_counter()
         found, cut = self._ahead.pop(record.frame_index, (None, False))
         if cut:

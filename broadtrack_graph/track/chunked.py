@@ -11,18 +11,18 @@ numbers (the bench ``scale`` compares both, and against the chained one-process 
 
 from __future__ import annotations
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
-from broadtrack_graph.io.track_record import TrackRecord
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.result import std_fields
+from broadtrack_graph.types.observations import FrameObservations
+from broadtrack_graph.types.track_record import TrackRecord
 
 
 def fit_clip_tripod(records: list[TrackRecord], config: TrackingConfig,
@@ -50,7 +50,7 @@ def refine_window_records(records: list[TrackRecord], observations: dict[int, Fr
     tracked = [r for r in records if r.camera is not None and r.frame_index in observations]
     if not tracked:
         return list(records)
-    initial = Track([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
+    initial = EstimateSequence([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
     for n in range(1, len(tracked)):  # frames not consecutive in the input (a gap) are not linked
         if tracked[n].frame_index != tracked[n - 1].frame_index + 1:
             initial.frames[n].reinitialised = True

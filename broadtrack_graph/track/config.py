@@ -10,8 +10,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
 from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD
-
-MODES = ("online", "fixed-lag", "batch")
+from broadtrack_graph.types.modes import MODES
 
 
 @dataclass(frozen=True)

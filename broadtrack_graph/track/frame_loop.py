@@ -30,7 +30,6 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -39,17 +38,6 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
-from broadtrack_graph.io.track_record import (
-    STATUS_FAILED,
-    STATUS_MISSING_FRAME,
-    STATUS_MOTION_PRIOR,
-    STATUS_NO_DETECTIONS,
-    STATUS_NO_PITCH,
-    STATUS_OTHER_VIEW,
-    STATUS_REINITIALISED,
-    STATUS_TRACKED,
-    STATUS_UNPLACED,
-)
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.cheap import refine_guesses
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
@@ -63,6 +51,8 @@ from broadtrack_graph.track.prediction import predicted_camera
 from broadtrack_graph.track.records import PendingFrame, RecordQueue
 from broadtrack_graph.track.reinit_policy import ReinitDecision, ReinitPolicy
 from broadtrack_graph.track.result import RunResult
+from broadtrack_graph.types.observations import FrameObservations
+from broadtrack_graph.types.status import FrameStatus
 
 FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
 """Observer of a processed frame: (frame, what it handed the solver or None, its detections or None)."""
@@ -160,7 +150,7 @@ class TrackingRun:
         """Returns (the observations handed to the solver or None, the frame's detections or None)."""
         if frame.image is None and frame.observations is None:
             # The camera barely moves over one lost frame: keep the track, drop only the flow link.
-            self.records.emit_now(frame, STATUS_MISSING_FRAME, frame.problem or "frame could not be read")
+            self.records.emit_now(frame, FrameStatus.MISSING_FRAME, frame.problem or "frame could not be read")
             self.observer.unlink()
             return None, None
         shot = frame.shot
@@ -173,7 +163,7 @@ class TrackingRun:
                 self.camera_id = None
             self.shot_index = shot.shot_index
             if shot.is_other_view:
-                self.records.emit_now(frame, STATUS_OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
+                self.records.emit_now(frame, FrameStatus.OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
                 self._break_chain()
                 return None, None
         predicted = None if self._lost else predicted_camera(self._history, self._last_std, self.W)
@@ -181,7 +171,7 @@ class TrackingRun:
             observations, detections = self.observer.observe(frame, predicted, None if self._lost or not self._history
                                                              else self._history[-1])
         except ValueError as exc:
-            self.records.emit_now(frame, STATUS_FAILED, f"detector: {exc}")
+            self.records.emit_now(frame, FrameStatus.FAILED, f"detector: {exc}")
             self._break_chain()
             return None, None
         if self.observer.shows_no_pitch(observations, detections):
@@ -191,7 +181,7 @@ class TrackingRun:
                 self._carried += 1
                 return self._track(frame, observations, None, note=f"no detections; carried by the motion prior "
                                    f"({self._carried} of at most {self.config.max_motion_prior_frames}); no camera")
-            status = STATUS_NO_PITCH if detections is not None else STATUS_NO_DETECTIONS
+            status = FrameStatus.NO_PITCH if detections is not None else FrameStatus.NO_DETECTIONS
             reason = "no pitch in view" if detections is not None else "no detections for this frame"
             self.records.emit_now(frame, status, reason)
             self._break_chain()
@@ -208,7 +198,7 @@ class TrackingRun:
         if self._lost:
             decision = self._decide(observations, detections)
             if decision.camera is None:
-                self.records.emit_now(frame, STATUS_UNPLACED if detections is not None else STATUS_NO_DETECTIONS,
+                self.records.emit_now(frame, FrameStatus.UNPLACED if detections is not None else FrameStatus.NO_DETECTIONS,
                                       f"no camera found: {decision.reason}")
                 self._break_chain()
                 return None, detections
@@ -221,10 +211,10 @@ class TrackingRun:
         current, released = self.solver.push(observations, guess, trust_previous, fallback)
         self.timings["solve_s"] += time.perf_counter() - started
 
-        entry = PendingFrame(frame, STATUS_REINITIALISED if reinitialised else STATUS_TRACKED, note, reinitialised,
+        entry = PendingFrame(frame, FrameStatus.REINITIALISED if reinitialised else FrameStatus.TRACKED, note, reinitialised,
                              detections, observations)
         if note is not None:
-            entry.status, entry.suppress_camera = STATUS_MOTION_PRIOR, True
+            entry.status, entry.suppress_camera = FrameStatus.MOTION_PRIOR, True
         else:
             self._carried = 0
         self.records.add(entry)
@@ -280,7 +270,7 @@ class TrackingRun:
                 self._adopt(decision)
                 self.solver.reset(decision.camera)
                 entry.reinitialised = True
-                entry.status = STATUS_REINITIALISED
+                entry.status = FrameStatus.REINITIALISED
                 entry.override_camera = decision.camera
                 camera, confidence = decision.camera, decision.confidence
                 continues_chain = decision.continues_chain
@@ -299,12 +289,12 @@ class TrackingRun:
             # A chain started from the unlabelled marking map without one confident frame since: the camera
             # seeds the next frame, it is not written (a map search can settle on a wrong camera that still
             # explains part of the map; labelled lines and keypoints name what they show).
-            entry.status = STATUS_FAILED
+            entry.status = FrameStatus.FAILED
             entry.reason = (f"confidence {confidence:.2f} below {self._trust_at:.2f} and no "
                             "confident frame since the re-initialisation; camera not written")
             entry.suppress_camera = True
         if lost_now and camera is not None and confidence is not None:
-            entry.status = STATUS_FAILED
+            entry.status = FrameStatus.FAILED
             entry.reason = f"confidence {confidence:.2f} below {self.config.lost_confidence:.2f} and re-initialisation failed"
             entry.override_camera = None
             entry.suppress_camera = True

@@ -10,13 +10,13 @@ from typing import Iterator
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.decode_summary import decodable_frames
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.io.frame_source import FrameSource
 from broadtrack_graph.io.mask_png import read_mask_png
 from broadtrack_graph.track.detection_frames import bound_by_gap, bound_to_window
+from broadtrack_graph.types.observations import FrameObservations
 
 log = logging.getLogger(__name__)
 

@@ -18,11 +18,11 @@ import numpy as np
 from broadtrack_graph.detect.detector import Detections, PredictedCamera
 from broadtrack_graph.detect.flow import grid_flow, prepare
 from broadtrack_graph.detect.graphics import mask_graphics
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import FrameInput, mask_file_detections
+from broadtrack_graph.types.observations import FrameObservations
 
 RENAMING_UNCERTAINTY_PX = 3.0
 """How far (pixels, 1 sigma) a re-initialised camera is taken to be off when it names its frame's markings."""

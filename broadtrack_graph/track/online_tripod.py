@@ -16,8 +16,8 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
 from broadtrack_graph.reinit.frame import plausible_position
-from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.types.shot import MAIN_CAMERA_ID
 
 log = logging.getLogger(__name__)
 

@@ -26,21 +26,19 @@ from tqdm import tqdm
 
 from broadtrack_graph.detect.flow import prepare
 from broadtrack_graph.detect.graphics import GraphicsConfig
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
 from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
-from broadtrack_graph.io.track_record import STATUS_TRACKED, TrackRecord
 from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
-from broadtrack_graph.shots.segmenter import MAIN_CAMERA_ID, NO_PITCH_KINDS, ShotConfig, place_shot
+from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.frame_loop import TrackingRun
@@ -48,6 +46,10 @@ from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.recover import recover_gaps
 from broadtrack_graph.track.result import RunResult, std_fields
 from broadtrack_graph.track.shot_stream import ShotStream
+from broadtrack_graph.types.observations import FrameObservations
+from broadtrack_graph.types.shot import MAIN_CAMERA_ID, NO_PITCH_KINDS, place_shot
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 log = logging.getLogger(__name__)
 
@@ -205,7 +207,7 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
             continue
         gap_camera = next(r.camera_id for r in records if r.frame_index == first)
         window = [r for r in window if r.camera_id == gap_camera]  # one camera's frames, with its tripod
-        initial = Track([FrameEstimate(r.frame_index, r.camera) for r in window])
+        initial = EstimateSequence([FrameEstimate(r.frame_index, r.camera) for r in window])
         for k in range(1, len(window)):
             if window[k].frame_index != window[k - 1].frame_index + 1:
                 initial.frames[k].reinitialised = True
@@ -228,7 +230,7 @@ def _backfilled(records: list[TrackRecord], recovered: dict) -> list[TrackRecord
     for record in records:
         found = recovered.get(record.frame_index)
         if found is not None and record.camera is None:
-            record = replace(record, camera=found.camera, confidence=found.confidence, status=STATUS_TRACKED,
+            record = replace(record, camera=found.camera, confidence=found.confidence, status=FrameStatus.TRACKED,
                              reinitialised=False, std={}, camera_id=found.camera_id,
                              reason=f"back-filled offline from frame {found.source}",
                              active_factors=("lines",))
@@ -316,10 +318,10 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
 
 def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observations: dict[int, FrameObservations],
                    config: TrackingConfig, graph: GraphConfig, start_tripod: Tripod | None, joint: bool, progress: bool,
-                   first_pass_summary: dict) -> tuple[Track, Tripod | None, dict | None]:
+                   first_pass_summary: dict) -> tuple[EstimateSequence, Tripod | None, dict | None]:
     """Batch LM over one camera's frames: (refined track, its tripod, the tripod fit's report or None)."""
     frames = [observations[r.frame_index] for r in tracked]
-    initial = Track([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
+    initial = EstimateSequence([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
     # Frames not consecutive in the input (a gap, another camera's shot between) are not linked.
     for k in range(1, len(tracked)):
         if tracked[k].frame_index != tracked[k - 1].frame_index + 1:

@@ -16,13 +16,14 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.graph.estimates import FrameEstimate
-from broadtrack_graph.io.track_record import STATUS_FAILED, STATUS_MOTION_PRIOR, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.result import std_fields
+from broadtrack_graph.types.observations import FrameObservations
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 
 @dataclass
@@ -75,7 +76,7 @@ class RecordQueue:
         for entry in self._pending:
             if entry.frame.frame_index == estimate.frame_index and entry.record is None:
                 camera = None if entry.suppress_camera else (entry.override_camera or estimate.camera)
-                status = entry.status if (camera is not None or entry.status == STATUS_MOTION_PRIOR) else STATUS_FAILED
+                status = entry.status if (camera is not None or entry.status == FrameStatus.MOTION_PRIOR) else FrameStatus.FAILED
                 reason = entry.reason if (camera is not None or entry.suppress_camera) else (estimate.reason or "solver failed")
                 confidence = None
                 if camera is not None and entry.confidence_camera is not None and \
@@ -96,7 +97,7 @@ class RecordQueue:
         for entry in self._pending:
             if entry.record is None:
                 entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, None, {},
-                                           None, False, STATUS_FAILED, "no estimate released")
+                                           None, False, FrameStatus.FAILED, "no estimate released")
         self.flush()
 
     def flush(self) -> None:

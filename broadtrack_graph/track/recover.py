@@ -19,7 +19,6 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass, field, replace
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -27,19 +26,14 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.builder import GraphBuilder
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.single_frame import refine_single_frame
-from broadtrack_graph.io.track_record import (
-    STATUS_FAILED,
-    STATUS_NO_DETECTIONS,
-    STATUS_NO_PITCH,
-    STATUS_TRACKED,
-    STATUS_UNPLACED,
-    TrackRecord,
-)
 from broadtrack_graph.reinit.frame import frame_confidence
+from broadtrack_graph.types.observations import FrameObservations
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 log = logging.getLogger(__name__)
 
-RECOVERABLE_STATUSES = (STATUS_FAILED, STATUS_NO_PITCH, STATUS_NO_DETECTIONS, STATUS_UNPLACED)
+RECOVERABLE_STATUSES = (FrameStatus.FAILED, FrameStatus.NO_PITCH, FrameStatus.NO_DETECTIONS, FrameStatus.UNPLACED)
 """Statuses of frames the recovery may give a camera (the forward pass failed on them)."""
 
 
@@ -134,7 +128,7 @@ def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObserv
                 continue
             camera, confidence, source = found[position]
             source_id = next(r.camera_id for r in records if r.frame_index == source)
-            records[position] = replace(record, camera=camera, confidence=confidence, status=STATUS_TRACKED,
+            records[position] = replace(record, camera=camera, confidence=confidence, status=FrameStatus.TRACKED,
                                         camera_id=source_id,
                                         reinitialised=False, std={},
                                         reason=f"recovered offline from frame {source}",

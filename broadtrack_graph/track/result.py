@@ -11,7 +11,7 @@ import numpy as np
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.types.track_record import TrackRecord
 
 
 @dataclass

@@ -54,5 +54,5 @@ class ShotStream:
 
     @property
     def shots(self) -> list:
-        """The shots so far (:class:`~broadtrack_graph.shots.segmenter.Shot`), empty without shot detection."""
+        """The shots so far (:class:`~broadtrack_graph.types.shot.Shot`), empty without shot detection."""
         return [] if self.segmenter is None else self.segmenter.shots

@@ -5,8 +5,9 @@ import numpy as np
 from broadtrack_graph.actions.players import PlayersOptions, players_from_run
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.io.players_file import PREDICTIONS_FILE, read_players_file
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 
 def _tiny_run(tmp_path, frames=12):
@@ -18,7 +19,7 @@ def _tiny_run(tmp_path, frames=12):
         for k in range(frames):
             camera = Camera.from_degrees(2400.0, -0.05, 0.1 * k, 74.0, 0.0, [0.0, 55.0, -15.0], 1920, 1080)
             if k == 5:
-                writer.write(TrackRecord(k, f"{k + 1:06d}", k / 25, None, status=STATUS_NO_PITCH, reason="no grass"))
+                writer.write(TrackRecord(k, f"{k + 1:06d}", k / 25, None, status=FrameStatus.NO_PITCH, reason="no grass"))
             else:
                 std = {"pan_std_deg": 0.01, "tilt_std_deg": 0.01, "roll_std_deg": 0.01, "focal_std_px": 5.0,
                        "k1_std": 0.001, "position_std_m": np.array([0.05, 0.05, 0.05])}
@@ -44,7 +45,7 @@ def test_players_action_on_a_tiny_run(tmp_path):
     for i in np.flatnonzero(positions.has_position):
         np.testing.assert_allclose(positions.xy_m[i], truth[(positions.frame[i], positions.track_id[i])], atol=1e-3)
     assert np.all(positions.std_m[positions.has_position] > 0.01)
-    no_camera = [i for i, s in enumerate(positions.status) if s == STATUS_NO_PITCH]
+    no_camera = [i for i, s in enumerate(positions.status) if s == FrameStatus.NO_PITCH]
     assert len(no_camera) == 3 and positions.reasons[no_camera[0]] == "no grass"
     summary = json.loads((tmp_path / "out" / "players_summary.json").read_text())
     # 0.2 m per frame at 25 fps = 5 m/s; 11 frames with a camera, one gap of two frames bridged

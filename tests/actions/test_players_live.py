@@ -17,13 +17,15 @@ from broadtrack_graph.detect.player_ids import link_track_ids
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.io.player_boxes import PlayerBoxes, read_player_boxes
+from broadtrack_graph.io.player_boxes import read_player_boxes
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.synth.motion import generate_camera_track
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.types.player_boxes import PlayerBoxes
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 W, H = 960, 540
 FRAMES, PLAYERS, BLIND = 24, 6, 6
@@ -266,7 +268,7 @@ def _id_and_index_run(tmp_path, records=6):
     with TrackWriter(run, W, H, on_write=live.observer_for(run, W, H)) as writer:
         for k in range(records):
             if k == 3:
-                writer.write(TrackRecord(k, f"{k + 1:06d}", k / 25, None, status=STATUS_NO_PITCH, reason="no grass"))
+                writer.write(TrackRecord(k, f"{k + 1:06d}", k / 25, None, status=FrameStatus.NO_PITCH, reason="no grass"))
             else:
                 camera = Camera.from_degrees(1200.0, 0.0, -20.0 + k, 74.0, 0.0, [0.0, 55.0, -15.0], W, H)
                 writer.write(TrackRecord(k, f"{k + 1:06d}", k / 25, camera, std))

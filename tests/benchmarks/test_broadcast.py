@@ -19,9 +19,9 @@ from broadtrack_graph.io.broadcast_truth import read_broadcast_truth
 from broadtrack_graph.io.cameras import read_camera_file
 from broadtrack_graph.io.jsonfile import write_json_atomic
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
-from broadtrack_graph.io.track_record import TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.io.tripod_file import tripods_to_json
+from broadtrack_graph.types.track_record import TrackRecord
 
 FRAMES, WIDTH, HEIGHT = 24, 320, 180
 

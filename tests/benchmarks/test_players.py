@@ -3,8 +3,7 @@ import numpy as np
 from broadtrack_graph.benchmarks.players import camera_jitter_m, score_players
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.io.players_file import positions_from_lines
-from broadtrack_graph.io.run_folder import Track
-from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.types.track_record import RunRecords, TrackRecord
 
 
 def test_score_players_splits_by_distance_and_scores_distance_covered():
@@ -28,7 +27,7 @@ def test_score_players_splits_by_distance_and_scores_distance_covered():
 def test_camera_jitter_is_zero_for_a_still_camera():
     camera = Camera.from_degrees(2000.0, 0.0, 0.0, 74.0, 0.0, [0.0, 55.0, -15.0], 1920, 1080)
     records = [TrackRecord(k, f"{k + 1:06d}", k / 25, camera) for k in range(4)]
-    track = Track(records, 1920, 1080, {}, None)
+    track = RunRecords(records, 1920, 1080, {}, None)
     positions = positions_from_lines([{"frame": k, "frame_id": f"{k + 1:06d}", "track_id": 1,
                                        "box_px": [900, 700, 920, 760], "x_m": 0.0, "y_m": 0.0} for k in range(4)])
     values = camera_jitter_m(track, positions)

@@ -12,7 +12,7 @@ from broadtrack_graph.io.track_writer import TrackWriter
 def _run(tmp_path):
     run = tmp_path / "run"
     camera = Camera.from_degrees(2400.0, 0.0, 0.0, 74.0, 0.0, [0.0, 55.0, -15.0], 1920, 1080)
-    from broadtrack_graph.io.track_record import TrackRecord
+    from broadtrack_graph.types.track_record import TrackRecord
 
     with TrackWriter(run, 1920, 1080) as writer:
         writer.write(TrackRecord(0, "000001", 0.0, camera))

@@ -1,7 +1,7 @@
 import numpy as np
 
 from broadtrack_graph.detect.player_ids import box_iou, link_track_ids
-from broadtrack_graph.io.player_boxes import PlayerBoxes
+from broadtrack_graph.types.player_boxes import PlayerBoxes
 
 
 def test_iou():

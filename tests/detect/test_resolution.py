@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 from reinit_helpers import median_template_error_px
 
-from broadtrack_graph.detect.weightfree import WeightFreeDetector, cell_means
+from broadtrack_graph.detect.point_cells import cell_means
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.template import (
     TemplateCurves,

@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.observations import FlowMatches, FrameObservations, KeypointObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.builder import GraphBuilder
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.estimates import FrameEstimate, Track
+from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.keys import camera_key, frame_of_key, tripod_key
+from broadtrack_graph.types.observations import FlowMatches, FrameObservations, KeypointObservations
 
 
 def test_config_from_dict_sets_values_and_rejects_unknown_keys():
@@ -41,7 +41,7 @@ def test_keys_are_distinct_and_invertible():
 def test_track_states_and_std_dict():
     camera = Camera.from_degrees(1500.0, -0.05, 10.0, 80.0, 0.1, (0.0, 55.0, -12.0), 960, 540)
     std = np.array([2.0, 0.01, math.radians(0.02), math.radians(0.01), math.radians(0.03), 0.05, 0.05, 0.02])
-    track = Track([FrameEstimate(0, camera, std, {"lines": 10}), FrameEstimate(1, None, None, {}, reason="cut")])
+    track = EstimateSequence([FrameEstimate(0, camera, std, {"lines": 10}), FrameEstimate(1, None, None, {}, reason="cut")])
     states = track.states()
     assert states.shape == (2, 8) and np.allclose(states[0], camera.to_vector()) and np.isnan(states[1]).all()
     d = track[0].std_dict()

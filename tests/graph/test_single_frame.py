@@ -8,7 +8,6 @@ import gtsam
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.builder import GraphBuilder, graph_of
 from broadtrack_graph.graph.config import GraphConfig, PriorSigmas
@@ -16,6 +15,7 @@ from broadtrack_graph.graph.keys import camera_key
 from broadtrack_graph.graph.simulate import SimulationSettings, perturb_camera, reprojection_error_px, simulate_frames
 from broadtrack_graph.graph.single_frame import refine_single_frame
 from broadtrack_graph.synth.motion import generate_camera_track
+from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 960, 540
 

@@ -6,15 +6,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig, PriorSigmas
-from broadtrack_graph.graph.estimates import Track
+from broadtrack_graph.graph.estimates import EstimateSequence
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.simulate import SimulationSettings, reprojection_error_px, simulate_frames
 from broadtrack_graph.synth.motion import generate_camera_track
+from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 960, 540
 FRAMES = 120
@@ -43,7 +43,7 @@ def clip():
 def online_track(clip):
     pitch, track, observations = clip
     tracker = OnlineTracker(W, H, pitch)
-    out = Track()
+    out = EstimateSequence()
     for i, obs in enumerate(observations):
         out.frames.append(tracker.add_frame(obs, initial_guess=track.cameras[0] if i == 0 else None))
     return out

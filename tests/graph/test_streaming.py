@@ -8,7 +8,6 @@ import logging
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.observations import FlowMatches, FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
@@ -19,6 +18,7 @@ from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.simulate import SimulationSettings, simulate_frames
 from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver
 from broadtrack_graph.synth.motion import generate_camera_track
+from broadtrack_graph.types.observations import FlowMatches, FrameObservations
 
 W, H = 960, 540
 START = Camera(1000.0, 0.0, 0.1, 1.3, 0.0, (0.0, 55.0, -12.0), W, H)

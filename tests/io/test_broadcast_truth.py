@@ -17,7 +17,7 @@ from broadtrack_graph.io.broadcast_truth import (
 )
 from broadtrack_graph.io.run_folder import read_frame_camera_ids
 from broadtrack_graph.io.tripod_file import read_tripods_by_camera, write_tripod
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 SHOTS = [Shot(0, 3, "main", "main", "start", {"main": 3}), Shot(3, 5, "close-up", None, "hard", {"close-up": 2}),
          Shot(5, 7, "other-camera", "high-behind", "hard", {"main": 2})]

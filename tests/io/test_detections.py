@@ -3,10 +3,10 @@ import json
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.observations import FrameObservations, KeypointObservations
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.io.detections import DetectionsWriter, annotations_to_observations, read_detections
+from broadtrack_graph.types.observations import FrameObservations, KeypointObservations
 
 
 def test_round_trip_through_writer(tmp_path):

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.player_boxes import PlayerBoxes, read_player_boxes
+from broadtrack_graph.io.player_boxes import read_player_boxes
+from broadtrack_graph.types.player_boxes import PlayerBoxes
 
 
 def test_dispatch_by_file_kind(tmp_path):

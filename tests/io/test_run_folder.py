@@ -13,8 +13,9 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.cameras import read_camera_file, write_camera_file
 from broadtrack_graph.io.run_folder import RunFolder, read_track
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 W, H = 1920, 1080
 
@@ -60,7 +61,7 @@ def test_create_fails_with_one_line_error(tmp_path):
 
 def test_records_round_trip_and_summary_reread(tmp_path):
     written = [TrackRecord(0, "000001", 0.0, camera(0), {"pan_std_deg": 0.5}, 0.9),
-               TrackRecord(1, "000002", 0.04, None, status=STATUS_NO_PITCH, reason="no marking"),
+               TrackRecord(1, "000002", 0.04, None, status=FrameStatus.NO_PITCH, reason="no marking"),
                TrackRecord(2, "000003", 0.08, camera(2), {}, 0.7, True)]
     info = {"input": "clip.mp4", "detections": "det/detections.jsonl"}
     with TrackWriter(tmp_path, W, H, run_info=info) as writer:

@@ -6,7 +6,7 @@ import pytest
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.shots_file import read_shots, write_shots
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 
 def test_round_trip(tmp_path):

@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord, std_from_covariance
+from broadtrack_graph.io.track_record import record_from_json, record_to_json
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord, std_from_covariance
 
 W, H = 1920, 1080
 
@@ -21,25 +23,25 @@ def camera(t: int) -> Camera:
 def test_json_round_trip():
     std = {"pan_std_deg": 0.02, "focal_std_px": 3.5, "position_std_m": np.array([0.1, np.nan, 0.3])}
     record = TrackRecord(7, "000008", 0.28, camera(7), std, 0.75, True, active_factors=["lines", "flow"])
-    data = json.loads(json.dumps(record.to_json("cameras/camera_000008.json"), allow_nan=False))
+    data = json.loads(json.dumps(record_to_json(record, "cameras/camera_000008.json"), allow_nan=False))
     assert data["camera_file"] == "cameras/camera_000008.json"
     assert data["position_std_m"] == [0.1, None, 0.3] and data["tilt_std_deg"] is None
-    back = TrackRecord.from_json(data, W, H)
+    back = record_from_json(data, W, H)
     assert np.allclose(back.camera.to_vector(), record.camera.to_vector(), atol=1e-12, rtol=0)
     assert (back.frame_index, back.frame_id, back.time_s, back.confidence, back.reinitialised) == (7, "000008", 0.28, 0.75, True)
     assert back.active_factors == ("lines", "flow") and set(back.std) == {"pan_std_deg", "focal_std_px", "position_std_m"}
     assert np.isnan(back.std["position_std_m"][1])
-    empty = TrackRecord.from_json(TrackRecord(2, "3", None, None, status=STATUS_NO_PITCH, reason="dark").to_json(), W, H)
-    assert (empty.camera, empty.status, empty.reason) == (None, STATUS_NO_PITCH, "dark")
+    empty = record_from_json(record_to_json(TrackRecord(2, "3", None, None, status=FrameStatus.NO_PITCH, reason="dark")), W, H)
+    assert (empty.camera, empty.status, empty.reason) == (None, FrameStatus.NO_PITCH, "dark")
     with pytest.raises(ValueError, match="bad track record"):
-        TrackRecord.from_json({"frame_id": "1"}, W, H)
+        record_from_json({"frame_id": "1"}, W, H)
 
 
 def test_record_validation():
     with pytest.raises(ValueError, match="status 'tracked' with camera=None"):
         TrackRecord(0, "1", 0.0, None)
     with pytest.raises(ValueError, match="status 'no-pitch' with camera=set"):
-        TrackRecord(0, "1", 0.0, camera(0), status=STATUS_NO_PITCH)
+        TrackRecord(0, "1", 0.0, camera(0), status=FrameStatus.NO_PITCH)
     with pytest.raises(ValueError, match="unknown status"):
         TrackRecord(0, "1", 0.0, None, status="lost")
     with pytest.raises(ValueError, match="unknown std keys"):

@@ -14,8 +14,10 @@ from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.io.cameras import read_camera_file
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, STATUS_REINITIALISED, TrackRecord
+from broadtrack_graph.io.track_record import record_from_json, record_to_json
 from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 W, H = 1920, 1080
 
@@ -30,8 +32,8 @@ def records() -> list[TrackRecord]:
     return [
         TrackRecord(0, "000001", 0.0, camera(0), std, 0.91, False, active_factors=("lines", "tripod")),
         TrackRecord(1, "000002", 0.04, camera(1), {"pan_std_deg": 0.03}, 0.88, False),
-        TrackRecord(2, "000003", 0.08, None, confidence=None, status=STATUS_NO_PITCH, reason="no marking detected"),
-        TrackRecord(3, "000004", 0.12, camera(3), std, 0.62, True, status=STATUS_REINITIALISED),
+        TrackRecord(2, "000003", 0.08, None, confidence=None, status=FrameStatus.NO_PITCH, reason="no marking detected"),
+        TrackRecord(3, "000004", 0.12, camera(3), std, 0.62, True, status=FrameStatus.REINITIALISED),
         TrackRecord(4, "000005", 0.16, camera(4), {}, None, False, active_factors=("lines", "flow")),
     ]
 
@@ -98,7 +100,7 @@ def test_truncated_last_line_is_skipped_bad_middle_line_is_an_error(tmp_path):
     for record in records()[:4]:
         writer.write(record)
     # An interrupted run: no close(), and half of a fifth line.
-    line = json.dumps(records()[4].to_json())
+    line = json.dumps(record_to_json(records()[4]))
     with open(tmp_path / "track.jsonl", "a") as handle:
         handle.write(line[: len(line) // 2])
     track = read_track(tmp_path)
@@ -116,7 +118,7 @@ def test_truncated_last_line_is_skipped_bad_middle_line_is_an_error(tmp_path):
 KILL_SCRIPT = """
 import os, signal, sys
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.io.track_record import TrackRecord
+from broadtrack_graph.types.track_record import TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 writer = TrackWriter(sys.argv[1], 1920, 1080, also_960x540=True)
 for t in range(40):
@@ -197,5 +199,5 @@ def test_observer_sees_each_record_after_its_line_is_flushed(tmp_path):
         assert count == k + 1 and json.loads(json.dumps(line)) == last_on_disk
     # the line rebuilds the camera exactly as reading the run back does
     back = read_track(tmp_path / "run").records[3]
-    rebuilt = TrackRecord.from_json(seen[3][1], W, H)
+    rebuilt = record_from_json(seen[3][1], W, H)
     assert np.array_equal(rebuilt.camera.to_vector(), back.camera.to_vector())

@@ -14,7 +14,7 @@ from broadtrack_graph.metrics.broadcast import (
     kind_scores,
     tripod_scores,
 )
-from broadtrack_graph.shots.segmenter import Shot
+from broadtrack_graph.types.shot import Shot
 
 TRUE = [Shot(0, 10, "main", "main"), Shot(10, 14, "close-up", None, "hard"), Shot(14, 20, "main", "main", "hard"),
         Shot(20, 26, "other-camera", "high", "hard"), Shot(26, 30, "crowd", None, "hard")]

@@ -15,10 +15,11 @@ from broadtrack_graph.geometry.template import project_template_polylines
 from broadtrack_graph.io.annotations import annotation_from_pixels, write_annotation_file
 from broadtrack_graph.io.cameras import write_camera_file
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.metrics.compare import focal_point_spread, ground_truth_errors, jitter
 from broadtrack_graph.products.plots import plot_focal_points, plot_track_series
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 W, H = 960, 540
 N = 21  # frames; 20 first differences, 19 second differences
@@ -35,7 +36,7 @@ def write_run(folder, jittery: bool, gap: bool = False):
         for t in range(N):
             frame_id = f"{t + 1:06d}"
             if gap and t == 10:
-                writer.write(TrackRecord(t, frame_id, t / 25, None, status=STATUS_NO_PITCH, reason="test"))
+                writer.write(TrackRecord(t, frame_id, t / 25, None, status=FrameStatus.NO_PITCH, reason="test"))
                 continue
             camera = true_camera(t)
             if jittery:

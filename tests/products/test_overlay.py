@@ -12,7 +12,6 @@ from broadtrack_graph import cli
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.distortion import distort_normalized
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
-from broadtrack_graph.io.track_record import STATUS_NO_PITCH, TrackRecord
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.io.video import VideoSource
 from broadtrack_graph.products.overlay import (
@@ -22,6 +21,8 @@ from broadtrack_graph.products.overlay import (
     render_overlay_frame,
     write_overlay,
 )
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 W, H = 640, 360
 
@@ -129,7 +130,7 @@ def test_render_overlay_frame_adds_panel_inset_and_lines():
     assert changed[10:60, -120:-10].mean() > 0.8  # bird's-eye inset, top right
     green = (out[:, :, 1] > 200) & (out[:, :, 2] < 80) & (out[:, :, 0] < 80)
     assert green[H // 2:].sum() > 200  # pitch lines in the lower half, in the confidence colour
-    empty = render_overlay_frame(frame, TrackRecord(8, "000009", 0.32, None, status=STATUS_NO_PITCH, reason="no lines"))
+    empty = render_overlay_frame(frame, TrackRecord(8, "000009", 0.32, None, status=FrameStatus.NO_PITCH, reason="no lines"))
     assert not ((empty[:, :, 1] > 200) & (empty[:, :, 2] < 80))[H // 2:].any()
     none = render_overlay_frame(frame, None, inset=False)
     assert (none[:, -100:] == 50).all()

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.frame import frame_confidence, plausible_position
+from broadtrack_graph.types.observations import FrameObservations
 
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH, line_step_m=1.0, circle_step_m=0.5)

@@ -99,7 +99,7 @@ def test_a_main_shot_is_not_split_by_frames_taken_for_close_ups():
 
 
 def test_place_shot_names_the_pitch_camera():
-    from broadtrack_graph.shots.segmenter import Shot, place_shot
+    from broadtrack_graph.types.shot import Shot, place_shot
 
     pitch = Shot(0, 10, "main", None)
     assert (place_shot(pitch, "main").kind, place_shot(pitch, "main").camera_id) == ("main", "main")

@@ -12,7 +12,7 @@ from broadtrack_graph.io.broadcast_truth import read_broadcast_truth
 from broadtrack_graph.io.cameras import read_camera_file
 from broadtrack_graph.shots.views import classify_view
 from broadtrack_graph.synth.broadcast import DEFAULT_PLAN, broadcast_plan, broadcast_scene
-from broadtrack_graph.synth.motion import PRESETS
+from broadtrack_graph.synth.presets import PRESETS
 from broadtrack_graph.synth.writer import write_synthetic_clip
 
 FRAMES, WIDTH, HEIGHT = 60, 320, 180

@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.io.detections import read_detections
 from broadtrack_graph.synth.detections_file import inside_image, write_synthetic_detections
+from broadtrack_graph.types.observations import FrameObservations
 
 
 def test_points_pushed_out_of_the_image_by_the_noise_are_not_written(tmp_path):

@@ -8,14 +8,8 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.geometry.tripod import focal_point, tripod_residual, zoom_lambda
-from broadtrack_graph.synth.motion import (
-    PRESET_STREAMS,
-    PRESETS,
-    generate_camera_track,
-    k1_from_focal,
-    lambda_from_focal,
-    pitch_coverage,
-)
+from broadtrack_graph.synth.motion import generate_camera_track, k1_from_focal, lambda_from_focal, pitch_coverage
+from broadtrack_graph.synth.presets import PRESET_STREAMS, PRESETS
 
 
 @pytest.mark.parametrize("preset", sorted(PRESETS))

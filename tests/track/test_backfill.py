@@ -10,9 +10,10 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.io.track_record import STATUS_OTHER_VIEW, STATUS_TRACKED, STATUS_UNPLACED, TrackRecord
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.track.backfill import Backfill, PackedMarkings
+from broadtrack_graph.types.status import FrameStatus
+from broadtrack_graph.types.track_record import TrackRecord
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -68,10 +69,10 @@ def test_a_gap_before_the_first_lock_is_walked_back_from_it():
     for i in range(4):  # frames 0-3: no camera found yet
         frame = _frame(i, truths[i])
         backfill.note(frame)
-        backfill.final(TrackRecord(i, f"{i + 1:06d}", None, None, status=STATUS_UNPLACED))
+        backfill.final(TrackRecord(i, f"{i + 1:06d}", None, None, status=FrameStatus.UNPLACED))
     frame = _frame(4, truths[4])
     backfill.note(frame)
-    backfill.final(TrackRecord(4, "000005", None, truths[4], status=STATUS_TRACKED, camera_id="main"))
+    backfill.final(TrackRecord(4, "000005", None, truths[4], status=FrameStatus.TRACKED, camera_id="main"))
     assert sorted(backfill.recovered) == [0, 1, 2, 3]
     for i, found in backfill.recovered.items():
         assert found.source == 4 and found.camera_id == "main" and found.confidence >= 0.5
@@ -83,14 +84,14 @@ def test_nothing_is_walked_across_another_view_or_a_gap_too_long():
     truths = [_camera(-6.0 + 0.4 * i) for i in range(4)]
     backfill = _backfill(DETECTOR, max_frames=2)
     backfill.note(_frame(0, truths[0]))
-    backfill.final(TrackRecord(0, "000001", None, None, status=STATUS_UNPLACED))
-    backfill.final(TrackRecord(1, "000002", None, None, status=STATUS_OTHER_VIEW))  # a close-up between
+    backfill.final(TrackRecord(0, "000001", None, None, status=FrameStatus.UNPLACED))
+    backfill.final(TrackRecord(1, "000002", None, None, status=FrameStatus.OTHER_VIEW))  # a close-up between
     backfill.note(_frame(2, truths[2]))
-    backfill.final(TrackRecord(2, "000003", None, truths[2], status=STATUS_TRACKED))
+    backfill.final(TrackRecord(2, "000003", None, truths[2], status=FrameStatus.TRACKED))
     assert backfill.recovered == {}
     for i in range(3, 6):  # three frames: longer than max_frames, dropped as it grows
         backfill.note(_frame(i, truths[3]))
-        backfill.final(TrackRecord(i, f"{i + 1:06d}", None, None, status=STATUS_UNPLACED))
+        backfill.final(TrackRecord(i, f"{i + 1:06d}", None, None, status=FrameStatus.UNPLACED))
     backfill.finish()
     assert backfill.recovered == {} and backfill.seconds > 0
 
@@ -100,9 +101,9 @@ def test_a_walk_stops_at_the_first_frame_that_is_not_confident():
     backfill = _backfill(DETECTOR)
     wrong = Camera.from_degrees(2600.0, 0.0, 12.0, 70.0, 0.0, (0.0, 55.0, -12.0), W, H)  # frame 0: another view
     backfill.note(_frame(0, wrong))
-    backfill.final(TrackRecord(0, "000001", None, None, status=STATUS_UNPLACED))
+    backfill.final(TrackRecord(0, "000001", None, None, status=FrameStatus.UNPLACED))
     backfill.note(_frame(1, truth))
-    backfill.final(TrackRecord(1, "000002", None, None, status=STATUS_UNPLACED))
+    backfill.final(TrackRecord(1, "000002", None, None, status=FrameStatus.UNPLACED))
     backfill.note(_frame(2, truth))
-    backfill.final(TrackRecord(2, "000003", None, truth, status=STATUS_TRACKED))
+    backfill.final(TrackRecord(2, "000003", None, truth, status=FrameStatus.TRACKED))
     assert sorted(backfill.recovered) == [1]

@@ -6,10 +6,10 @@ import logging
 
 import numpy as np
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.io.detections import DetectionsFile
 from broadtrack_graph.track.detection_frames import DEFAULT_MAX_GAP, bound_by_gap, bound_to_window
 from broadtrack_graph.track.inputs import frames_from_detections
+from broadtrack_graph.types.observations import FrameObservations
 
 LINES = {"Middle line": np.array([[900.0, 100.0], [900.0, 400.0]])}
 

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.detect.detector import Detections
-from broadtrack_graph.detect.observations import FlowMatches, FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.io.run_folder import read_track
@@ -16,6 +15,7 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.types.observations import FlowMatches, FrameObservations
 
 W, H = 1920, 1080
 LINES = {"Middle line": np.array([[900.0, 100.0 + 50 * i] for i in range(6)])}

@@ -93,7 +93,7 @@ def test_recovery_off_keeps_the_gap(clip, blind_opening, tmp_path):
 
 def test_recoverable_gaps_need_a_good_neighbour_and_known_observations():
     from broadtrack_graph.geometry.camera import Camera
-    from broadtrack_graph.io.track_record import TrackRecord
+    from broadtrack_graph.types.track_record import TrackRecord
 
     cam = Camera.from_degrees(1000, 0, 0, 70, 0, (0, 55, -12), W, H)
     status = ["failed", "failed", "tracked", "failed", "missing-frame", "failed", "tracked"]

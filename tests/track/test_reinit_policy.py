@@ -8,11 +8,11 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.observations import FrameObservations
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import SEARCH_STAGES, ReinitPolicy, SearchBudget
+from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
 MAIN = Camera(1500.0, 0.0, 0.2, 1.3, 0.0, (0.0, 55.0, -12.0), W, H)
