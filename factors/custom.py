@@ -9,12 +9,29 @@ wrong shape written into GTSAM's matrices segfaults the process instead of raisi
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import NamedTuple
 
 import gtsam
 import numpy as np
 
 ResidualFunction = Callable[[list[np.ndarray], bool], tuple[np.ndarray, list[np.ndarray] | None]]
 """``fn(variable_vectors, want_jacobians) -> (residual (dim,), [J_i (dim, size_i)] or None)``."""
+
+
+class Residuals(NamedTuple):
+    """What every ``*_residuals`` function of this package returns, whatever the factor.
+
+    residual: the residuals, in the shape the function states: (N,) for points on lines,
+        (N, 2) for keypoints and flow matches, (m,) for a factor on whole states.
+    jacobians: one array per variable, in the order of the function's variable arguments,
+        each of shape ``residual.shape + (variable size,)``; None when not asked for.
+    valid: (N,) bool per point (in front of the camera, near its marking, ...); None for
+        factors on whole states, where every residual counts.
+    """
+
+    residual: np.ndarray
+    jacobians: list[np.ndarray] | None
+    valid: np.ndarray | None = None
 
 
 class FactorShapeError(RuntimeError):

@@ -13,7 +13,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.distortion import undistort_normalized
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
-from factors.custom import custom_factor
+from factors.custom import Residuals, custom_factor
 from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
 MAX_GROUND_DISTANCE_M = 1000.0
@@ -88,20 +88,19 @@ def flow_residuals(state_prev, state_cur, uv_prev_px, uv_cur_px, width_px, heigh
     """Transfer errors of flow matches through the ground plane.
 
     Returns:
-        residual_px: (N, 2) predicted minus observed pixel in frame t.
-        J_prev, J_cur: (N, 2, 8) each, or None.
-        valid: (N,) bool.
+        :class:`~factors.custom.Residuals`: residual (N, 2) predicted minus observed pixel in
+        frame t; jacobians [J_prev, J_cur], (N, 2, 8) each, or None; valid (N,) bool.
     """
     points_w, dX, hits = ground_points(state_prev, uv_prev_px, width_px, height_px, want_jacobian)
     uv_hat, J_cur, in_front = project_state(state_cur, points_w, width_px, height_px, want_jacobian)
     valid = hits & in_front
     residual = np.where(valid[:, None], uv_hat - uv_cur_px, 0.0)
     if not want_jacobian:
-        return residual, None, None, valid
+        return Residuals(residual, None, valid)
     J_prev = project_state_dX(state_cur, points_w) @ dX
     J_prev[~valid] = 0.0
     J_cur[~valid] = 0.0
-    return residual, J_prev, J_cur, valid
+    return Residuals(residual, [J_prev, J_cur], valid)
 
 
 def make_flow_factor(key_prev, key_cur, uv_prev_px, uv_cur_px, width_px, height_px, sigma_px, cauchy_scale):
@@ -111,11 +110,9 @@ def make_flow_factor(key_prev, key_cur, uv_prev_px, uv_cur_px, width_px, height_
     count = len(uv_prev_px)
 
     def fn(vectors, want_jacobian):
-        r, J_prev, J_cur, valid = flow_residuals(
-            vectors[0], vectors[1], uv_prev_px, uv_cur_px, width_px, height_px, want_jacobian
-        )
+        r, Js, valid = flow_residuals(vectors[0], vectors[1], uv_prev_px, uv_cur_px, width_px, height_px, want_jacobian)
         r = np.where(valid[:, None], r / sigma_px, INVALID_RESIDUAL_SIGMAS / np.sqrt(2.0))
-        Js = None if J_prev is None else [J_prev / sigma_px, J_cur / sigma_px]
+        Js = None if Js is None else [J / sigma_px for J in Js]
         r, Js = cauchy_rows(r, Js, cauchy_scale)
         if Js is None:
             return r.reshape(-1), None

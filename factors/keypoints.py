@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
-from factors.custom import custom_factor
+from factors.custom import Residuals, custom_factor
 from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
 MIN_CONFIDENCE = 0.05
@@ -25,13 +25,12 @@ def keypoint_residuals(
         uv_px: (N, 2) observed pixels; points_w: (N, 3) metres.
 
     Returns:
-        residual_px: (N, 2) projected minus observed, pixels.
-        J: (N, 2, 8) or None.
-        valid: (N,) bool (in front of the camera).
+        :class:`~factors.custom.Residuals`: residual (N, 2) projected minus observed, pixels;
+        jacobians [(N, 2, 8)] or None; valid (N,) bool (in front of the camera).
     """
     uv_hat, J, in_front = project_state(state, points_w, width_px, height_px, want_jacobian)
     residual = np.where(in_front[:, None], uv_hat - uv_px, 0.0)
-    return residual, J, in_front
+    return Residuals(residual, None if J is None else [J], in_front)
 
 
 def make_keypoint_factor(key, uv_px, points_w, confidence, width_px, height_px, sigma_px, cauchy_scale):
@@ -42,9 +41,9 @@ def make_keypoint_factor(key, uv_px, points_w, confidence, width_px, height_px, 
     count = len(uv_px)
 
     def fn(vectors, want_jacobian):
-        r, J, valid = keypoint_residuals(vectors[0], uv_px, points_w, width_px, height_px, want_jacobian)
+        r, Js, valid = keypoint_residuals(vectors[0], uv_px, points_w, width_px, height_px, want_jacobian)
         r = np.where(valid[:, None], r * weight[:, None], INVALID_RESIDUAL_SIGMAS / np.sqrt(2.0))
-        Js = None if J is None else [J * weight[:, None, None]]
+        Js = None if Js is None else [Js[0] * weight[:, None, None]]
         r, Js = cauchy_rows(r, Js, cauchy_scale)
         return r.reshape(-1), None if Js is None else [Js[0].reshape(2 * count, STATE_SIZE)]
 

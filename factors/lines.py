@@ -16,7 +16,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_and_derivatives
-from factors.custom import custom_factor
+from factors.custom import Residuals, custom_factor
 from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
 
@@ -58,7 +58,7 @@ def line_residuals(
     width_px: int,
     height_px: int,
     want_jacobian: bool = True,
-) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+) -> Residuals:
     """Signed pixel distance of each observed point to its class's projected polyline.
 
     Args:
@@ -83,7 +83,7 @@ def line_residuals(
     J = np.zeros((count, STATE_SIZE)) if want_jacobian else None
     valid = np.zeros(count, dtype=bool)
     if count == 0:
-        return residual, J, valid
+        return _line_result(residual, J, valid)
     present = np.unique(class_index)
     blocks = [polylines.vertices_w[j] for j in present]
     vertices_w = np.concatenate(blocks)
@@ -108,7 +108,7 @@ def line_residuals(
     keep = seg_near | (seg_ok & ~np.isin(seg_class, classes_near))
     seg_start, seg_class = seg_start[keep], seg_class[keep]
     if len(seg_start) == 0:
-        return residual, J, valid
+        return _line_result(residual, J, valid)
     ax, ay = u[seg_start], v[seg_start]
     ex, ey = u[seg_start + 1] - ax, v[seg_start + 1] - ay
     inv_e2 = 1.0 / np.maximum(ex * ex + ey * ey, 1e-12)
@@ -149,7 +149,11 @@ def line_residuals(
         direction = np.where(interior[:, None], normal, sign[:, None] * to_q / np.maximum(end_dist, 1e-12)[:, None])
         J = -np.einsum("nk,nks->ns", direction, dq)
         J[~valid] = 0.0
-    return residual, J, valid
+    return _line_result(residual, J, valid)
+
+
+def _line_result(residual: np.ndarray, J: np.ndarray | None, valid: np.ndarray) -> Residuals:
+    return Residuals(residual, None if J is None else [J], valid)
 
 
 def make_line_factor(
@@ -167,9 +171,9 @@ def make_line_factor(
     class_index = np.asarray(class_index, dtype=int)
 
     def fn(vectors, want_jacobian):
-        r, J, valid = line_residuals(vectors[0], uv_px, class_index, polylines, width_px, height_px, want_jacobian)
+        r, Js, valid = line_residuals(vectors[0], uv_px, class_index, polylines, width_px, height_px, want_jacobian)
         r = np.where(valid, r / sigma_px, INVALID_RESIDUAL_SIGMAS)[:, None]
-        Js = None if J is None else [(J / sigma_px)[:, None, :]]
+        Js = None if Js is None else [(Js[0] / sigma_px)[:, None, :]]
         r, Js = cauchy_rows(r, Js, cauchy_scale)
         return r[:, 0], None if Js is None else [Js[0][:, 0, :]]
 

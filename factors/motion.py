@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.geometry.state import STATE_SIZE
-from factors.custom import custom_factor
+from factors.custom import Residuals, custom_factor
 
 SMOOTH_INDICES = (0, 2, 3, 4)
 """State entries constrained by the smoothness factor (f through log f, pan, tilt, roll)."""
@@ -24,19 +24,19 @@ def random_walk_residuals(state_prev: np.ndarray, state_cur: np.ndarray, sigmas:
         sigmas: (8,) per-frame sigmas: relative zoom (log f), k1, pan, tilt, roll (rad), Cx, Cy, Cz (m).
 
     Returns:
-        residual (8,), J_prev (8, 8), J_cur (8, 8) (None when not wanted).
+        :class:`~factors.custom.Residuals`: residual (8,); jacobians [J_prev, J_cur], (8, 8) each, or None.
     """
     a, b = np.asarray(state_prev, float), np.asarray(state_cur, float)
     diff = b - a
     diff[0] = np.log(b[0] / a[0])
     residual = diff / sigmas
     if not want_jacobian:
-        return residual, None, None
+        return Residuals(residual, None)
     J_cur = np.diag(1.0 / sigmas)
     J_prev = -J_cur.copy()
     J_cur[0, 0] = 1.0 / (b[0] * sigmas[0])
     J_prev[0, 0] = -1.0 / (a[0] * sigmas[0])
-    return residual, J_prev, J_cur
+    return Residuals(residual, [J_prev, J_cur])
 
 
 def smoothness_residuals(s0, s1, s2, sigmas: np.ndarray, want_jacobian=True):
@@ -46,13 +46,13 @@ def smoothness_residuals(s0, s1, s2, sigmas: np.ndarray, want_jacobian=True):
         sigmas: (4,) per-frame^2 sigmas for log f, pan, tilt, roll.
 
     Returns:
-        residual (4,), [J0, J1, J2] each (4, 8) or None.
+        :class:`~factors.custom.Residuals`: residual (4,); jacobians [J0, J1, J2], (4, 8) each, or None.
     """
     states = [np.asarray(s, float) for s in (s0, s1, s2)]
     values = [np.array([np.log(s[0]), s[2], s[3], s[4]]) for s in states]
     residual = (values[0] - 2.0 * values[1] + values[2]) / sigmas
     if not want_jacobian:
-        return residual, None
+        return Residuals(residual, None)
     Js = []
     for coeff, s in zip((1.0, -2.0, 1.0), states):
         J = np.zeros((4, STATE_SIZE))
@@ -60,7 +60,7 @@ def smoothness_residuals(s0, s1, s2, sigmas: np.ndarray, want_jacobian=True):
         for row, col in enumerate(SMOOTH_INDICES[1:], start=1):
             J[row, col] = coeff / sigmas[row]
         Js.append(J)
-    return residual, Js
+    return Residuals(residual, Js)
 
 
 def make_random_walk_factor(key_prev: int, key_cur: int, sigmas) -> "gtsam.CustomFactor":  # noqa: F821
@@ -68,8 +68,7 @@ def make_random_walk_factor(key_prev: int, key_cur: int, sigmas) -> "gtsam.Custo
     sigmas = np.asarray(sigmas, dtype=float).reshape(STATE_SIZE).copy()
 
     def fn(vectors, want_jacobian):
-        r, Jp, Jc = random_walk_residuals(vectors[0], vectors[1], sigmas, want_jacobian)
-        return r, None if Jp is None else [Jp, Jc]
+        return random_walk_residuals(vectors[0], vectors[1], sigmas, want_jacobian)[:2]
 
     return custom_factor([key_prev, key_cur], [STATE_SIZE, STATE_SIZE], STATE_SIZE, fn)
 
@@ -79,6 +78,6 @@ def make_smoothness_factor(key0: int, key1: int, key2: int, sigmas) -> "gtsam.Cu
     sigmas = np.asarray(sigmas, dtype=float).reshape(4).copy()
 
     def fn(vectors, want_jacobian):
-        return smoothness_residuals(vectors[0], vectors[1], vectors[2], sigmas, want_jacobian)
+        return smoothness_residuals(vectors[0], vectors[1], vectors[2], sigmas, want_jacobian)[:2]
 
     return custom_factor([key0, key1, key2], [STATE_SIZE] * 3, 4, fn)

@@ -11,14 +11,14 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.geometry.state import STATE_SIZE
-from factors.custom import custom_factor
+from factors.custom import Residuals, custom_factor
 
 
 def range_residuals(state, f_range_px, k1_range, edge_sigma_rel, edge_sigma_k1, k1_mean, k1_sigma, want_jacobian=True):
     """Soft range limits on f and k1.
 
     Returns:
-        residual (3,), J (3, 8) or None.
+        :class:`~factors.custom.Residuals`: residual (3,); jacobians [(3, 8)] or None.
     """
     f, k1 = float(state[0]), float(state[1])
     f_lo, f_hi = f_range_px
@@ -39,25 +39,24 @@ def range_residuals(state, f_range_px, k1_range, edge_sigma_rel, edge_sigma_k1, 
         J[1, 1] = 1.0 / edge_sigma_k1
     residual[2] = (k1 - k1_mean) / k1_sigma
     J[2, 1] = 1.0 / k1_sigma
-    return residual, (J if want_jacobian else None)
+    return Residuals(residual, [J] if want_jacobian else None)
 
 
 def make_range_factor(key, f_range_px, k1_range, edge_sigma_rel, edge_sigma_k1, k1_mean, k1_sigma):
     """CustomFactor keeping f and k1 of one state physical (residual length 3)."""
 
     def fn(vectors, want_jacobian):
-        r, J = range_residuals(
+        return range_residuals(
             vectors[0], f_range_px, k1_range, edge_sigma_rel, edge_sigma_k1, k1_mean, k1_sigma, want_jacobian
-        )
-        return r, None if J is None else [J]
+        )[:2]
 
     return custom_factor([key], [STATE_SIZE], 3, fn)
 
 
 def anchor_residuals(state, state0, sigmas, want_jacobian=True):
-    """Whitened ``(s - s0) / sigmas`` (n,), J (n, n) for any vector variable (camera state, tripod)."""
+    """Whitened ``(s - s0) / sigmas`` for any vector variable (camera state, tripod): residual (n,), jacobians [(n, n)]."""
     residual = (np.asarray(state, float) - state0) / sigmas
-    return residual, (np.diag(1.0 / sigmas) if want_jacobian else None)
+    return Residuals(residual, [np.diag(1.0 / sigmas)] if want_jacobian else None)
 
 
 def make_anchor_factor(key, state0, sigmas):
@@ -68,7 +67,6 @@ def make_anchor_factor(key, state0, sigmas):
     size = len(state0)
 
     def fn(vectors, want_jacobian):
-        r, J = anchor_residuals(vectors[0], state0, sigmas, want_jacobian)
-        return r, None if J is None else [J]
+        return anchor_residuals(vectors[0], state0, sigmas, want_jacobian)[:2]
 
     return custom_factor([key], [size], size, fn)

@@ -52,9 +52,3 @@ def cauchy_rows(residuals: np.ndarray, jacobians: list[np.ndarray] | None, scale
         return residuals * ratio[:, None], None
     root_w = np.sqrt(cauchy_weight(e2, scale))
     return residuals * root_w[:, None], [J * root_w[:, None, None] for J in jacobians]
-
-
-def cauchy_inlier_mask(residuals: np.ndarray, scale: float, threshold_sigmas: float | None = None) -> np.ndarray:
-    """(N,) bool: points whose whitened residual norm is within ``threshold_sigmas`` (default: the scale)."""
-    limit = scale if threshold_sigmas is None else threshold_sigmas
-    return np.einsum("nd,nd->n", residuals, residuals) <= limit * limit

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.geometry.state import STATE_SIZE, rotation_and_derivatives
-from factors.custom import custom_factor
+from factors.custom import Residuals, custom_factor
 
 TRIPOD_SIZE = 4
 MIN_AXIS_DISTANCE_M = 1e-6
@@ -27,7 +27,7 @@ def tripod_residual(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool =
         state: (8,) camera state; tripod: (4,) ``[Tx, Ty, Tz, delta]`` metres.
 
     Returns:
-        residual_m: float; J_state: (8,) or None; J_tripod: (4,) or None.
+        :class:`~factors.custom.Residuals`: residual (1,) metres; jacobians [J_state (1, 8), J_tripod (1, 4)] or None.
     """
     s = np.asarray(state, dtype=float)
     T, delta = np.asarray(tripod[:3], dtype=float), float(tripod[3])
@@ -37,16 +37,16 @@ def tripod_residual(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool =
     along = float(d @ axis)
     w = d - along * axis  # O* - T
     dist = max(float(np.linalg.norm(w)), MIN_AXIS_DISTANCE_M)
-    residual = delta - dist
+    residual = np.array([delta - dist])
     if not want_jacobian:
-        return residual, None, None
+        return Residuals(residual, None)
     unit = w / dist
     J_state = np.zeros(STATE_SIZE)
     d_axis = dR[:, 2, :]  # (3 angles, 3): d axis / d angle
     J_state[2:5] = along * (d_axis @ w) / dist
     J_state[5:8] = -unit
     J_tripod = np.array([*unit, 1.0])
-    return residual, J_state, J_tripod
+    return Residuals(residual, [J_state[None, :], J_tripod[None, :]])
 
 
 def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jacobian: bool = True,
@@ -68,7 +68,8 @@ def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jaco
             factor divides by sigma_m.
 
     Returns:
-        residual_m (2,) or (3,); J_state (2 or 3, 8) or None; J_tripod (2 or 3, 4) or None.
+        :class:`~factors.custom.Residuals`: residual (2,) or (3,) metres; jacobians [J_state (2 or 3, 8),
+        J_tripod (2 or 3, 4)] or None.
     """
     s = np.asarray(state, dtype=float)
     T, delta = np.asarray(tripod[:3], dtype=float), float(tripod[3])
@@ -80,7 +81,7 @@ def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jaco
         lambda_mean_m, weight = lambda_prior
         residual = np.append(residual, weight * (R[2] @ d - lambda_mean_m))
     if not want_jacobian:
-        return residual, None, None
+        return Residuals(residual, None)
     J_state = np.zeros((rows, STATE_SIZE))
     J_state[:, 2:5] = (dR[:, :rows, :] @ d).T  # (rows, 3 angles)
     J_state[:, 5:8] = R[:rows]
@@ -90,21 +91,21 @@ def tripod_axis_point_residuals(state: np.ndarray, tripod: np.ndarray, want_jaco
     if lambda_prior is not None:
         J_state[2] *= lambda_prior[1]
         J_tripod[2] *= lambda_prior[1]
-    return residual, J_state, J_tripod
+    return Residuals(residual, [J_state, J_tripod])
 
 
 TRIPOD_MODELS = ("distance", "axis_point")
 """``distance``: the paper's L_T (1 residual); ``axis_point``: the full model (2 residuals)."""
+
+DEFAULT_TRIPOD_MODEL = "axis_point"
+"""The model the tracker uses unless told otherwise (``GraphConfig``'s default is this one)."""
 
 
 def _model_function(model: str, lambda_prior: tuple[float, float] | None = None):
     """(residual function, residual length) of a tripod model; the lambda prior applies to axis_point
     only (the distance model measures no place along the axis)."""
     if model == "distance":
-        def fn(state, tripod, want):
-            r, Js, Jt = tripod_residual(state, tripod, want)
-            return np.array([r]), None if Js is None else Js[None, :], None if Jt is None else Jt[None, :]
-        return fn, 1
+        return tripod_residual, 1
     if model == "axis_point":
         if lambda_prior is None:
             return tripod_axis_point_residuals, 2
@@ -123,7 +124,7 @@ def _lambda_weight(sigma_m: float, lambda_prior_m: tuple[float, float] | None) -
     return float(mean_m), float(sigma_m) / float(sigma_lambda_m)
 
 
-def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: str = "distance",
+def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: str = DEFAULT_TRIPOD_MODEL,
                        lambda_prior_m: tuple[float, float] | None = None):
     """CustomFactor between a camera state and the tripod variable (residual length 1, 2 or 3).
 
@@ -132,15 +133,13 @@ def make_tripod_factor(state_key: int, tripod_key: int, sigma_m: float, model: s
     residual_fn, dim = _model_function(model, _lambda_weight(sigma_m, lambda_prior_m))
 
     def fn(vectors, want_jacobian):
-        r, Js, Jt = residual_fn(vectors[0], vectors[1], want_jacobian)
-        if Js is None:
-            return r / sigma_m, None
-        return r / sigma_m, [Js / sigma_m, Jt / sigma_m]
+        r, Js, _ = residual_fn(vectors[0], vectors[1], want_jacobian)
+        return r / sigma_m, None if Js is None else [J / sigma_m for J in Js]
 
     return custom_factor([state_key, tripod_key], [STATE_SIZE, TRIPOD_SIZE], dim, fn)
 
 
-def make_fixed_tripod_factor(state_key: int, tripod_vector: np.ndarray, sigma_m: float, model: str = "distance",
+def make_fixed_tripod_factor(state_key: int, tripod_vector: np.ndarray, sigma_m: float, model: str = DEFAULT_TRIPOD_MODEL,
                              lambda_prior_m: tuple[float, float] | None = None):
     """CustomFactor on one camera state with the tripod held fixed (online use)."""
     tripod_vector = np.asarray(tripod_vector, dtype=float).reshape(TRIPOD_SIZE).copy()
@@ -148,8 +147,6 @@ def make_fixed_tripod_factor(state_key: int, tripod_vector: np.ndarray, sigma_m:
 
     def fn(vectors, want_jacobian):
         r, Js, _ = residual_fn(vectors[0], tripod_vector, want_jacobian)
-        if Js is None:
-            return r / sigma_m, None
-        return r / sigma_m, [Js / sigma_m]
+        return r / sigma_m, None if Js is None else [Js[0] / sigma_m]
 
     return custom_factor([state_key], [STATE_SIZE], dim, fn)

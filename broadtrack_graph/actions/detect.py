@@ -20,7 +20,6 @@ markings, so they are valid binary masks for any reader.
 
 from __future__ import annotations
 
-import json
 import logging
 import re
 import tempfile
@@ -36,7 +35,7 @@ from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.annotations import GAMESTATE_FILE, read_annotations
-from broadtrack_graph.io.detections import DetectionsWriter
+from broadtrack_graph.io.detections import DetectionsWriter, normalized_lines_record
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.jsonfile import read_json
 from broadtrack_graph.io.mask_png import write_mask_png
@@ -289,16 +288,14 @@ def import_annotations(
                 continue
             lines[name] = np.round(np.asarray(points, float), 6).tolist()
         summary.frames += 1
-        records.append((index, {"frame": int(index), "frame_id": frame_id, "image_size": [int(size[0]), int(size[1])],
-                                "units": "normalized", "lines": lines}))
+        records.append((index, normalized_lines_record(index, frame_id, size, lines)))
     if not records:
         raise InputError(source, "no usable annotation to import")
     records.sort(key=lambda item: item[0])
-    out_path.parent.mkdir(parents=True, exist_ok=True)
     try:
-        with out_path.open("w", encoding="utf-8") as handle:
+        with DetectionsWriter(out_path) as writer:
             for _, record in records:
-                handle.write(json.dumps(record) + "\n")
+                writer.write_record(record)
     except OSError as exc:
         raise InputError(out_path, f"cannot write: {exc.strerror or exc}") from None
     summary.records = len(records)

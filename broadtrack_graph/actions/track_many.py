@@ -13,7 +13,6 @@ others finish, with one progress bar over all frames; it writes ``OUT/track_many
 from __future__ import annotations
 
 import hashlib
-import json
 import logging
 import shutil
 import time
@@ -238,7 +237,3 @@ def summary_table(report: ManyReport) -> str:
         lines.append(f"{row['clip']:<24} {fmt(row['frames'], 'd'):>8} {fmt(row['completeness'], '.3f'):>9} "
                      f"{fmt(row['mean_confidence'], '.3f'):>6} {fmt(row['fps'], '.1f'):>8}  {note}")
     return "\n".join(lines)
-
-
-def report_json(report: ManyReport) -> str:
-    return json.dumps(report.as_dict(), indent=1, default=str)

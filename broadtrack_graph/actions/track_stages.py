@@ -56,7 +56,7 @@ def run_tripod(unit, temp: Path) -> dict:
     if tripod is None:
         tripod, info = fit_clip_tripod(_pass1_records(unit.spec["pass1"]), unit.spec["config"])
     if tripod is not None:
-        write_tripod(temp / "tripod.json", tripod, info)
+        write_tripod(RunFolder(temp).tripod_path, tripod, info)
     else:
         logger.warning("%s: tripod fit failed (%s); refining without the tripod factor", unit.clip, info.get("reason"))
     return {"tripod": None if tripod is None else {"T_w": [float(v) for v in tripod.T_w],
@@ -66,7 +66,7 @@ def run_tripod(unit, temp: Path) -> dict:
 def run_refine(unit, temp: Path) -> dict:
     """Batch refinement of one window with the clip's tripod held fixed."""
     clip, chunk, config = unit.spec["clip"], Chunk(**unit.spec["chunk"]), unit.spec["config"]
-    tripod_file = Path(unit.spec["tripod_dir"]) / "tripod.json"
+    tripod_file = RunFolder(unit.spec["tripod_dir"]).tripod_path
     tripod = read_tripod(tripod_file) if tripod_file.is_file() else None
     pieces = [(Chunk(**c), d) for c, d in unit.spec["pass1"]]
     needed = [(c, d) for c, d in pieces if c.keep_lo < chunk.hi and c.keep_hi > chunk.lo]
@@ -93,7 +93,7 @@ def run_stitch(unit, temp: Path) -> dict:
                                    "staged": True, "chunks": len(pieces)})
     for record in records:
         writer.write(record)
-    tripod_file = Path(unit.spec["tripod_dir"]) / "tripod.json"
+    tripod_file = RunFolder(unit.spec["tripod_dir"]).tripod_path
     extra = {"pass1": str(Path(unit.spec["pass1"][0][1]).parent)}
     if tripod_file.is_file():
         tripod = read_tripod(tripod_file)

@@ -30,13 +30,13 @@ One synthetic clip (rendered once into ``--clip``, reused when it is already the
 
 from __future__ import annotations
 
-import json
 import logging
 import time
 from pathlib import Path
 
 import numpy as np
 
+from broadtrack_graph.io.detections import named_keypoints_record
 from broadtrack_graph.track.config import TrackingConfig
 
 HELP = "tracking from detections files: detect -> file -> track, and keypoints-only smoothing vs per-frame fits"
@@ -148,10 +148,9 @@ def noisy_keypoint_records(keypoints_by_frame: list[dict], frame_ids: list[str],
                 label = others[rng.integers(len(others))]
                 used.add(label)
                 wrong += 1
-            entries.append({"name": label, "xy": [round(float(uv[0]), 2), round(float(uv[1]), 2)], "confidence": 0.9})
+            entries.append((label, round(float(uv[0]), 2), round(float(uv[1]), 2), 0.9))
             written += 1
-        records.append({"frame": index, "frame_id": frame_id, "image_size": [width_px, height_px], "units": "px",
-                        "keypoints": entries})
+        records.append(named_keypoints_record(index, frame_id, (width_px, height_px), entries))
     return records, {"keypoints": written, "mislabelled": wrong}
 
 
@@ -217,7 +216,7 @@ def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 2: keypoints only, smoothed track vs fitting each frame alone."""
     from broadtrack_graph.actions.track import track_input
     from broadtrack_graph.geometry.pitch import PitchTemplate
-    from broadtrack_graph.io.detections import read_detections
+    from broadtrack_graph.io.detections import DetectionsWriter, read_detections
     from broadtrack_graph.io.jsonfile import read_json
     from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
     from broadtrack_graph.synth.writer import read_camera_track, read_keypoints_file
@@ -233,7 +232,9 @@ def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     work = args.work / "keypoints"
     work.mkdir(parents=True, exist_ok=True)
     path = work / "keypoints.jsonl"
-    path.write_text("".join(json.dumps(r) + "\n" for r in records), encoding="utf-8")
+    with DetectionsWriter(path) as writer:
+        for record in records:
+            writer.write_record(record)
     progress = not args.no_progress
     estimates: dict[str, list] = {}
     timings = {}

@@ -35,6 +35,9 @@ from pathlib import Path
 
 import numpy as np
 
+from broadtrack_graph.io.players_file import PLAYERS_FILE
+from broadtrack_graph.io.run_folder import RunFolder
+
 HELP = "players on the pitch: position error per mode and per-frame calibration, distance covered, real-clip jitter"
 
 log = logging.getLogger(__name__)
@@ -222,7 +225,7 @@ def _synthetic(args, progress: bool) -> dict:
         sources[mode] = run_dir
     if not args.no_per_frame:
         run_dir = out / "runs" / "main" / "per-frame"
-        if not (args.reuse_runs and (run_dir / "summary.json").is_file()):
+        if not (args.reuse_runs and RunFolder(run_dir).has_summary()):
             report.setdefault("tracking", {})["per-frame"] = per_frame_run(clip, run_dir, progress)
         sources["per-frame"] = run_dir
     for name, run_dir in sources.items():
@@ -253,7 +256,7 @@ def _real(args, progress: bool) -> dict:
     end = args.real_frames
     for mode in ("online", "fixed-lag"):
         run_dir = out / "runs" / mode
-        if args.reuse_runs and (run_dir / "summary.json").is_file() and (mode != "online" or (run_dir / "players.jsonl").is_file()):
+        if args.reuse_runs and RunFolder(run_dir).has_summary() and (mode != "online" or (run_dir / PLAYERS_FILE).is_file()):
             report["modes"][mode] = {"track_wall_s": None, "reused": True}
             continue
         started = time.perf_counter()

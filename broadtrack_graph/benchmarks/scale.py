@@ -41,6 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
+from broadtrack_graph.io.run_folder import RunFolder
+
 HELP = "track-many on Ray: 2 workers vs 1, chunked batch vs one process, kill and resume, two-node cluster, memory"
 PARTS = ("speedup", "chunked", "resume", "cluster", "memory")
 
@@ -158,7 +160,7 @@ def part_resume(args, out: Path, manifest: Path) -> dict:
     report = json.loads((folder / "track_many.json").read_text())
     counts = {}
     for clip in sorted(p.name for p in folder.iterdir() if p.is_dir() and not p.name.startswith(("_", "."))):
-        indices = [json.loads(line)["frame"] for line in (folder / clip / "track.jsonl").read_text().splitlines()
+        indices = [json.loads(line)["frame"] for line in RunFolder(folder / clip).track_path.read_text().splitlines()
                    if line.strip()]
         counts[clip] = {"frames": len(indices), "unique": len(set(indices))}
     return {
@@ -251,9 +253,9 @@ def rss_profile(result: dict) -> dict:
 def compare_camera_files(a: Path, b: Path) -> dict:
     """Byte comparison of every clip's cameras/*.json between two job folders."""
     same = different = missing = 0
-    for clip in sorted(p.name for p in Path(a).iterdir() if (p / "cameras").is_dir()):
-        for file in sorted((Path(a) / clip / "cameras").glob("*.json")):
-            other = Path(b) / clip / "cameras" / file.name
+    for clip in sorted(p.name for p in Path(a).iterdir() if RunFolder(p).camera_dir.is_dir()):
+        for file in sorted(RunFolder(Path(a) / clip).camera_dir.glob("*.json")):
+            other = RunFolder(Path(b) / clip).camera_dir / file.name
             if not other.is_file():
                 missing += 1
             elif other.read_bytes() == file.read_bytes():

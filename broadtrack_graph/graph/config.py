@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from factors.tripod import DEFAULT_TRIPOD_MODEL
+
 
 @dataclass(frozen=True)
 class MeasurementSigmas:
@@ -28,7 +30,7 @@ class MeasurementSigmas:
     # "axis_point" (default): the optical axis passes through T - delta r2 (the full tripod model);
     # "distance": the paper's L_T = delta - |O* - T|, which lets T slide along the optical axis when the
     # pan range is small (batch on a 200-frame main clip: tripod error 1.99 m vs 0.55 m with axis_point).
-    tripod_model: str = "axis_point"
+    tripod_model: str = DEFAULT_TRIPOD_MODEL
     # axis_point with a fixed tripod only: the focal point's place on the optical axis, lambda = r3 . (C - T), stays near
     # its usual value (the entrance pupil moves tens of cm with zoom); None: free. Without it, at
     # tight zoom C slides metres along the axis against f (16m clip: 1 m drift with a known tripod).

@@ -358,8 +358,28 @@ def observations_to_record(observations: FrameObservations, frame_id: str | None
     return record
 
 
+def normalized_lines_record(frame_index: int, frame_id: str, image_size: tuple[int, int],
+                            lines_norm: dict[str, list]) -> dict:
+    """One detections-format record of line points in normalised units (x / (W - 1), y / (H - 1))."""
+    return {"frame": int(frame_index), "frame_id": frame_id, "image_size": [int(image_size[0]), int(image_size[1])],
+            "units": "normalized", "lines": lines_norm}
+
+
+def named_keypoints_record(frame_index: int, frame_id: str, image_size: tuple[int, int],
+                           keypoints: list[tuple[str, float, float, float]]) -> dict:
+    """One detections-format record of template keypoints in pixels: ``(name, x_px, y_px, confidence)`` each."""
+    return {"frame": int(frame_index), "frame_id": frame_id, "image_size": [int(image_size[0]), int(image_size[1])],
+            "units": "px", "keypoints": [{"name": name, "xy": [x, y], "confidence": confidence}
+                                         for name, x, y, confidence in keypoints]}
+
+
 class DetectionsWriter:
-    """Append records to a detections file, one flushed line per frame (an interrupted run keeps them)."""
+    """Append records to a detections file, one flushed line per frame (an interrupted run keeps them).
+
+    :meth:`write` takes a frame's observations; :meth:`write_record` a record already in the
+    format (from :func:`observations_to_record`, :func:`normalized_lines_record`,
+    :func:`named_keypoints_record`).
+    """
 
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
@@ -368,7 +388,10 @@ class DetectionsWriter:
 
     def write(self, observations: FrameObservations, frame_id: str | None = None, mask_path: str | None = None,
               keypoint_ids: list[int] | None = None) -> None:
-        self._handle.write(json.dumps(observations_to_record(observations, frame_id, mask_path, keypoint_ids)) + "\n")
+        self.write_record(observations_to_record(observations, frame_id, mask_path, keypoint_ids))
+
+    def write_record(self, record: dict) -> None:
+        self._handle.write(json.dumps(record) + "\n")
         self._handle.flush()
 
     def close(self) -> None:

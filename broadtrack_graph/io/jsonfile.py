@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import os
 import tempfile
 from pathlib import Path
@@ -58,8 +57,3 @@ def _json_default(value):
     if isinstance(value, Path):
         return str(value)
     raise TypeError(f"not JSON serialisable: {type(value).__name__}")
-
-
-def finite_or_none(value: float) -> float | None:
-    """JSON has no NaN: map non-finite numbers to null."""
-    return float(value) if value is not None and math.isfinite(value) else None

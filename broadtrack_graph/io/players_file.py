@@ -211,16 +211,6 @@ def write_gamestate_predictions(path: str | Path, lines: list[dict], image_ids: 
     return len(predictions)
 
 
-def read_gamestate_predictions(path: str | Path) -> list[dict]:
-    """The ``predictions`` list of a game-state predictions file (InputError when it has none)."""
-    from broadtrack_graph.io.jsonfile import read_json
-
-    data = read_json(path)
-    if not isinstance(data, dict) or not isinstance(data.get("predictions"), list):
-        raise InputError(path, "not a game-state predictions file: no 'predictions' list")
-    return data["predictions"]
-
-
 def boxes_from_positions(positions: PlayerPositions, source: str = "players.jsonl"):
     """The boxes of a players file as :class:`~broadtrack_graph.types.player_boxes.PlayerBoxes` (to locate the same
     boxes through another run's cameras)."""

@@ -165,7 +165,3 @@ def camera_confidence(camera: Camera, marking_mask: np.ndarray, curves: Template
     """
     return confidence_parts(camera, marking_mask, curves, config, field_mask, player_mask)["confidence"]
 
-
-def needs_reinit(confidence: float, threshold: float = DEFAULT_THRESHOLD) -> bool:
-    """True when the camera is not trusted: re-initialise and drop flow from the previous camera."""
-    return confidence < threshold

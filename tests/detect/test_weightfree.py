@@ -14,7 +14,7 @@ from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetec
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
-from broadtrack_graph.reinit.confidence import camera_confidence, needs_reinit
+from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD, camera_confidence
 
 W, H = 640, 360
 PITCH = PitchTemplate()
@@ -99,8 +99,8 @@ def test_confidence_high_for_the_true_camera_low_for_a_wrong_one():
     curves = TemplateCurves(PITCH)
     good = camera_confidence(truth, det.marking_mask, curves, field_mask=det.field_mask)
     bad = camera_confidence(truth.replace(pan_rad=truth.pan_rad + 0.05), det.marking_mask, curves, field_mask=det.field_mask)
-    assert good > 0.5 and not needs_reinit(good)
-    assert needs_reinit(bad) and good - bad > 0.2
+    assert good > 0.5 and good >= DEFAULT_THRESHOLD
+    assert bad < DEFAULT_THRESHOLD and good - bad > 0.2
     assert camera_confidence(truth, np.zeros((H, W), bool), curves) == 0.0
 
 

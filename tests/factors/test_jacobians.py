@@ -81,7 +81,7 @@ def test_line_residuals_distance_and_jacobian():
         uv_list.append(uv + rng.normal(0, 2.0, uv.shape))
         cls_list.append(np.full(len(uv), polylines.class_index(name)))
     uv_px, class_index = np.vstack(uv_list), np.concatenate(cls_list)
-    r, J, valid = line_residuals(state, uv_px, class_index, polylines, W, H)
+    r, (J,), valid = line_residuals(state, uv_px, class_index, polylines, W, H)
     assert valid.all() and J.shape == (len(uv_px), 8)
     # Distances are of the size of the injected noise (2 px), not zero and not large.
     assert 0.5 < np.sqrt(np.mean(r**2)) < 4.0
@@ -110,7 +110,7 @@ def test_line_residual_noise_free_is_zero_and_invisible_class_invalid():
 def test_keypoint_jacobian(ground_points):
     state = state_of()
     uv = project_state(state, ground_points, W, H, False)[0] + 1.5
-    r, J, valid = keypoint_residuals(state, uv, ground_points, W, H)
+    r, (J,), valid = keypoint_residuals(state, uv, ground_points, W, H)
     np.testing.assert_allclose(r, -1.5, atol=1e-9)
     numeric = numeric_jacobian(lambda s: keypoint_residuals(s, uv, ground_points, W, H, False)[0], state, STEPS)
     assert_jacobian_close(J.reshape(-1, 8), numeric)
@@ -121,13 +121,13 @@ def test_flow_transfer_is_exact_and_jacobians_match(ground_points):
     s_cur = state_of(pan_deg=10.4, tilt_deg=72.2, focal_px=910.0, position=(2.01, 55.0, -15.0))
     uv_prev = project_state(s_prev, ground_points, W, H, False)[0]
     uv_cur = project_state(s_cur, ground_points, W, H, False)[0]
-    r, J_prev, J_cur, valid = flow_residuals(s_prev, s_cur, uv_prev, uv_cur, W, H)
+    r, (J_prev, J_cur), valid = flow_residuals(s_prev, s_cur, uv_prev, uv_cur, W, H)
     assert valid.all()
     assert np.abs(r).max() < 1e-6  # ground points transfer exactly (distortion included)
     uv_cur_noisy = uv_cur + 0.7
     fn_prev = lambda s: flow_residuals(s, s_cur, uv_prev, uv_cur_noisy, W, H, False)[0]
     fn_cur = lambda s: flow_residuals(s_prev, s, uv_prev, uv_cur_noisy, W, H, False)[0]
-    _, J_prev, J_cur, _ = flow_residuals(s_prev, s_cur, uv_prev, uv_cur_noisy, W, H)
+    _, (J_prev, J_cur), _ = flow_residuals(s_prev, s_cur, uv_prev, uv_cur_noisy, W, H)
     assert_jacobian_close(J_prev.reshape(-1, 8), numeric_jacobian(fn_prev, s_prev, STEPS))
     assert_jacobian_close(J_cur.reshape(-1, 8), numeric_jacobian(fn_cur, s_cur, STEPS))
 
@@ -140,24 +140,24 @@ def test_tripod_residual_zero_on_tripod_and_jacobians():
     state = state_of()
     R = rotation_from_angles(*state[2:5])
     state[5:8] = focal_point(R, tripod, 0.5)
-    r, Js, Jt = tripod_residual(state, tripod.as_vector())
-    assert abs(r) < 1e-12
+    r, (Js, Jt), valid = tripod_residual(state, tripod.as_vector())
+    assert r.shape == (1,) and abs(r[0]) < 1e-12 and valid is None
     state[5:8] += [0.05, -0.03, 0.02]
     t_vec = tripod.as_vector()
-    r, Js, Jt = tripod_residual(state, t_vec)
-    assert abs(r) > 1e-3
-    assert_jacobian_close(Js[None], numeric_jacobian(lambda s: tripod_residual(s, t_vec, False)[0], state, STEPS))
-    assert_jacobian_close(Jt[None], numeric_jacobian(lambda t: tripod_residual(state, t, False)[0], t_vec, np.full(4, 1e-6)))
+    r, (Js, Jt), _ = tripod_residual(state, t_vec)
+    assert abs(r[0]) > 1e-3 and Js.shape == (1, 8) and Jt.shape == (1, 4)
+    assert_jacobian_close(Js, numeric_jacobian(lambda s: tripod_residual(s, t_vec, False)[0], state, STEPS))
+    assert_jacobian_close(Jt, numeric_jacobian(lambda t: tripod_residual(state, t, False)[0], t_vec, np.full(4, 1e-6)))
 
 
 def test_motion_and_prior_jacobians():
     sigmas = np.array([0.01, 0.001, 0.002, 0.002, 0.001, 0.01, 0.01, 0.01])
     a, b, c = state_of(), state_of(pan_deg=10.3, focal_px=905.0), state_of(pan_deg=10.5, focal_px=912.0)
-    r, Jp, Jc = random_walk_residuals(a, b, sigmas)
+    r, (Jp, Jc), _ = random_walk_residuals(a, b, sigmas)
     assert_jacobian_close(Jp, numeric_jacobian(lambda s: random_walk_residuals(s, b, sigmas, False)[0], a, STEPS))
     assert_jacobian_close(Jc, numeric_jacobian(lambda s: random_walk_residuals(a, s, sigmas, False)[0], b, STEPS))
     s4 = np.array([0.001, 0.001, 0.001, 0.0005])
-    r, Js = smoothness_residuals(a, b, c, s4)
+    r, Js, _ = smoothness_residuals(a, b, c, s4)
     for i, x in enumerate((a, b, c)):
         def fn(s, i=i):
             args = [a, b, c]
@@ -167,7 +167,7 @@ def test_motion_and_prior_jacobians():
     for f, k1 in ((900.0, -0.08), (50.0, -0.8), (9000.0, 0.7)):
         s = state_of(focal_px=f, k1=k1)
         args = ((200.0, 6000.0), (-0.5, 0.5), 0.05, 0.01, 0.0, 0.3)
-        r, J = range_residuals(s, *args)
+        r, (J,), _ = range_residuals(s, *args)
         assert_jacobian_close(J, numeric_jacobian(lambda x: range_residuals(x, *args, False)[0], s, STEPS))
     assert range_residuals(state_of(), (200.0, 6000.0), (-0.5, 0.5), 0.05, 0.01, 0.0, 1e9)[0][:2].tolist() == [0.0, 0.0]
 
@@ -196,7 +196,7 @@ def test_gtsam_wrappers_linearize_like_numpy(ground_points):
     flow = make_flow_factor(0, 1, uv_prev, uv_cur, W, H, 1.0, None)
     linear = flow.linearize(values)
     A, b = linear.jacobian()
-    r, Jp, Jc, _ = flow_residuals(s_prev, s_cur, uv_prev, uv_cur, W, H)
+    r, (Jp, Jc), _ = flow_residuals(s_prev, s_cur, uv_prev, uv_cur, W, H)
     np.testing.assert_allclose(A, np.hstack([Jp.reshape(-1, 8), Jc.reshape(-1, 8)]), rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(b, -r.reshape(-1), atol=1e-12)
     assert flow.error(values) == pytest.approx(0.5 * np.sum(r**2))
@@ -221,7 +221,7 @@ def test_tripod_axis_point_model_zero_on_tripod_and_jacobians():
     r, _, _ = tripod_axis_point_residuals(state, t_vec)
     np.testing.assert_allclose(r, 0.0, atol=1e-12)
     state[5:8] += [0.05, -0.03, 0.02]
-    r, Js, Jt = tripod_axis_point_residuals(state, t_vec)
+    r, (Js, Jt), _ = tripod_axis_point_residuals(state, t_vec)
     assert np.abs(r).max() > 1e-3
     assert_jacobian_close(Js, numeric_jacobian(lambda s: tripod_axis_point_residuals(s, t_vec, False)[0], state, STEPS))
     assert_jacobian_close(Jt, numeric_jacobian(lambda t: tripod_axis_point_residuals(state, t, False)[0], t_vec, np.full(4, 1e-6)))
@@ -242,10 +242,10 @@ def test_tripod_lambda_prior_measures_the_place_on_the_axis_with_jacobians():
     np.testing.assert_allclose(r, [0.0, 0.0, 4.0 * 0.5], atol=1e-12)
     # Sliding C along the optical axis leaves the first two residuals at 0 and moves the third.
     state[5:8] += 1.5 * R[2]
-    r, Js, Jt = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
+    r, (Js, Jt), _ = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
     np.testing.assert_allclose(r, [0.0, 0.0, 4.0 * 2.0], atol=1e-9)
     state[5:8] += [0.05, -0.03, 0.02]
-    r, Js, Jt = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
+    r, (Js, Jt), _ = tripod_axis_point_residuals(state, t_vec, lambda_prior=(0.2, 4.0))
     assert Js.shape == (3, 8) and Jt.shape == (3, 4)
     fn = lambda s: tripod_axis_point_residuals(s, t_vec, False, (0.2, 4.0))[0]  # noqa: E731
     assert_jacobian_close(Js, numeric_jacobian(fn, state, STEPS))
@@ -273,8 +273,37 @@ def test_line_residual_beyond_segment_end_is_distance_to_end_with_jacobian():
     direction = (uv[1] - uv[0]) / np.linalg.norm(uv[1] - uv[0])
     normal = np.array([-direction[1], direction[0]])
     point = uv[1] + 6.0 * direction + 8.0 * normal  # past the end of the marking
-    r, J, valid = line_residuals(state, point[None], np.array([j]), polylines, W, H)
+    r, (J,), valid = line_residuals(state, point[None], np.array([j]), polylines, W, H)
     assert valid.all()
     assert abs(r[0]) == pytest.approx(10.0, rel=1e-6)  # distance to the end vertex: hypot(6, 8)
     numeric = numeric_jacobian(lambda s: line_residuals(s, point[None], np.array([j]), polylines, W, H, False)[0], state, STEPS)
     assert_jacobian_close(J, numeric, rel=1e-4)
+
+
+def test_every_residual_function_returns_one_shape(ground_points):
+    from factors.custom import Residuals
+    from factors.priors import anchor_residuals
+    from factors.tripod import tripod_axis_point_residuals
+
+    pitch = PitchTemplate()
+    polylines = MarkingPolylines.from_pitch(pitch, step_line_m=1.0)
+    a, b, c = state_of(), state_of(pan_deg=10.3), state_of(pan_deg=10.5)
+    uv = project_state(a, ground_points, W, H, False)[0]
+    t_vec = np.array([0.0, 56.0, -14.0, 0.3])
+    results = {
+        "lines": (line_residuals(a, uv[:3], np.zeros(3, int), polylines, W, H), [8], 3),
+        "keypoints": (keypoint_residuals(a, uv, ground_points, W, H), [8], len(uv)),
+        "flow": (flow_residuals(a, b, uv, uv, W, H), [8, 8], len(uv)),
+        "random walk": (random_walk_residuals(a, b, np.full(8, 0.01)), [8, 8], None),
+        "smoothness": (smoothness_residuals(a, b, c, np.full(4, 0.01)), [8, 8, 8], None),
+        "range": (range_residuals(a, (200.0, 6000.0), (-0.5, 0.5), 0.05, 0.01, 0.0, 1.0), [8], None),
+        "anchor": (anchor_residuals(a, a, np.ones(8)), [8], None),
+        "tripod distance": (tripod_residual(a, t_vec), [8, 4], None),
+        "tripod axis point": (tripod_axis_point_residuals(a, t_vec), [8, 4], None),
+    }
+    for name, (result, sizes, points) in results.items():
+        assert isinstance(result, Residuals), name
+        assert [J.shape for J in result.jacobians] == [result.residual.shape + (n,) for n in sizes], name
+        assert (result.valid is None) == (points is None), name
+        if points is not None:
+            assert result.valid.shape == (points,) and len(result.residual) == points, name
