@@ -35,7 +35,7 @@ from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.annotations import GAMESTATE_FILE, read_annotations
-from broadtrack_graph.io.detections import DetectionsWriter, normalized_lines_record
+from broadtrack_graph.io.detections_writer import DetectionsWriter, normalized_lines_record
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.jsonfile import read_json
 from broadtrack_graph.io.mask_png import write_mask_png

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from broadtrack_graph.io.detections import named_keypoints_record
+from broadtrack_graph.io.detections_writer import named_keypoints_record
 from broadtrack_graph.track.config import TrackingConfig
 
 HELP = "tracking from detections files: detect -> file -> track, and keypoints-only smoothing vs per-frame fits"
@@ -216,7 +216,8 @@ def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 2: keypoints only, smoothed track vs fitting each frame alone."""
     from broadtrack_graph.actions.track import track_input
     from broadtrack_graph.geometry.pitch import PitchTemplate
-    from broadtrack_graph.io.detections import DetectionsWriter, read_detections
+    from broadtrack_graph.io.detections import read_detections
+    from broadtrack_graph.io.detections_writer import DetectionsWriter
     from broadtrack_graph.io.jsonfile import read_json
     from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
     from broadtrack_graph.synth.writer import read_camera_track, read_keypoints_file

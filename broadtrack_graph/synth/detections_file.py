@@ -14,7 +14,7 @@ from pathlib import Path
 
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.simulate import SimulationSettings, simulate_frames
-from broadtrack_graph.io.detections import DetectionsWriter
+from broadtrack_graph.io.detections_writer import DetectionsWriter
 from broadtrack_graph.synth.motion import generate_camera_track
 from broadtrack_graph.types.observations import FrameObservations
 

@@ -5,7 +5,8 @@ import pytest
 
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.io.detections import DetectionsWriter, annotations_to_observations, read_detections
+from broadtrack_graph.io.detections import annotations_to_observations, read_detections
+from broadtrack_graph.io.detections_writer import DetectionsWriter
 from broadtrack_graph.types.observations import FrameObservations, KeypointObservations
 
 

@@ -9,7 +9,8 @@ import pytest
 from broadtrack_graph.actions.track import track_input
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.annotations import read_annotations
-from broadtrack_graph.io.detections import DetectionsWriter, annotations_to_observations
+from broadtrack_graph.io.detections import annotations_to_observations
+from broadtrack_graph.io.detections_writer import DetectionsWriter
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.io.tripod_file import read_tripod
