@@ -2,12 +2,22 @@
 
 A broadcast cuts between several tripod cameras. Each camera found gets an id: the id of a
 known camera whose tripod (or, before its tripod is fitted, its first confident focal point)
-lies within ``same_camera_m`` of the new focal point, else a new id named after its kind
+stands where the new camera stands, else a new id named after its kind
 (:func:`broadtrack_graph.reinit.positions.camera_kind`): ``main`` for the first main camera,
 ``high-behind-1``, ``high-corner-1``, ... for the others. No I/O.
+
+"Where it stands" is judged along and across the new camera's line of sight apart. A camera
+fitted from one frame is uncertain mostly along its optical axis: moving the focal point
+towards the pitch while widening the focal length changes the view little (a main camera
+re-initialised on one shot moves 10 m along its line of sight, a few tenths of a metre across
+it). Across the line of sight the view changes (the parallax between the near and far
+touchlines), so two cameras a few metres apart across it are two cameras, each with its own
+tripod, even on one gantry.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -18,22 +28,31 @@ class CameraRegistry:
     """The cameras of a run by id, and the focal point that identifies each.
 
     Args:
-        same_camera_m: a focal point this close to a known camera's position is that camera. The
-            focal point slides along the optical axis with zoom (a few tenths of a metre) and a
-            re-initialised camera can sit a few metres off along its line of sight; two cameras of
-            a broadcast stand ten metres or more apart.
+        same_camera_m: without a line of sight, a focal point this close to a known camera's position is
+            that camera.
+        along_sight_m, across_sight_m: with a line of sight, a focal point this close to a known camera's
+            position along it and across it is that camera (module docstring). The focal point slides along
+            the optical axis with zoom (a few tenths of a metre) and a re-initialised camera can sit ten
+            metres off along its line of sight; across it, a few metres already change the view.
         known: camera id -> position (metres, pitch frame), e.g. the tripods given to the run.
     """
 
-    def __init__(self, same_camera_m: float = 8.0, known: dict[str, np.ndarray] | None = None) -> None:
+    def __init__(self, same_camera_m: float = 8.0, along_sight_m: float = 12.0, across_sight_m: float = 4.0,
+                 known: dict[str, np.ndarray] | None = None) -> None:
         self.same_camera_m = float(same_camera_m)
+        self.along_sight_m = float(along_sight_m)
+        self.across_sight_m = float(across_sight_m)
         self.positions: dict[str, np.ndarray] = {k: np.asarray(v, float).reshape(3) for k, v in (known or {}).items()}
         self._counts: dict[str, int] = {}
 
-    def identify(self, position_w) -> str:
-        """The id of the camera standing at position_w (a new id when no known camera is near)."""
+    def identify(self, position_w, sight_w=None) -> str:
+        """The id of the camera standing at position_w (a new id when no known camera is there).
+
+        sight_w: (3,) the camera's optical axis in the pitch frame (``Camera.R_cw[2]``), or None to
+        judge by distance alone.
+        """
         p = np.asarray(position_w, float).reshape(3)
-        nearest = self.nearest(p)
+        nearest = self.nearest(p, sight_w)
         if nearest is not None:
             return nearest
         kind, _ = camera_kind(p)
@@ -48,15 +67,28 @@ class CameraRegistry:
         self.positions[camera_id] = p
         return camera_id
 
-    def nearest(self, position_w) -> str | None:
-        """The known camera within ``same_camera_m`` of position_w, nearest first, or None."""
+    def nearest(self, position_w, sight_w=None) -> str | None:
+        """The nearest known camera standing where position_w is (see :meth:`identify`), or None."""
         p = np.asarray(position_w, float).reshape(3)
-        best, best_d = None, self.same_camera_m
+        best, best_d = None, math.inf
         for camera_id, q in self.positions.items():
+            if not self.stands_at(camera_id, p, sight_w):
+                continue
             d = float(np.linalg.norm(p - q))
             if d <= best_d:
                 best, best_d = camera_id, d
         return best
+
+    def stands_at(self, camera_id: str, position_w, sight_w=None) -> bool:
+        """True when a camera at position_w (looking along sight_w) can be the known camera ``camera_id``."""
+        offset = np.asarray(position_w, float).reshape(3) - self.positions[camera_id]
+        if sight_w is None:
+            return float(np.linalg.norm(offset)) <= self.same_camera_m
+        axis = np.asarray(sight_w, float).reshape(3)
+        axis = axis / np.linalg.norm(axis)
+        along = float(offset @ axis)
+        across = float(np.linalg.norm(offset - along * axis))
+        return abs(along) <= self.along_sight_m and across <= self.across_sight_m
 
     def update(self, camera_id: str, position_w) -> None:
         """A better position for a known camera (its fitted tripod)."""

@@ -306,7 +306,7 @@ class TrackingRun:
             self._lost = False
             if confidence is not None and confidence >= self.config.confidence_threshold and not entry.suppress_camera:
                 if self.camera_id is None:
-                    self._set_camera(self.policy.registry.identify(camera.position_m))
+                    self._set_camera(self.policy.registry.identify(camera.position_m, camera.R_cw[2]))
                 self.policy.confident(entry.frame.frame_index, camera)
                 if self.shot_index is not None:
                     self.shot_camera_ids.setdefault(self.shot_index, self.camera_id)

@@ -11,24 +11,25 @@ What is tried, cheapest first:
    moved to that camera's known position) or, when the camera id is not known yet (a new
    shot), of every camera seen so far: one local label-and-fit each on the marking map, tens
    of milliseconds (:func:`broadtrack_graph.reinit.cheap.refine_guesses`). A confident refined
-   guess is taken at once and continues its camera's chain: this is how a camera returning
-   after a close-up or a replay is recognised.
+   guess that still stands where its camera stands is taken at once and continues its camera's
+   chain: this is how a camera returning after a close-up or a replay is recognised.
 2. **The global search** in stages, when the search budget allows.
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
      positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
      the other camera kinds (:mod:`broadtrack_graph.reinit.positions`). Every stage is
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
-     a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found confidently at its
-     own position (a camera returning after a cut): each camera's first appearance costs a
-     full search.
+     a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
+     confident by the margin (a camera returning after a cut): each camera's first appearance
+     costs a full search.
    * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
      that camera's position, then its kind's stage (the main camera's: the default positions,
      in case its position came from a provisional tripod); the first confident stage ends it.
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is
-identified by its position (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`): a known
-camera's id, or a new id when it is confident and far from every known camera.
+identified by where it stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along
+and across its line of sight): a known camera's id, or a new id when it is confident and stands
+where no known camera stands.
 
 **One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
@@ -284,9 +285,9 @@ class ReinitPolicy:
         if self.camera_id is not None:
             camera_id = self.camera_id  # a shot's camera does not change
         elif found_confidence >= threshold:
-            camera_id = self.registry.identify(found.camera.position_m)
+            camera_id = self.registry.identify(found.camera.position_m, found.camera.R_cw[2])
         else:
-            camera_id = self.registry.nearest(found.camera.position_m)
+            camera_id = self.registry.nearest(found.camera.position_m, found.camera.R_cw[2])
         decision = self._switch_or_keep(found, found_confidence, camera_id, False, True, label, held,
                                         held_confidence, chain_trusted)
         return replace(decision, new_camera=new_camera) if decision.camera is not None else decision
@@ -329,8 +330,9 @@ class ReinitPolicy:
         best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
         for camera_id, label, camera in self._guesses(frame_index):
             refined = self.refine([(label, camera)], detections, curves)
-            if refined.camera is None:
-                continue
+            if refined.camera is None or (camera_id in self.registry.positions and not self.registry.stands_at(
+                    camera_id, refined.camera.position_m, refined.camera.R_cw[2])):
+                continue  # no camera, or one standing elsewhere: another camera's view, not this camera's
             # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
             confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
             if confidence is not None and (best[0] is None or confidence > best[2]):
@@ -365,8 +367,9 @@ class ReinitPolicy:
         enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
+        trusted = threshold + margin
         for k, (stage_label, positions) in enumerate(stages):
-            if best is not None and best_confidence >= (threshold if best_known else enough):
+            if best is not None and best_confidence >= (trusted if best_known else enough):
                 break
             self.counts["stages"] += 1
             result = self.search(observations, detections, pitch, positions, curves, sampling)

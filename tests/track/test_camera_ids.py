@@ -41,3 +41,20 @@ def test_known_tripods_and_updates_identify_their_cameras():
     registry.update("main", (0.0, 70.0, -15.0))  # the fitted tripod moved it
     assert registry.identify((0.0, 71.0, -15.0)) == "main"
     assert registry.identify((0.0, 55.0, -12.0)) == "main-1"
+
+
+def test_along_the_line_of_sight_is_one_camera_across_it_another():
+    # A main camera 77 m back and 13 m up, looking at the centre spot.
+    position = np.array([0.2, 77.0, -13.0])
+    sight = -position / np.linalg.norm(position)
+    registry = CameraRegistry(known={"main": position})
+    # Re-initialised on one shot, the same camera slides metres along its line of sight.
+    assert registry.identify(position + 10.0 * sight, sight) == "main"
+    assert registry.stands_at("main", position - 9.0 * sight, sight)
+    # Another stadium's main camera 5 m lower and 2 m aside (both 75-77 m back) is another camera,
+    # though it stands within the 8 m that distance alone would accept.
+    other = np.array([-1.6, 75.5, -18.4])
+    assert np.linalg.norm(other - position) < 8.0 and registry.nearest(other) == "main"
+    assert registry.nearest(other, sight) is None
+    assert registry.identify(other, sight) == "main-1"
+    assert registry.identify(other + 3.0 * sight, sight) == "main-1"
