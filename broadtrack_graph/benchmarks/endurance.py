@@ -1,6 +1,6 @@
 """``broadtrack-graph bench endurance``: a long clip tracked online, per-block time and memory, and a killed run.
 
-The product's claim (README, "Modes"): online tracking keeps a flat per-frame cost over a
+The product's claim (README.md, "Modes"): online tracking keeps a flat per-frame cost over a
 match, and an interrupted run keeps every frame it wrote. This suite measures both.
 
 The clip. A segment of ``--unique-frames`` frames of a synthetic preset (default ``long``,

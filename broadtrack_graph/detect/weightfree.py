@@ -79,7 +79,7 @@ class WeightFreeConfig:
     class_consistency_px: float = 1.0  # band (working pixels) around a class's median distance to its prediction
     min_points_per_class: int = 4  # fewer named points: the class is dropped
     point_spacing_px: float = 3.0  # named points are averaged per cell of this size (working pixels)
-    max_points_per_class: int = 250  # more cells: the class is averaged on coarser cells (solver cost ~ points; 100 put the batch tripod of a short 1080p test clip 2.9 m off)
+    max_points_per_class: int = 250  # more cells: the class is averaged on coarser cells (solver cost ~ points; fewer bias the tripod)
     template_spacing_px: float = 0.5  # densified projected template for naming (working pixels)
     # Points are named only after template parts that can be seen: a marking at least this wide (working pixels,
     # the confidence's detectability, reinit.confidence.ConfidenceConfig.min_line_width_px) and outside the

@@ -1,4 +1,4 @@
-"""The tripod model of BroadTrack (WACV 2025; see README.md): the camera turns on a fixed pan/tilt head.
+"""The tripod model of BroadTrack (WACV 2025; see docs/METHOD.md): the camera turns on a fixed pan/tilt head.
 
 The pan and tilt axes of the head meet at a fixed point T_w. A point O on the
 optical axis stays at distance delta from T (O = T - delta * r2, with -r2 the

@@ -29,11 +29,11 @@ class MeasurementSigmas:
     tripod_sigma_m: float = 0.02  # tripod residual sigma (metres)
     # "axis_point" (default): the optical axis passes through T - delta r2 (the full tripod model);
     # "distance": the paper's L_T = delta - |O* - T|, which lets T slide along the optical axis when the
-    # pan range is small (batch on a 200-frame main clip: tripod error 1.99 m vs 0.55 m with axis_point).
+    # pan range is small (docs/BENCHMARKS.md, "Why the defaults").
     tripod_model: str = DEFAULT_TRIPOD_MODEL
     # axis_point with a fixed tripod only: the focal point's place on the optical axis, lambda = r3 . (C - T), stays near
     # its usual value (the entrance pupil moves tens of cm with zoom); None: free. Without it, at
-    # tight zoom C slides metres along the axis against f (16m clip: 1 m drift with a known tripod).
+    # tight zoom C slides metres along the axis against f (docs/BENCHMARKS.md, "Why the defaults").
     tripod_lambda_mean_m: float = 0.2
     tripod_lambda_sigma_m: float | None = 0.25
     line_step_m: float = 1.0  # sampling of straight markings for the projected polylines

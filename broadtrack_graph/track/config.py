@@ -27,7 +27,7 @@ class TrackingConfig:
     cheap_reinit: bool = True  # a lost frame first tries the last confident cameras, refined (False: search at once)
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
-    # (a search stage costs about search_cost_frames tracked frames: 0.3-0.7 s against 35-40 ms a frame); each
+    # (a search stage costs about search_cost_frames tracked frames); each
     # search that finds nothing doubles the wait for the next, up to max_search_backoff times.
     search_time_share: float = 0.2
     search_cost_frames: float = 10.0
@@ -43,7 +43,7 @@ class TrackingConfig:
     tripod_fit_min_inliers: float = 0.6  # an online fit explaining fewer of its frames is rejected (retried later)
     # batch: "fixed" holds the first pass's tripod (or one fitted to it) in the refinement, where the
     # focal point's place on the axis keeps its prior; "joint" re-estimates T and delta with the track
-    # (16m seed 2: T 0.28 m off fixed vs 0.81 m joint; the height of T and delta trade freely there).
+    # (the height of T and delta trade freely at tight zoom: docs/BENCHMARKS.md, "Why the defaults").
     batch_tripod: str = "fixed"
     # frames without detections in a row that the solver carries on the motion prior (status "motion-prior",
     # no camera written) before the track is dropped and the next detections re-initialise it (25 = 1 s at 25 fps)

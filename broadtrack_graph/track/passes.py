@@ -81,7 +81,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     fitted on its confident frames: ``tripod_provisional_frames``, ``tripod_fit_frames``):
     without any tripod term, biased detections at tight zoom walked the focal point
     metres along the optical axis on the 16m preset, and the fit of such a track put T
-    metres off (seed 2: 2.9 m; with the held first pass: see the README figures).
+    metres off (the figures: docs/BENCHMARKS.md, "Why the defaults").
 
     ``on_frame_done`` observes every processed frame of the (first) pass
     (:data:`~broadtrack_graph.track.frame_loop.FrameDone`), e.g. to collect the detector's player boxes.
