@@ -6,7 +6,8 @@
 4-vector variable (batch) or a constant (online, once estimated).
 
 :func:`tripod_axis_point_residuals` is the full model (the axis passes through
-``T - delta r2``), offered as an option: it separates T from delta better.
+``T - delta r2``), the tracker's default (:data:`DEFAULT_TRIPOD_MODEL`): it separates T from
+delta better.
 """
 
 from __future__ import annotations

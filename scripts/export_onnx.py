@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """Export a PyTorch / TorchScript field-marking network to the ONNX contract of broadtrack-graph.
 
-Writes ``OUT.onnx`` and its contract ``OUT.json`` (see broadtrack_graph/frontend/onnx_detector.py),
+Writes ``OUT.onnx`` and its contract ``OUT.json`` (see broadtrack_graph/detect/onnx_detector.py),
 then loads both back with onnxruntime and checks the output shape. torch is needed here
 only; the package never imports it.
 

@@ -34,7 +34,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--height", type=int, default=1080)
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--images", type=Path, default=None,
-                        help="write overlays here: frontend_synthetic_<preset>.png (and frontend_real_frame.jpg)")
+                        help="write overlays here: frontend_synthetic_<preset>.jpg (and frontend_real_frame.jpg: keep it out of the repository, it shows a copyrighted frame)")
     parser.add_argument("--real-frame", type=Path, default=None,
                         help="a real broadcast frame to run the weight-free detector on for the overlay")
     parser.add_argument("--success-px", type=float, default=5.0, help="re-init success bound (median template error)")

@@ -6,7 +6,7 @@ the manifest's folder)::
     {"input": "clips/a.mp4"}
     {"input": "clips/b_frames/", "name": "b", "tripod": "b_tripod.json", "start": 0, "end": 5000}
     {"detections": "det/c.jsonl", "mode": "batch", "chunk_frames": 1500}
-    {"detections": "det/d.jsonl", "frames": "clips/d.mp4"}
+    {"detections": "det/d.jsonl", "input": "clips/d.mp4"}
 
 Keys of a clip:
     input: video file, folder of numbered frames or game-state sequence folder.

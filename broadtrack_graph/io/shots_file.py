@@ -3,10 +3,11 @@
     {"shots": [{"start": 0, "end": 480, "kind": "main", "camera_id": "main", "boundary": "start",
                 "views": {"main": 480}}, ...]}
 
-start / end: first frame index and one past the last (0-based, end exclusive); kind: the
-majority view ("main", "close-up", "crowd"); camera_id: the tracked camera of the shot
-("main"), or null for another view (no camera is written for its frames); boundary: how the
-shot began ("start", "hard" cut, "dissolve"); views: frames per view kind.
+start / end: first frame index and one past the last (0-based, end exclusive); kind: "main"
+(the main camera), "other-camera" (another pitch camera), "pitch" (a pitch view no camera was
+placed for), "close-up" or "crowd" (no pitch; no camera is written for their frames);
+camera_id: the shot's camera ("main", "high-behind-1", ...), or null; boundary: how the shot
+began ("start", "hard" cut, "dissolve", "view" change); views: frames per view kind.
 """
 
 from __future__ import annotations

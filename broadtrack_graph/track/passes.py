@@ -3,8 +3,9 @@
 Without a known tripod, the online modes track the opening frames without the
 tripod term, fit (T, delta) to them (robust to outlier frames) and then hold it
 fixed in the tripod factor; the offline mode does the paper's two passes: track
-without the tripod term, fit, then a batch refinement (Levenberg-Marquardt over
-overlapping chunks) that re-estimates the tripod with the trajectory. The fitted
+with the online tripod (provisional, then fitted), then a batch refinement
+(Levenberg-Marquardt over overlapping chunks) with that tripod held fixed, or re-estimated
+with the trajectory (``batch_tripod``). The fitted
 tripod is written to ``tripod.json`` for later runs of the same camera.
 
 Both offline modes then give a camera to the frames the forward pass could not lock
