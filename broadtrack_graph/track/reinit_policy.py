@@ -11,8 +11,9 @@ What is tried, cheapest first:
    moved to that camera's known position) or, when the camera id is not known yet (a new
    shot), of every camera seen so far: one local label-and-fit each on the marking map, tens
    of milliseconds (:func:`broadtrack_graph.reinit.cheap.refine_guesses`). A confident refined
-   guess that still stands where its camera stands is taken at once and continues its camera's
-   chain: this is how a camera returning after a close-up or a replay is recognised.
+   guess is taken at once and continues its camera's chain (at a shot's start, only when it
+   still stands where its camera stands): this is how a camera returning after a close-up or a
+   replay is recognised.
 2. **The global search** in stages, when the search budget allows.
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
@@ -330,9 +331,11 @@ class ReinitPolicy:
         best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
         for camera_id, label, camera in self._guesses(frame_index):
             refined = self.refine([(label, camera)], detections, curves)
-            if refined.camera is None or (camera_id in self.registry.positions and not self.registry.stands_at(
-                    camera_id, refined.camera.position_m, refined.camera.R_cw[2])):
-                continue  # no camera, or one standing elsewhere: another camera's view, not this camera's
+            if refined.camera is None:
+                continue
+            if self.camera_id is None and camera_id in self.registry.positions and not self.registry.stands_at(
+                    camera_id, refined.camera.position_m, refined.camera.R_cw[2]):
+                continue  # at a shot's start, a known camera's guess that moved elsewhere: another camera's view
             # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
             confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
             if confidence is not None and (best[0] is None or confidence > best[2]):

@@ -211,3 +211,32 @@ def test_tracking_config_rejects_a_bad_budget():
         TrackingConfig(search_time_share=0.0)
     with pytest.raises(ValueError, match="max_search_backoff"):
         replace(TrackingConfig(), max_search_backoff=0)
+
+
+def test_at_a_shot_start_a_guess_that_moved_to_another_camera_is_not_that_camera():
+    fakes = Fakes({None: (MAIN, 0.3)}, guess_confidence=0.75)
+    lower = MAIN.replace(position_m=np.array([0.0, 55.0, -6.0]))  # 6 m lower: across the line of sight
+    fakes.refine = lambda guesses, detections, curves: ReinitResult(
+        lower, LabelledScore(0.75, 0, 0, 0, 0.0, 0.0), "fake fit")
+    policy = _policy(fakes)
+    policy.switch("main")
+    policy.confident(50, MAIN)
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    policy.new_stretch()
+    decision = _decide(policy, 60)
+    assert decision.camera is not lower and fakes.searched  # the guess is dropped, the stages are searched
+    # Mid-shot the shot's own camera may move (its first lock was off): the guess stands.
+    policy = _policy(fakes)
+    policy.switch("main")
+    policy.confident(50, MAIN)
+    decision = _decide(policy, 52)
+    assert decision.camera is lower and decision.camera_id == "main" and decision.continues_chain
+
+
+def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
+    known = ((53.0, 70.0, -22.0),)
+    fakes = Fakes({known: (CORNER, 0.55)})  # confident, but not by the margin: the other stages are searched
+    policy = _policy(fakes)
+    policy.tripod("high-corner-1", known[0])
+    decision = _decide(policy, 0)
+    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)
