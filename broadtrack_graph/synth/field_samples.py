@@ -109,17 +109,17 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int, config: S
     """One training sample (module docstring); the same arguments always give the same sample.
 
     Args:
-        seed: the dataset's seed.
+        seed: the dataset's seed (>= 0).
         index: the sample's number in the dataset (>= 0).
         width_px, height_px: the image size; both must divide by ``config.mask_stride``.
         config: content and randomisation switches.
 
     Raises:
-        ValueError: a negative index, or a size below 16 px or not divisible by the mask stride.
+        ValueError: a negative seed or index, or a size below 16 px or not divisible by the mask stride.
     """
     stride = int(config.mask_stride)
-    if index < 0:
-        raise ValueError(f"index must be >= 0, got {index}")
+    if seed < 0 or index < 0:
+        raise ValueError(f"seed and index must be >= 0, got seed {seed}, index {index}")
     if width_px < 16 or height_px < 16 or width_px % stride or height_px % stride:
         raise ValueError(f"image size must be at least 16x16 and divide by mask_stride {stride}, got {width_px}x{height_px}")
     kind = sample_kind(seed, index, config)
@@ -133,6 +133,8 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int, config: S
     if config.shades_ground:
         textures = field_textures(look.texture_seed)
         shader = GroundShader(look, GroundGrid.of(textures))
+    elif (render_w, render_h) != (width_px, height_px):  # the texel of the samples at every render size
+        textures = field_textures(look.texture_seed, painted=True)
     renderer = Renderer(render_w, render_h, seed=look.texture_seed, settings=_render_settings(config, look), textures=textures)
     rendered = renderer.render(render_camera, players, 0, _previous_camera(render_camera, look), background_shader=shader)
     image, labels = rendered.image, rendered.labels
@@ -232,10 +234,13 @@ def render_camera_for(camera: Camera, render_w: int, render_h: int) -> Camera:
     return dataclasses.replace(camera.rescaled(render_w, render_h), principal_point_px=principal)
 
 
-@lru_cache(maxsize=4)
-def field_textures(texture_seed: int) -> TextureSet:
-    """The marking-free, stripe-free textures of a seed at :data:`FIELD_TEXEL_M` (cached; ~25 MB each)."""
-    return make_textures(FIELD_TEXEL_M, int(texture_seed), markings=False, stripes=False)
+@lru_cache(maxsize=8)
+def field_textures(texture_seed: int, painted: bool = False) -> TextureSet:
+    """The textures of a seed at :data:`FIELD_TEXEL_M` (cached; ~25 MB each).
+
+    painted: with the markings and stripes of the texture (False: plain grass, for the ground shader).
+    """
+    return make_textures(FIELD_TEXEL_M, int(texture_seed), markings=painted, stripes=painted)
 
 
 def _render_settings(config: SampleConfig, look: Look) -> RenderSettings:

@@ -174,6 +174,8 @@ def test_bad_sizes_and_settings_are_refused():
         sample_field(0, 0, 322, 180)
     with pytest.raises(ValueError, match="index"):
         sample_field(0, -1, W, H)
+    with pytest.raises(ValueError, match="seed"):
+        sample_field(-3, 0, W, H)
     with pytest.raises(ValueError, match="unknown camera kind"):
         SampleConfig(camera_kinds=("blimp",))
     with pytest.raises(ValueError, match="jpeg_share"):
