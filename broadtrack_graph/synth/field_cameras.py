@@ -35,7 +35,8 @@ class FieldCameraKind:
     """One kind of broadcast camera for the training samples (metres, pitch frame, z down; degrees where named).
 
     name: the kind (a FieldSample's ``kind``).
-    lens_preset: the synth preset whose lens laws (k1, lambda from the focal length), delta and zoom range reference are used.
+    lens_preset: the synth preset whose lens laws (k1 and lambda from the focal length, over its zoom range) and
+        delta are used.
     tripods_w: tripod points T, one drawn per sample, as the kind stands on the +x side (mirror: x -> -x).
     jitter_m: uniform +- jitter of T per axis.
     hfov_range_deg: narrowest and widest horizontal field of view (drawn log-uniformly).

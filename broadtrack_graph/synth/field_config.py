@@ -9,7 +9,6 @@ the renderer's own behaviour (``render_settings``, the textures of the seed) app
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 from broadtrack_graph.synth.field_cameras import FIELD_KIND_NAMES, field_camera_kind

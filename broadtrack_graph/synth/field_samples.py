@@ -105,7 +105,8 @@ class FieldSample:
         return self.camera is None
 
 
-def sample_field(seed: int, index: int, width_px: int, height_px: int, config: SampleConfig = SampleConfig()) -> FieldSample:
+def sample_field(seed: int, index: int, width_px: int, height_px: int,
+                 config: SampleConfig = SampleConfig()) -> FieldSample:
     """One training sample (module docstring); the same arguments always give the same sample.
 
     Args:
@@ -121,11 +122,13 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int, config: S
     if seed < 0 or index < 0:
         raise ValueError(f"seed and index must be >= 0, got seed {seed}, index {index}")
     if width_px < 16 or height_px < 16 or width_px % stride or height_px % stride:
-        raise ValueError(f"image size must be at least 16x16 and divide by mask_stride {stride}, got {width_px}x{height_px}")
+        raise ValueError(f"image size must be at least 16x16 and divide by mask_stride {stride}, "
+                         f"got {width_px}x{height_px}")
     kind = sample_kind(seed, index, config)
     rng = np.random.default_rng([int(seed), int(index), SAMPLE_STREAM])
     camera, players, centre_w, info = _scene(kind, rng, width_px, height_px, config)
-    look = draw_look(np.random.default_rng([int(seed), int(index), SAMPLE_STREAM, 1]), config, centre_w, camera is not None)
+    look_rng = np.random.default_rng([int(seed), int(index), SAMPLE_STREAM, 1])
+    look = draw_look(look_rng, config, centre_w, camera is not None)
     render_w, render_h = render_size(width_px, height_px, look.render_height_px)
     shown = camera if camera is not None else info.pop("negative_camera")
     render_camera = render_camera_for(shown, render_w, render_h)
@@ -135,8 +138,10 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int, config: S
         shader = GroundShader(look, GroundGrid.of(textures))
     elif (render_w, render_h) != (width_px, height_px):  # the texel of the samples at every render size
         textures = field_textures(look.texture_seed, painted=True)
-    renderer = Renderer(render_w, render_h, seed=look.texture_seed, settings=_render_settings(config, look), textures=textures)
-    rendered = renderer.render(render_camera, players, 0, _previous_camera(render_camera, look), background_shader=shader)
+    renderer = Renderer(render_w, render_h, seed=look.texture_seed, settings=_render_settings(config, look),
+                        textures=textures)
+    rendered = renderer.render(render_camera, players, 0, _previous_camera(render_camera, look),
+                               background_shader=shader)
     image, labels = rendered.image, rendered.labels
     if look.tone is not None or look.noise_sigma:
         image = tone_and_noise(image, look, np.random.default_rng([look.detail_seed, 6]))
@@ -148,9 +153,9 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int, config: S
         image = cv2.resize(image, (width_px, height_px), interpolation=cv2.INTER_AREA if shrink else cv2.INTER_LINEAR)
     info.update(render_size_px=(render_w, render_h), look=look.info(), player_count=_player_count(players))
     if camera is None:
+        no_masks = np.zeros((len(LINE_CLASSES), height_px // stride, width_px // stride), bool)
         return FieldSample(image, None, kind, np.full((FIELD_KEYPOINT_COUNT, 2), np.nan),
-                           np.zeros(FIELD_KEYPOINT_COUNT, bool),
-                           np.zeros((len(LINE_CLASSES), height_px // stride, width_px // stride), bool), stride, players, info)
+                           np.zeros(FIELD_KEYPOINT_COUNT, bool), no_masks, stride, players, info)
     keypoints_px, visible = keypoint_labels(camera, render_camera, labels, hidden)
     masks = line_masks(camera, labels, hidden, stride)
     return FieldSample(image, camera, kind, keypoints_px, visible, masks, stride, players, info)
@@ -211,7 +216,10 @@ def _player_count(players: PlayerTrack | None) -> int:
 
 
 def render_size(width_px: int, height_px: int, render_height_px: int | None) -> tuple[int, int]:
-    """The size rendered at: the requested aspect ratio exactly, the height nearest render_height_px (None: as requested)."""
+    """The size rendered at: the requested aspect ratio exactly, the height nearest render_height_px.
+
+    None: the requested size.
+    """
     if render_height_px is None:
         return width_px, height_px
     unit = math.gcd(width_px, height_px)
@@ -262,7 +270,7 @@ def _render_settings(config: SampleConfig, look: Look) -> RenderSettings:
 
 
 def _previous_camera(camera: Camera, look: Look) -> Camera | None:
-    """The camera one frame (1 / 25 s) earlier for the renderer's motion blur, panning at the look's speed; None: no blur."""
+    """The camera one frame (1 / 25 s) earlier for the renderer's motion blur at the look's speed; None: no blur."""
     if look.pan_speed_deg_s is None:
         return None
     direction = np.random.default_rng([look.detail_seed, 5]).uniform(-0.6, 0.6)  # mostly panning, some tilting
@@ -280,7 +288,8 @@ def keypoint_labels(camera: Camera, render_camera: Camera, labels: np.ndarray, h
     """
     uv, front = camera.project(FIELD_KEYPOINTS_W)
     with np.errstate(invalid="ignore"):
-        visible = front & (uv[:, 0] >= 0) & (uv[:, 0] <= camera.width_px - 1) & (uv[:, 1] >= 0) & (uv[:, 1] <= camera.height_px - 1)
+        visible = front & (uv[:, 0] >= 0) & (uv[:, 0] <= camera.width_px - 1)
+        visible &= (uv[:, 1] >= 0) & (uv[:, 1] <= camera.height_px - 1)
     if visible.any():
         uv_r, _ = render_camera.project(FIELD_KEYPOINTS_W[visible])
         cols = np.clip(np.rint(uv_r[:, 0]), 0, labels.shape[1] - 1).astype(int)

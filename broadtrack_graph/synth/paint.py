@@ -40,7 +40,8 @@ CORNER_ARC_RADIUS_M = 1.0
 
 @dataclass(frozen=True)
 class GroundGrid:
-    """The texel grid of the ground texture: texel (col, row) centred at (x_min + (col + 0.5) texel, y_min + (row + 0.5) texel) metres."""
+    """The texel grid of the ground texture (metres): texel (col, row) is centred at
+    (x_min + (col + 0.5) texel, y_min + (row + 0.5) texel)."""
 
     x_min_m: float
     y_min_m: float
@@ -91,7 +92,8 @@ def pitch_strokes(pitch: PitchTemplate | None = None) -> Strokes:
         for sy in (-1.0, 1.0):
             start = math.atan2(-sy, -sx) - math.pi / 4  # the quarter facing into the pitch
             arcs.append([sx * half_l, sy * half_w, CORNER_ARC_RADIUS_M, start, start + math.pi / 2])
-    spots = [[*pitch.keypoints[name][:2], SPOT_RADIUS_M] for name in ("Centre spot", "Left penalty mark", "Right penalty mark")]
+    spots = [[*pitch.keypoints[name][:2], SPOT_RADIUS_M]
+             for name in ("Centre spot", "Left penalty mark", "Right penalty mark")]
     return Strokes(np.asarray(segments, float).reshape(-1, 4), np.asarray(arcs, float).reshape(-1, 5),
                    np.asarray(spots, float).reshape(-1, 3))
 

@@ -83,8 +83,8 @@ def turf_strokes(rng: np.random.Generator) -> list[tuple[Strokes, tuple[int, int
             for side in (-1.0, 1.0):
                 xc = side * rng.uniform(half_wid + 2.0, 51.0 - half_wid)
                 x0, x1 = xc - half_wid, xc + half_wid
-                segments += [[x0, -half_len, x0, half_len], [x1, -half_len, x1, half_len], [x0, -half_len, x1, -half_len],
-                             [x0, half_len, x1, half_len], [x0, 0.0, x1, 0.0]]
+                segments += [[x0, -half_len, x0, half_len], [x1, -half_len, x1, half_len],
+                             [x0, -half_len, x1, -half_len], [x0, half_len, x1, half_len], [x0, 0.0, x1, 0.0]]
                 arcs.append([xc, 0.0, rng.uniform(4.0, 7.0), 0.0, 2 * math.pi])
                 box = rng.uniform(5.0, 9.0)
                 for end in (-1.0, 1.0):
@@ -96,7 +96,8 @@ def turf_strokes(rng: np.random.Generator) -> list[tuple[Strokes, tuple[int, int
             xs = np.arange(-50.0 + rng.uniform(0, step), 50.0, step)
             half = rng.uniform(20.0, 34.0)
             segments += [[x, -half, x, half] for x in xs]
-        strokes = Strokes(np.asarray(segments, float).reshape(-1, 4), np.asarray(arcs, float).reshape(-1, 5), np.zeros((0, 3)))
+        strokes = Strokes(np.asarray(segments, float).reshape(-1, 4), np.asarray(arcs, float).reshape(-1, 5),
+                          np.zeros((0, 3)))
         out.append((strokes, TURF_PALETTE_BGR[int(colours[sport])], float(rng.uniform(0.04, 0.06))))
     return out
 
@@ -188,7 +189,8 @@ class GroundShader:
                 hot += np.exp(-0.5 * (((xs - cx) / sx) ** 2 + ((ys - cy) / sy) ** 2))
             hot += 0.6 * np.exp(-0.5 * ((np.abs(ys) - 33.0) / 1.2) ** 2)  # the assistant referees' runs
             n = _sample(self.coarse, xs, ys)
-            wear = (look.wear * np.clip(hot * (0.6 + 0.5 * n) + 0.3 * np.maximum(n - 0.8, 0.0), 0.0, 1.0)).astype(np.float32)
+            wear = np.clip(hot * (0.6 + 0.5 * n) + 0.3 * np.maximum(n - 0.8, 0.0), 0.0, 1.0)
+            wear = (look.wear * wear).astype(np.float32)
         size = (shape[1], shape[0])
         up = [cv2.resize(a, size, interpolation=cv2.INTER_LINEAR) for a in (fade, light)]
         return (None if wear is None else cv2.resize(wear, size, interpolation=cv2.INTER_LINEAR)), up[1], up[0]
@@ -199,14 +201,15 @@ class GroundShader:
         if look.stripe_pattern is None:
             pattern, width, contrast, sharpness, phase = (*DEFAULT_STRIPES, 0.0)
         else:
-            pattern, width, contrast, sharpness, phase = (look.stripe_pattern, look.stripe_width_m, look.stripe_contrast,
-                                                          look.stripe_sharpness, look.stripe_phase)
+            pattern, width, contrast = look.stripe_pattern, look.stripe_width_m, look.stripe_contrast
+            sharpness, phase = look.stripe_sharpness, look.stripe_phase
         if pattern == "none" or contrast <= 0:
             return np.ones_like(x)
         k = np.float32(math.pi / width)
 
         def wave(t):  # +-1 square-ish wave of period 2 stripes
-            return np.tanh(np.float32(sharpness) * np.sin(k * t + np.float32(math.pi * phase))) / np.float32(math.tanh(sharpness))
+            steep = np.tanh(np.float32(sharpness) * np.sin(k * t + np.float32(math.pi * phase)))
+            return steep / np.float32(math.tanh(sharpness))
 
         if pattern == "length":
             s = wave(x)

@@ -27,7 +27,6 @@ from broadtrack_graph.synth.ray_cast import ground_maps, pixel_rays, sample_grou
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM, GoalPart, PlayerTrack, Stadium, goal_parts
 from broadtrack_graph.synth.texture import TextureSet, build_textures
 
-
 BackgroundShader = Callable[[Camera, np.ndarray, np.ndarray, np.ndarray, np.ndarray], None]
 """``shader(camera, image, labels, X, Y)``: changes the background of a frame in place before goals and players are
 drawn. image: (H, W, 3) BGR uint8; labels: (H, W) uint8 surface labels (drawing.SURFACE_*); X, Y: (H, W) float32

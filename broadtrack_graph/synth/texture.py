@@ -87,7 +87,8 @@ def _ground(pitch: PitchTemplate, stadium: Stadium, texel: float, rng: np.random
     phase = (xs + half_l) / stripe_w
     stripe_x = 1.0 + (0.085 if stripes else 0.0) * np.tanh(6.0 * np.sin(math.pi * phase)).astype(np.float32)
     cross_w = d.width_m / 10.0
-    stripe_y = 1.0 + (0.012 if stripes else 0.0) * np.tanh(6.0 * np.sin(math.pi * (ys + half_w) / cross_w)).astype(np.float32)
+    cross = np.tanh(6.0 * np.sin(math.pi * (ys + half_w) / cross_w)).astype(np.float32)
+    stripe_y = 1.0 + (0.012 if stripes else 0.0) * cross
     brightness = stripe_y[:, None] * stripe_x[None, :]
     # Multi-scale texture: patches (metres), clumps (decimetres), blades (texel grain).
     brightness *= 1.0 + 0.03 * _noise((rows, cols), (rows * texel // 6 + 2, cols * texel // 6 + 2), rng)

@@ -140,7 +140,8 @@ def test_a_randomisation_switch_changes_the_image_and_nothing_else():
     assert 0.5 < np.abs(on.image_bgr.astype(int) - off.image_bgr.astype(int)).mean() < 20
     np.testing.assert_array_equal(on.camera.to_vector(), off.camera.to_vector())
     np.testing.assert_array_equal(on.keypoints_px, off.keypoints_px)
-    grass_off = sample_field(SEED, index, W, H, SampleConfig(texture_variants=1, jpeg_share=0.0, grass_hue_shift_range=None))
+    no_hue = SampleConfig(texture_variants=1, jpeg_share=0.0, grass_hue_shift_range=None)
+    grass_off = sample_field(SEED, index, W, H, no_hue)
     assert np.abs(grass_off.image_bgr.astype(int) - off.image_bgr.astype(int)).mean() > 0.5
 
 
