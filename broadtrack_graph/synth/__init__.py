@@ -4,6 +4,8 @@ Modules: ``presets`` (where each synthetic camera stands, how it moves), ``motio
 players), ``texture`` (precomputed grass / boards / stands textures), ``render``
 (per-pixel ray casting), ``annotate`` (SoccerNet annotations, masks, keypoints),
 ``clip`` (in-memory clips). Writing clip folders: :mod:`broadtrack_graph.synth.writer`.
+Training samples of a learned field model, one randomised image with exact labels each:
+:func:`broadtrack_graph.synth.field_samples.sample_field`.
 
 ``generate_camera_track`` and ``PRESETS`` import without the renderer; ``render_clip``,
 ``iter_clip_frames`` and ``SyntheticClip`` are loaded on first use.

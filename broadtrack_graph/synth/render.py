@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import cv2
 import numpy as np
@@ -25,6 +26,11 @@ from broadtrack_graph.synth.objects import draw_objects
 from broadtrack_graph.synth.ray_cast import ground_maps, pixel_rays, sample_ground, surroundings
 from broadtrack_graph.synth.scene import DEFAULT_STADIUM, GoalPart, PlayerTrack, Stadium, goal_parts
 from broadtrack_graph.synth.texture import TextureSet, build_textures
+
+BackgroundShader = Callable[[Camera, np.ndarray, np.ndarray, np.ndarray, np.ndarray], None]
+"""``shader(camera, image, labels, X, Y)``: changes the background of a frame in place before goals and players are
+drawn. image: (H, W, 3) BGR uint8; labels: (H, W) uint8 surface labels (drawing.SURFACE_*); X, Y: (H, W) float32
+metres, where each pixel's ray meets the ground plane (meaningful on SURFACE_GROUND pixels only)."""
 
 
 @dataclass(frozen=True)
@@ -74,18 +80,21 @@ class Renderer:
         seed: seed of the textures, the lighting and the noise.
         settings: image formation effects.
         stadium: stadium geometry.
+        textures: the textures to sample (default: those of the seed, :func:`build_textures`, texel 0.025 m from
+            1280 px wide, 0.05 m below).
     """
 
     def __init__(self, width_px: int, height_px: int, seed: int = 0, settings: RenderSettings = RenderSettings(),
-                 stadium: Stadium = DEFAULT_STADIUM) -> None:
+                 stadium: Stadium = DEFAULT_STADIUM, textures: TextureSet | None = None) -> None:
         if width_px < 16 or height_px < 16:
             raise ValueError(f"image size must be at least 16x16, got {width_px}x{height_px}")
         self.width_px, self.height_px = int(width_px), int(height_px)
         self.settings = settings
         self.stadium = stadium
         self.pitch = PitchTemplate()
-        texel = 0.025 if width_px >= 1280 else 0.05
-        self.textures: TextureSet = build_textures(texel, int(seed) % 4, stadium)
+        if textures is None:
+            textures = build_textures(0.025 if width_px >= 1280 else 0.05, int(seed) % 4, stadium)
+        self.textures: TextureSet = textures
         self.goal_parts: list[GoalPart] = goal_parts(self.pitch, stadium)
         self._u = np.arange(self.width_px, dtype=np.float32)
         self._v = np.arange(self.height_px, dtype=np.float32)
@@ -112,8 +121,8 @@ class Renderer:
     # ----------------------------------------------------------------- whole frame
 
     def render(self, camera: Camera, players: PlayerTrack | None = None, frame_index: int = 0,
-               previous_camera: Camera | None = None, want_class_ids: bool = False, time_s: float | None = None
-               ) -> RenderedFrame:
+               previous_camera: Camera | None = None, want_class_ids: bool = False, time_s: float | None = None,
+               background_shader: BackgroundShader | None = None) -> RenderedFrame:
         """Render one frame.
 
         Args:
@@ -123,6 +132,8 @@ class Renderer:
             previous_camera: camera of the previous frame, for motion blur (None: no blur).
             want_class_ids: also return the marking class id under every ground pixel.
             time_s: clip time for the lighting (default frame_index / 25).
+            background_shader: changes the background (ground, boards, stands) in place before goals and players
+                are drawn (None: none).
 
         Returns:
             RenderedFrame.
@@ -155,6 +166,8 @@ class Renderer:
             ground_c = labels[::step, ::step] == SURFACE_GROUND
             gain_c = np.where(ground_c, 1.0 - 0.42 * shade, 1.0).astype(np.float32)
             gain = cv2.resize(gain_c, (W, H), interpolation=cv2.INTER_LINEAR)
+        if background_shader is not None:
+            background_shader(camera, image, labels, X, Y)
         boxes = draw_objects(camera, image, labels, self.goal_parts if settings.goals else [],
                              players if settings.players else None, frame_index)
         # Image formation.

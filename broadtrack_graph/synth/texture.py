@@ -72,7 +72,8 @@ def _draw_polyline(image: np.ndarray, points_px: np.ndarray, value: int, thickne
     cv2.polylines(image, [pts], False, int(value), max(1, int(round(thickness))), line_type, shift)
 
 
-def _ground(pitch: PitchTemplate, stadium: Stadium, texel: float, rng: np.random.Generator):
+def _ground(pitch: PitchTemplate, stadium: Stadium, texel: float, rng: np.random.Generator, markings: bool = True,
+            stripes: bool = True):
     x_min, y_min = -stadium.stand_half_x_m, -stadium.stand_half_y_m
     cols = int(math.ceil(2 * stadium.stand_half_x_m / texel))
     rows = int(math.ceil(2 * stadium.stand_half_y_m / texel))
@@ -84,9 +85,10 @@ def _ground(pitch: PitchTemplate, stadium: Stadium, texel: float, rng: np.random
     # Mowing stripes across the length (bands in x), soft edges; a fainter cross pattern.
     stripe_w = d.length_m / 18.0
     phase = (xs + half_l) / stripe_w
-    stripe_x = 1.0 + 0.085 * np.tanh(6.0 * np.sin(math.pi * phase)).astype(np.float32)
+    stripe_x = 1.0 + (0.085 if stripes else 0.0) * np.tanh(6.0 * np.sin(math.pi * phase)).astype(np.float32)
     cross_w = d.width_m / 10.0
-    stripe_y = 1.0 + 0.012 * np.tanh(6.0 * np.sin(math.pi * (ys + half_w) / cross_w)).astype(np.float32)
+    cross = np.tanh(6.0 * np.sin(math.pi * (ys + half_w) / cross_w)).astype(np.float32)
+    stripe_y = 1.0 + (0.012 if stripes else 0.0) * cross
     brightness = stripe_y[:, None] * stripe_x[None, :]
     # Multi-scale texture: patches (metres), clumps (decimetres), blades (texel grain).
     brightness *= 1.0 + 0.03 * _noise((rows, cols), (rows * texel // 6 + 2, cols * texel // 6 + 2), rng)
@@ -136,6 +138,8 @@ def _ground(pitch: PitchTemplate, stadium: Stadium, texel: float, rng: np.random
     line_wear += 0.05 * grain
     alpha *= np.clip(line_wear, 0.45, 1.0, out=line_wear)
     del line_wear
+    if not markings:  # the random stream is drawn all the same: boards and stands stay those of the seed
+        alpha[:] = 0.0
 
     # Colour, one channel at a time (memory): grass, worn areas, track outside the boards, paint.
     outside = ~((np.abs(xs)[None, :] <= stadium.board_half_x_m) & (np.abs(ys)[:, None] <= stadium.board_half_y_m))
@@ -234,18 +238,21 @@ def _stands(stadium: Stadium, texel: float, rng: np.random.Generator):
     return atlas, rows, u_min
 
 
-@lru_cache(maxsize=2)
-def build_textures(texel_m: float = 0.025, seed: int = 0, stadium: Stadium = DEFAULT_STADIUM) -> TextureSet:
-    """All textures of the stadium (cached: the same arguments return the same object).
+def make_textures(texel_m: float = 0.025, seed: int = 0, stadium: Stadium = DEFAULT_STADIUM, markings: bool = True,
+                  stripes: bool = True) -> TextureSet:
+    """All textures of the stadium (not cached: :func:`build_textures` is the cached form).
 
     Args:
         texel_m: ground texel size in metres (0.025 for HD, 0.05 for small images).
         seed: random seed of the textures.
         stadium: stadium geometry.
+        markings: paint the markings into the ground texture (False: plain grass, for a renderer that
+            paints them itself; the class-id texture is made all the same).
+        stripes: mow stripes into the grass (False: no stripes).
     """
     pitch = PitchTemplate()
     rng = np.random.default_rng([int(seed), 7331])
-    levels, class_ids, x_min, y_min = _ground(pitch, stadium, texel_m, rng)
+    levels, class_ids, x_min, y_min = _ground(pitch, stadium, texel_m, rng, markings, stripes)
     board_texel = 0.02 if texel_m <= 0.03 else 0.04
     boards, board_rows, board_u_min = _boards(stadium, board_texel, rng)
     stand_texel = 0.06 if texel_m <= 0.03 else 0.1
@@ -255,3 +262,15 @@ def build_textures(texel_m: float = 0.025, seed: int = 0, stadium: Stadium = DEF
         boards=boards, board_texel_m=board_texel, board_rows=board_rows, board_u_min_m=board_u_min,
         stands=stands, stand_texel_m=stand_texel, stand_rows=stand_rows, stand_u_min_m=stand_u_min,
     )
+
+
+@lru_cache(maxsize=2)
+def build_textures(texel_m: float = 0.025, seed: int = 0, stadium: Stadium = DEFAULT_STADIUM) -> TextureSet:
+    """All textures of the stadium, markings and stripes included (cached: the same arguments return the same object).
+
+    Args:
+        texel_m: ground texel size in metres (0.025 for HD, 0.05 for small images).
+        seed: random seed of the textures.
+        stadium: stadium geometry.
+    """
+    return make_textures(texel_m, seed, stadium)
