@@ -31,6 +31,7 @@ class DetectorOptions:
     kind: str = "weightfree"  # weightfree | onnx
     segmentation_model: Path | None = None  # ONNX line-segmentation model
     keypoint_model: Path | None = None  # ONNX keypoint-heatmap model
+    field_model: Path | None = None  # ONNX field model: keypoints and lines in one (not with the other two)
 
 
 def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
@@ -42,10 +43,11 @@ def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
     if options.kind == "onnx":
         from broadtrack_graph.detect.onnx_detector import OnnxDetector
 
-        for path in (options.segmentation_model, options.keypoint_model):
+        for path in (options.segmentation_model, options.keypoint_model, options.field_model):
             if path is not None and not Path(path).is_file():
                 raise InputError(path, "model file not found")
-        return OnnxDetector(options.segmentation_model, options.keypoint_model, pitch=pitch)
+        return OnnxDetector(options.segmentation_model, options.keypoint_model, pitch=pitch,
+                            field_model=options.field_model)
     raise InputError(None, f"unknown detector '{options.kind}' (weightfree or onnx)")
 
 

@@ -53,6 +53,8 @@ def add_tracking_arguments(parser) -> None:
                         help=f"field detector (default {_DETECTOR.kind})")
     parser.add_argument("--segmentation-model", type=Path, help="ONNX line-segmentation model (with its .json contract)")
     parser.add_argument("--keypoint-model", type=Path, help="ONNX keypoint-heatmap model (with its .json contract)")
+    parser.add_argument("--field-model", type=Path,
+                        help="ONNX field model: keypoint heatmaps and line classes in one (with its .json contract)")
     parser.add_argument("--start", type=frame_index, default=None, help="first frame index (0-based, inclusive)")
     parser.add_argument("--end", type=frame_index, default=None, help="last frame index (exclusive)")
     parser.add_argument("--no-flow", action="store_true", help="switch the optical-flow factor off")
@@ -136,6 +138,10 @@ def tripod_from_args(args) -> tuple[Tripod | None, tuple | None]:
 
 
 def detector_options(args) -> DetectorOptions:
-    if args.detector == "onnx" and args.segmentation_model is None and args.keypoint_model is None:
-        raise InputError(None, "--detector onnx needs --segmentation-model and/or --keypoint-model")
-    return DetectorOptions(args.detector, args.segmentation_model, args.keypoint_model)
+    field_model = getattr(args, "field_model", None)
+    if args.detector == "onnx" and args.segmentation_model is None and args.keypoint_model is None and field_model is None:
+        raise InputError(None, "--detector onnx needs --segmentation-model and/or --keypoint-model, or --field-model")
+    if field_model is not None and (args.segmentation_model is not None or args.keypoint_model is not None):
+        raise InputError(field_model, "a field model holds both outputs: give it without --segmentation-model "
+                                      "and --keypoint-model")
+    return DetectorOptions(args.detector, args.segmentation_model, args.keypoint_model, field_model)

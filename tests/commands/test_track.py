@@ -68,6 +68,8 @@ def test_config_file_and_flags_given_override_it(calls, tmp_path):
     (["--lag", "0"], "argument --lag: 0 is too small; give an integer >= 1"),
     (["--detector", "onnx"], "--detector onnx needs --segmentation-model and/or --keypoint-model"),
     (["--config", "missing.toml"], "missing.toml: config file not found"),
+    (["--detector", "onnx", "--field-model", "f.onnx", "--keypoint-model", "k.onnx"],
+     "f.onnx: a field model holds both outputs"),
 ])
 def test_bad_value_exits_2_with_one_line(calls, capsys, argv, message):
     assert main(["track", "clip", "--out", "run", *argv]) == 2
@@ -90,3 +92,9 @@ def test_players_option_reaches_the_action(calls, capsys):
     assert call["players"] == "detector" and call["players_options"].pixel_sigma_px == 3.0
     assert main(["track", "clip.mp4", "--out", "run", "--no-progress"]) == 0
     assert calls[1]["players"] is None and calls[1]["players_options"] is None
+
+
+def test_a_field_model_reaches_the_action(calls):
+    assert main(["track", "clip.mp4", "--out", "run", "--detector", "onnx", "--field-model", "field.onnx"]) == 0
+    options = calls[0]["detector"]
+    assert options.kind == "onnx" and str(options.field_model) == "field.onnx" and options.keypoint_model is None

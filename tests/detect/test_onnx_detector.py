@@ -102,3 +102,79 @@ def test_contract_errors_name_the_file(tmp_path, line_model):
         read_contract(bad.with_suffix(".json"))
     with pytest.raises(InputError, match="expected a 'keypoints' model"):
         OnnxDetector(keypoint_model=line_model)
+
+
+def _field_model(path) -> None:
+    """(1, 3, H, W) -> two 1x1 convolutions at stride 2: "keypoints" (1, 1, H/2, W/2) and "lines" (1, 3, H/2, W/2)."""
+    kw = helper.make_tensor("kw", TensorProto.FLOAT, (1, 3, 1, 1), [0.0, 8.0, 0.0])  # nbjw:1 heatmap = 8 * green
+    kb = helper.make_tensor("kb", TensorProto.FLOAT, (1,), [-4.0])
+    lw = np.zeros((3, 3))
+    lw[1, 0] = 10.0  # "Middle line" = 10 * red
+    lw[2, 2] = 10.0  # "Side line top" = 10 * blue
+    lwt = helper.make_tensor("lw", TensorProto.FLOAT, (3, 3, 1, 1), lw.ravel().tolist())
+    lb = helper.make_tensor("lb", TensorProto.FLOAT, (3,), [4.0, 0.0, 0.0])
+    nodes = [helper.make_node("Conv", ["image", "kw", "kb"], ["keypoints"], strides=[2, 2]),
+             helper.make_node("Conv", ["image", "lw", "lb"], ["lines"], strides=[2, 2])]
+    graph = helper.make_graph(
+        nodes, "field", [helper.make_tensor_value_info("image", TensorProto.FLOAT, (1, 3, NET_H, NET_W))],
+        [helper.make_tensor_value_info("keypoints", TensorProto.FLOAT, (1, 1, NET_H // 2, NET_W // 2)),
+         helper.make_tensor_value_info("lines", TensorProto.FLOAT, (1, 3, NET_H // 2, NET_W // 2))],
+        initializer=[kw, kb, lwt, lb])
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 13)])
+    model.ir_version = 8
+    onnx.save(model, str(path))
+    contract = {"kind": "field",
+                "input": {"width": NET_W, "height": NET_H, "colour_order": "RGB", "scale": 1 / 255,
+                          "mean": [0.0, 0.0, 0.0], "std": [1.0, 1.0, 1.0]},
+                "outputs": {"keypoints": {"activation": "sigmoid", "classes": ["nbjw:1"]},
+                            "lines": {"activation": "softmax", "classes": ["background", "Middle line", "Side line top"]}},
+                "threshold": 0.5}
+    path.with_suffix(".json").write_text(json.dumps(contract))
+
+
+def test_field_model_gives_lines_and_nbjw_keypoints_from_a_coarser_grid(tmp_path):
+    from broadtrack_graph.io.nbjw_keypoints import NBJW_KEYPOINTS_W
+
+    path = tmp_path / "field.onnx"
+    _field_model(path)
+    assert read_contract(path.with_suffix(".json")).outputs[1].classes[1] == "Middle line"
+    W, H = 256, 192  # 4x the network input, 8x its output grid
+    image = np.zeros((H, W, 3), np.uint8)
+    cv2.line(image, (40, 20), (200, 170), (0, 0, 255), 13)  # red in BGR
+    cv2.circle(image, (120, 40), 9, (0, 255, 0), -1)
+    det = OnnxDetector(field_model=path).detect(image)
+    assert set(det.lines_px) == {"Middle line"} and len(det.lines_px["Middle line"]) >= 5
+    a, d = np.array([40.0, 20.0]), np.array([160.0, 150.0])
+    points = det.lines_px["Middle line"]
+    distance = np.abs((points[:, 0] - a[0]) * d[1] - (points[:, 1] - a[1]) * d[0]) / np.linalg.norm(d)
+    assert np.median(distance) < 4.0  # one output cell is 8 frame pixels
+    assert det.keypoints.names == [""]  # an nbjw keypoint is known by its world point
+    np.testing.assert_allclose(det.keypoints.points_w[0], NBJW_KEYPOINTS_W[1])
+    np.testing.assert_allclose(det.keypoints.uv_px[0], [120, 40], atol=4.0)
+    obs = det.to_observations(0)
+    assert obs.keypoints.points_w.shape == (1, 3)
+
+
+def test_field_contract_errors_name_the_file(tmp_path):
+    path = tmp_path / "field.onnx"
+    _field_model(path)
+    contract = json.loads(path.with_suffix(".json").read_text())
+    contract["outputs"]["keypoints"]["classes"] = ["nbjw:99"]
+    path.with_suffix(".json").write_text(json.dumps(contract))
+    with pytest.raises(InputError, match="field.json.*unknown keypoint"):
+        OnnxDetector(field_model=path)
+    del contract["outputs"]["lines"]
+    contract["outputs"]["keypoints"]["classes"] = ["nbjw:1"]
+    path.with_suffix(".json").write_text(json.dumps(contract))
+    with pytest.raises(InputError, match="outputs must be"):
+        OnnxDetector(field_model=path)
+    _field_model(path)
+    contract = json.loads(path.with_suffix(".json").read_text())
+    contract["outputs"]["lines"]["classes"] = ["background", "Middle line"]  # the model has 3 channels
+    path.with_suffix(".json").write_text(json.dumps(contract))
+    with pytest.raises(InputError, match="output lines has 3 channels"):
+        OnnxDetector(field_model=path)
+    with pytest.raises(InputError, match="expected a 'field' model"):
+        _write_contract(tmp_path / "lines.onnx", "lines", ["background", "Middle line", "Side line top"])
+        _conv_model(tmp_path / "lines.onnx", np.zeros((3, 3)), np.zeros(3))
+        OnnxDetector(field_model=tmp_path / "lines.onnx")
