@@ -35,6 +35,8 @@ def main(argv=None) -> int:
     parser.add_argument("--batch", type=int, default=12)
     parser.add_argument("--hours", type=float, default=2.5, help="stop training after this long (resumable)")
     parser.add_argument("--workers", type=int, default=2, help="processes generating shards (default 2)")
+    parser.add_argument("--threshold", type=float, default=0.3,
+                        help="keypoint and line score threshold written into the contract (default 0.3)")
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
     progress = not args.no_progress
@@ -49,7 +51,8 @@ def main(argv=None) -> int:
     if "export" in args.steps:
         from field_model.export import export
 
-        path = export(args.out / "checkpoint.pt", args.out / "field_model.onnx", args.width, args.height)
+        path = export(args.out / "checkpoint.pt", args.out / "field_model.onnx", args.width, args.height,
+                      args.threshold)
         print(f"exported {path} and {path.with_suffix('.json')}")
     return 0
 

@@ -114,3 +114,68 @@ def calibrate_folder(annotations_path: str | Path, out_dir: str | Path, width_px
 
         write_mosaic(previews, preview_path)
     return summary
+
+
+def calibrate_images(images_path: str | Path, out_dir: str | Path, model_path: str | Path | None = None,
+                     preview_path: str | Path | None = None, progress: bool = True) -> dict:
+    """One camera per image (or video frame) from the learned field model alone; ``camera_<id>.json`` into out_dir.
+
+    Each frame's keypoints give a camera (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`); it is
+    written only when :class:`~broadtrack_graph.reinit.field_model.ModelAcceptance` accepts it (enough
+    keypoints agree with it), at the frame's own resolution. Files are written as frames are done, so an
+    interrupted run keeps them.
+
+    Args:
+        images_path: a folder of images, a video file or a game-state sequence folder.
+        out_dir: folder for the camera files (created).
+        model_path: a field model .onnx (default: the shipped one).
+        preview_path: write a PNG mosaic of :data:`PREVIEW_FRAMES` evenly spaced frames with the projected pitch.
+
+    Returns:
+        {"frames", "cameras", "missing" (frame id -> reason), "keypoints_median"}.
+
+    Raises:
+        InputError: no readable input, or a model that breaks its contract.
+    """
+    from tqdm import tqdm
+
+    from broadtrack_graph.detect.field_model import FieldModel
+    from broadtrack_graph.io.frames import open_frames
+    from broadtrack_graph.reinit.field_model import ModelAcceptance, ModelReinit
+
+    reinit, acceptance = ModelReinit(FieldModel(model_path)), ModelAcceptance()
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    summary: dict = {"frames": 0, "cameras": 0, "missing": {}}
+    keypoint_counts, previews = [], []
+    with open_frames(images_path) as source:
+        preview_every = max(1, len(source) // PREVIEW_FRAMES)
+        for frame in tqdm(source, total=len(source), desc="calibrate", unit="frame", disable=not progress):
+            summary["frames"] += 1
+            if frame.image_bgr is None:
+                summary["missing"][frame.frame_id] = frame.problem or "frame could not be read"
+                continue
+            result = reinit(frame.image_bgr)
+            keypoint_counts.append(len(reinit.last_keypoints) if reinit.last_keypoints is not None else 0)
+            H, W = frame.image_bgr.shape[:2]
+            camera = result.camera if acceptance.accepts(result) else None
+            if camera is not None:
+                write_camera_file(out_dir / camera_file_name(frame.frame_id), camera, W, H)
+                summary["cameras"] += 1
+            else:
+                summary["missing"][frame.frame_id] = result.reason or (
+                    f"{result.score.tp} of {keypoint_counts[-1]} keypoints agree with the camera: not accepted")
+            if preview_path is not None and frame.frame_index % preview_every == 0 and len(previews) < PREVIEW_FRAMES:
+                from broadtrack_graph.products.overlay import draw_pitch
+
+                picture = frame.image_bgr.copy()
+                previews.append(draw_pitch(picture, camera) if camera is not None else picture)
+    summary["keypoints_median"] = float(np.median(keypoint_counts)) if keypoint_counts else 0.0
+    if preview_path is not None and previews:
+        import cv2
+
+        from broadtrack_graph.products.calibration_preview import write_mosaic
+
+        size = previews[0].shape[1::-1]
+        write_mosaic([p if p.shape == previews[0].shape else cv2.resize(p, size) for p in previews], preview_path)
+    return summary

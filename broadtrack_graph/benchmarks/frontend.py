@@ -7,7 +7,10 @@ On rendered clips (synth presets, 1920x1080 by default), one thread for OpenCV:
 * accuracy: share of named points within 2 px of the true marking (point-to-polyline),
   the prediction being the true camera perturbed (about 3 px) with uncertainty 3 px;
 * re-initialisation from a lost state (no usable previous camera): for frames showing at
-  least 3 marking classes, :func:`reinit_from_mask` on the weight-free marking map;
+  least 3 marking classes, as the tracker does at a new shot: the learned field model's camera
+  (``--reinit-model``, the shipped one by default), refined on the weight-free marking map and taken
+  when certain (``CERTAIN_CONFIDENCE``, as the tracker takes a new shot's camera without a search), else
+  :func:`reinit_from_mask` on the map (the weight-free global search);
   success = median reprojection error of the visible template below ``--success-px``;
   its time per frame (median and 90th percentile, wall clock and CPU time of the process:
   the CPU figure is less inflated by other jobs on the machine). Also reported over the
@@ -23,6 +26,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from broadtrack_graph.benchmarks.options import add_reinit_model
+
 HELP = "front end: weight-free detection + flow speed, named-point accuracy, re-initialisation success and speed"
 
 
@@ -37,6 +42,7 @@ def add_arguments(parser) -> None:
                         help="write overlays here: frontend_synthetic_<preset>.jpg (and frontend_real_frame.jpg: keep it out of the repository, it shows a copyrighted frame)")
     parser.add_argument("--real-frame", type=Path, default=None,
                         help="a real broadcast frame to run the weight-free detector on for the overlay")
+    add_reinit_model(parser)
     parser.add_argument("--success-px", type=float, default=5.0, help="re-init success bound (median template error)")
     parser.add_argument("--min-marking-points", type=int, default=150,
                         help="frames whose marking map has fewer centre-line points (motion blur, close-ups) are "
@@ -51,9 +57,13 @@ def run(args) -> dict:
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
+    from broadtrack_graph.reinit.cheap import refine_guesses
     from broadtrack_graph.reinit.confidence import camera_confidence
+    from broadtrack_graph.reinit.field_model import model_reinit_for
+    from broadtrack_graph.reinit.frame import plausible_position
     from broadtrack_graph.reinit.mask import reinit_from_mask
     from broadtrack_graph.synth.clip import render_clip
+    from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE
 
     cv2.setNumThreads(1)
     pitch = PitchTemplate()
@@ -62,11 +72,27 @@ def run(args) -> dict:
     fine = TemplateCurves(pitch, line_step_m=0.1, circle_step_m=0.05)
     ground_samples = np.vstack([p for n, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(n)])
     rng = np.random.default_rng(args.seed)
-    report = {"presets": {}, "resolution": f"{args.width}x{args.height}"}
+    model = model_reinit_for(args.reinit_model)
+    model_accept = CERTAIN_CONFIDENCE  # a new shot's camera, as the tracker takes the model's without a search
+
+    def reinitialise(image, det):
+        """(result, found by the model): the model's camera when confident, else the weight-free search's."""
+        if model is not None:
+            found = model(image)
+            if found.camera is not None:
+                refined = refine_guesses([(found.hypothesis, found.camera)], det, curves)
+                if refined.camera is not None and refined.score.jaccard >= model_accept and \
+                        plausible_position(refined.camera.position_m, pitch):
+                    return refined, True
+        return reinit_from_mask(det.marking_mask, det.marking_points_px, (args.width, args.height), pitch,
+                                curves=curves, field_mask=det.field_mask), False
+
+    report = {"presets": {}, "resolution": f"{args.width}x{args.height}",
+              "reinit_model": None if model is None else str(model.model.path)}
     for preset in args.presets:
         clip = render_clip(preset, args.frames, args.width, args.height, seed=args.seed)
         det_ms, flow_ms, total_ms, within, reinit_ms, outcomes, confidences = [], [], [], [], [], [], []
-        reinit_cpu_ms = []
+        reinit_cpu_ms, by_model = [], []
         detectable, marking_counts = [], []
         previous_grey = None
         for frame in tqdm(clip.frames, desc=f"frontend {preset}", unit="frame"):
@@ -96,9 +122,8 @@ def run(args) -> dict:
                 detectable.append(len(det.marking_points_px) >= args.min_marking_points)
                 marking_counts.append(int(len(det.marking_points_px)))
                 t3, c3 = time.perf_counter(), time.process_time()
-                result = reinit_from_mask(det.marking_mask, det.marking_points_px, (args.width, args.height), pitch,
-                                          curves=curves,
-                                          field_mask=det.field_mask)
+                result, from_model = reinitialise(frame.image, det)
+                by_model.append(from_model)
                 reinit_ms.append(1000 * (time.perf_counter() - t3))
                 reinit_cpu_ms.append(1000 * (time.process_time() - c3))
                 uv_true, front = truth.project(ground_samples)
@@ -134,6 +159,7 @@ def run(args) -> dict:
                 float(np.mean(outcomes[np.asarray(detectable, bool)] < args.success_px)) if any(detectable) else 0.0, 3),
             "reinit_median_error_px": [round(float(v), 2) for v in outcomes],
             "marking_points_at_reinit": marking_counts,
+            "reinit_by_model_share": round(float(np.mean(by_model)), 3) if by_model else None,
             "reinit_ms_median": round(float(np.median(reinit_ms)), 1) if reinit_ms else None,
             "reinit_ms_p90": round(float(np.percentile(reinit_ms, 90)), 1) if reinit_ms else None,
             "reinit_cpu_ms_median": round(float(np.median(reinit_cpu_ms)), 1) if reinit_cpu_ms else None,

@@ -28,6 +28,7 @@ import logging
 import time
 from pathlib import Path
 
+from broadtrack_graph.benchmarks.options import add_reinit_model
 from broadtrack_graph.types.modes import MODES
 
 HELP = ("the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a "
@@ -47,6 +48,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", type=Path, default=Path("bench-real"), help="folder for the runs (default ./bench-real)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     parser.add_argument("--video-dir", type=Path, default=None, help="folder of real broadcast videos (*.mp4)")
+    add_reinit_model(parser)
     parser.add_argument("--runs", type=Path, default=None,
                         help="video: score existing run folders <RUNS>/<clip> instead of tracking again")
     parser.add_argument("--end", type=int, default=None, help="video: track only the first END frames of each clip")

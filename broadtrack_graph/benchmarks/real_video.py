@@ -45,7 +45,7 @@ def run_video_clips(args) -> dict:
     for video in clips:
         run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
         if args.runs is None:
-            track_input(video, run_dir, TrackingConfig(mode="online"), end=args.end, progress=not args.no_progress)
+            track_input(video, run_dir, TrackingConfig(mode="online", reinit_model=args.reinit_model), end=args.end, progress=not args.no_progress)
         report[video.stem] = score_clip(video, run_dir, args.score_every, end=args.end)
         if not args.no_overlay:
             from broadtrack_graph.products.overlay import write_overlay

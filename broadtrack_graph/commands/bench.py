@@ -23,6 +23,7 @@ SUITES = (
     "players",
     "scale",
     "broadcast",
+    "model",
 )
 
 

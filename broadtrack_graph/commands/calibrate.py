@@ -1,4 +1,5 @@
-"""``broadtrack-graph calibrate``: one camera per annotated frame from its labelled line points."""
+"""``broadtrack-graph calibrate``: one camera per frame, from its annotation's line points or from images by the
+learned field model alone."""
 
 from __future__ import annotations
 
@@ -6,18 +7,25 @@ import json
 import logging
 from pathlib import Path
 
-from broadtrack_graph.actions.calibrate import PREVIEW_FRAMES, calibrate_folder
+from broadtrack_graph.actions.calibrate import PREVIEW_FRAMES, calibrate_folder, calibrate_images
 from broadtrack_graph.commands.console import EXIT_NO_CAMERA
 from broadtrack_graph.commands.validate import int_at_least
 
 log = logging.getLogger(__name__)
 
-HELP = "single-frame calibration: treat each annotation file's line points as detections, write camera files"
+HELP = ("single-frame calibration: one camera file per frame, from each annotation file's line points "
+        "(--annotations) or from images by the shipped field model alone (--images)")
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("--annotations", required=True, type=Path,
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--annotations", type=Path,
                         help="folder of per-image NNNNN.json annotations, or a Labels-GameState.json (or its folder)")
+    source.add_argument("--images", type=Path,
+                        help="a folder of images, a video or a game-state sequence: one camera per frame from the "
+                             "learned field model alone (cameras at each frame's own size; --width/--height unused)")
+    parser.add_argument("--model", type=Path, default=None,
+                        help="with --images: a field model .onnx with its .json contract (default: the shipped one)")
     parser.add_argument("--out", required=True, type=Path, help="folder for camera_NNNNN.json files (created)")
     parser.add_argument("--width", type=int_at_least(2), default=960, help="image width in pixels the cameras are for (default 960)")
     parser.add_argument("--height", type=int_at_least(2), default=540, help="image height in pixels (default 540)")
@@ -29,8 +37,12 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    summary = calibrate_folder(args.annotations, args.out, args.width, args.height, jobs=args.jobs,
-                               preview_path=args.preview, progress=not args.no_progress)
+    if args.images is not None:
+        summary = calibrate_images(args.images, args.out, args.model, preview_path=args.preview,
+                                   progress=not args.no_progress)
+    else:
+        summary = calibrate_folder(args.annotations, args.out, args.width, args.height, jobs=args.jobs,
+                                   preview_path=args.preview, progress=not args.no_progress)
     missing = summary.pop("missing")
     print(json.dumps({**summary, "missing_count": len(missing), "missing": dict(list(missing.items())[:20])}, indent=2))
     if summary["cameras"] == 0:

@@ -54,7 +54,12 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--segmentation-model", type=Path, help="ONNX line-segmentation model (with its .json contract)")
     parser.add_argument("--keypoint-model", type=Path, help="ONNX keypoint-heatmap model (with its .json contract)")
     parser.add_argument("--field-model", type=Path,
-                        help="ONNX field model: keypoint heatmaps and line classes in one (with its .json contract)")
+                        help="ONNX field model: keypoint heatmaps and line classes in one (with its .json contract); "
+                             "--detector onnx with no model runs the shipped one")
+    parser.add_argument("--reinit-model", default=None, metavar="shipped|none|FILE",
+                        help="the learned field model tried before the global search when a frame needs a camera "
+                             "from nothing: 'shipped' (the package's), 'none', or a field model .onnx with its .json "
+                             f"contract (default {_DEFAULT.reinit_model})")
     parser.add_argument("--start", type=frame_index, default=None, help="first frame index (0-based, inclusive)")
     parser.add_argument("--end", type=frame_index, default=None, help="last frame index (exclusive)")
     parser.add_argument("--no-flow", action="store_true", help="switch the optical-flow factor off")
@@ -79,7 +84,8 @@ def config_from_args(args) -> TrackingConfig:
     """
     overrides = {}
     for flag, field in (("mode", "mode"), ("lag", "lag_frames"), ("confidence_threshold", "confidence_threshold"),
-                        ("batch_tripod", "batch_tripod"), ("recover_max_frames", "recover_max_frames")):
+                        ("batch_tripod", "batch_tripod"), ("recover_max_frames", "recover_max_frames"),
+                        ("reinit_model", "reinit_model")):
         if getattr(args, flag, None) is not None:
             overrides[field] = getattr(args, flag)
     for flag, field in (("no_flow", "use_flow"), ("no_tripod", "use_tripod"), ("no_k1", "estimate_k1")):
@@ -140,7 +146,12 @@ def tripod_from_args(args) -> tuple[Tripod | None, tuple | None]:
 def detector_options(args) -> DetectorOptions:
     field_model = getattr(args, "field_model", None)
     if args.detector == "onnx" and args.segmentation_model is None and args.keypoint_model is None and field_model is None:
-        raise InputError(None, "--detector onnx needs --segmentation-model and/or --keypoint-model, or --field-model")
+        from broadtrack_graph.detect.field_model import SHIPPED_FIELD_MODEL, shipped_field_model
+
+        field_model = shipped_field_model()  # no model given: the shipped one
+        if field_model is None:
+            raise InputError(SHIPPED_FIELD_MODEL, "--detector onnx without a model needs the shipped field model; "
+                                                  "give --segmentation-model / --keypoint-model or --field-model")
     if field_model is not None and (args.segmentation_model is not None or args.keypoint_model is not None):
         raise InputError(field_model, "a field model holds both outputs: give it without --segmentation-model "
                                       "and --keypoint-model")

@@ -92,11 +92,13 @@ class OnnxModel:
         tensor = resized.transpose(2, 0, 1).astype(np.float32) * np.float32(c.scale)
         return ((tensor - self._mean) / self._std)[None]
 
-    def scores(self, image_bgr: np.ndarray) -> dict[str, np.ndarray]:
-        """Output name -> (C, h, w) per-class probabilities (each output's activation applied)."""
+    def scores(self, image_bgr: np.ndarray, only: str | None = None) -> dict[str, np.ndarray]:
+        """Output name -> (C, h, w) per-class probabilities (each output's activation applied; only: that output)."""
         raws = self.session.run(None, {self.input_name: self.preprocess(image_bgr)})
         out = {}
         for raw, head in zip(raws, self.contract.outputs):
+            if only is not None and head.name != only:
+                continue
             if raw.ndim != 4 or raw.shape[0] != 1 or raw.shape[1] != len(head.classes):
                 raise InputError(self.path, f"output {head.name} shape {raw.shape} does not match "
                                             f"{len(head.classes)} classes")
@@ -154,7 +156,7 @@ class OnnxDetector:
                 if head.name == "lines":
                     self._lines(scores[head.name], head, model.contract.threshold, detections)
                 else:
-                    detections.keypoints = self._keypoints(scores[head.name], head, model.contract.threshold, (W, H))
+                    detections.keypoints = self.decode_keypoints(scores[head.name], head, model.contract.threshold, (W, H))
         detections.info["detect_ms"] = 1000 * (time.perf_counter() - started)
         return detections
 
@@ -181,8 +183,9 @@ class OnnxDetector:
         detections.marking_points_px = np.vstack(all_points) if all_points else np.zeros((0, 2))
         detections.marking_mask = cv2.resize(marks * 255, frame_size, interpolation=cv2.INTER_NEAREST) > 0
 
-    def _keypoints(self, heat: np.ndarray, head: OutputContract, threshold: float,
-                   frame_size: tuple[int, int]) -> KeypointObservations:
+    def decode_keypoints(self, heat: np.ndarray, head: OutputContract, threshold: float,
+                         frame_size: tuple[int, int]) -> KeypointObservations:
+        """(K, h, w) heatmaps -> keypoints in frame pixels: each class's peak above threshold, sub-cell by a parabola."""
         uv, names, points_w, conf = [], [], [], []
         h, w = heat.shape[1:]
         for channel, name in enumerate(head.classes):

@@ -14,10 +14,12 @@ from __future__ import annotations
 import itertools
 import math
 
+import cv2
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
 from broadtrack_graph.geometry.state import project_state
+from broadtrack_graph.reinit.lines import camera_from_homography
 from broadtrack_graph.reinit.positions import candidate_positions
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
@@ -185,6 +187,60 @@ def reinit_from_keypoints(
     share = float(np.mean(err < inlier_px))
     score = LabelledScore(0.0, 0, 0, 0, share, float(np.mean(np.minimum(err, 100.0))))
     return ReinitResult(camera, score, f"two-point at {tuple(round(v) for v in position)}", tried=len(pairs))
+
+
+def camera_from_keypoints(uv_px: np.ndarray, points_w: np.ndarray, width_px: int, height_px: int,
+                          inlier_px: float | None = None, positions_w=None) -> ReinitResult:
+    """A full camera (f, pan, tilt, roll, focal point) from labelled keypoints, wherever the camera stands.
+
+    With at least 4 keypoints on the grass: a RANSAC homography (pitch plane -> pixels) within
+    ``inlier_px``, decomposed into a camera (:func:`~broadtrack_graph.reinit.lines.camera_from_homography`),
+    refined on the homography's inliers, then on the camera's own inliers (every keypoint, the crossbar's too: f, pan, tilt, roll and the
+    focal point, Cauchy-weighted Gauss-Newton, the focal point only weakly held), loose then tight.
+    With fewer, or when the homography gives no camera, the two-point method at the candidate
+    positions (:func:`reinit_from_keypoints`). k1 is 0.
+
+    Args:
+        uv_px: (N, 2) pixels; points_w: (N, 3) metres.
+        inlier_px: a keypoint within this many pixels is an inlier (default 1 % of the width: a
+            heatmap detector's few pixels, at any resolution).
+        positions_w: candidate focal points for the two-point fallback (default: the broadcast positions).
+
+    Returns:
+        ReinitResult; ``score.inlier_share`` is the share of keypoints within ``inlier_px``,
+        ``score.tp`` their number (a homography of 4 points always fits: judge by more).
+    """
+    uv_px = np.asarray(uv_px, float).reshape(-1, 2)
+    points_w = np.asarray(points_w, float).reshape(-1, 3)
+    inlier_px = float(inlier_px) if inlier_px is not None else max(4.0, 0.01 * width_px)
+    ground = np.flatnonzero(points_w[:, 2] == 0.0)
+    camera = None
+    if len(ground) >= 4:
+        H, mask = cv2.findHomography(points_w[ground, :2], uv_px[ground], cv2.RANSAC, inlier_px)
+        if H is not None and np.isfinite(H).all() and mask is not None and mask.sum() >= 4:
+            agreeing = ground[mask.ravel() > 0]
+            camera = camera_from_homography(H, width_px, height_px, points_w[agreeing])
+            if camera is not None:  # the decomposition of a noisy homography can be tens of pixels off
+                camera = _refine_on_keypoints(camera, uv_px[agreeing], points_w[agreeing], camera.position_m,
+                                              sigma_position_m=50.0)
+    if camera is None:
+        result = reinit_from_keypoints(uv_px, points_w, width_px, height_px, positions_w=positions_w,
+                                       inlier_px=inlier_px)
+        if result.camera is None:
+            return result
+        camera, hypothesis = result.camera, result.hypothesis
+    else:
+        hypothesis = "keypoint homography"
+        start = camera.position_m
+        for threshold in (4.0 * inlier_px, 2.0 * inlier_px, inlier_px):
+            _, inliers = _score(camera, uv_px, points_w, threshold)
+            if inliers.sum() >= 4:
+                camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], start, sigma_position_m=50.0)
+    uv, front = camera.project(points_w)
+    err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
+    inliers = err < inlier_px
+    score = LabelledScore(0.0, int(inliers.sum()), 0, 0, float(np.mean(inliers)), float(np.mean(np.minimum(err, 100.0))))
+    return ReinitResult(camera, score, hypothesis)
 
 
 def _score(camera: Camera, uv_px: np.ndarray, points_w: np.ndarray, inlier_px: float):

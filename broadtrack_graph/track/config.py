@@ -25,6 +25,9 @@ class TrackingConfig:
     # trusted chain, a refined guess, an earlier search stage's camera) only when this much more confident.
     reinit_switch_margin: float = 0.1
     cheap_reinit: bool = True  # a lost frame first tries the last confident cameras, refined (False: search at once)
+    # The learned field model tried after the guesses and before the global search: "shipped" (the package's
+    # model), "none", or a field model's .onnx (with its contract)
+    reinit_model: str = "shipped"
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each

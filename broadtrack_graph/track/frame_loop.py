@@ -40,6 +40,7 @@ from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.cheap import refine_guesses
+from broadtrack_graph.reinit.field_model import model_reinit_for
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
@@ -101,7 +102,7 @@ class TrackingRun:
         self.known_tripod = tripod
         known = {camera_id: t.T_w for camera_id, t in (tripods or {}).items()}
         self.policy = ReinitPolicy(config, reinitialise, refine_guesses, confidence, CameraRegistry(known=known),
-                                   search_positions=reinit_positions)
+                                   reinit_positions, model_reinit_for(config.reinit_model) if detector else None)
         self.confidence = confidence
         self.on_frame_done = on_frame_done
         use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
@@ -196,7 +197,7 @@ class TrackingRun:
         trust_previous = not self._lost
         self._reinit_continues = False
         if self._lost:
-            decision = self._decide(observations, detections)
+            decision = self._decide(observations, detections, image=frame.image)
             if decision.camera is None:
                 self.records.emit_now(frame, FrameStatus.UNPLACED if detections is not None else FrameStatus.NO_DETECTIONS,
                                       f"no camera found: {decision.reason}")
@@ -227,11 +228,11 @@ class TrackingRun:
         return observations, detections
 
     def _decide(self, observations: FrameObservations, detections: Detections | None, held: Camera | None = None,
-                held_confidence: float | None = None) -> ReinitDecision:
-        """The re-initialisation policy's decision for this frame (its time counted)."""
+                held_confidence: float | None = None, image=None) -> ReinitDecision:
+        """The re-initialisation policy's decision for this frame (its time counted; image: for the field model)."""
         started = time.perf_counter()
         decision = self.policy.decide(observations, detections, self.pitch, self.curves, self.sampling, held,
-                                      held_confidence, self._chain_confident)
+                                      held_confidence, self._chain_confident, image)
         self.timings["reinit_s"] += time.perf_counter() - started
         if decision.camera is not None and not self.config.estimate_k1:
             decision = replace(decision, camera=decision.camera.replace(k1=0.0))
@@ -265,7 +266,7 @@ class TrackingRun:
         continues_chain = reinitialised and self._reinit_continues
         if camera is None or (low and not reinitialised):
             # Re-initialise this frame; the next frame does not trust flow from the previous camera.
-            decision = self._decide(observations, detections, camera, confidence)
+            decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
             if decision.camera is not None:
                 self._adopt(decision)
                 self.solver.reset(decision.camera)
@@ -333,7 +334,8 @@ class TrackingRun:
             self.timings["backfill_s"] = self.backfill.seconds
         extra = dict(extra_summary or {})
         tripod, by_camera = self.online_tripod.write(self.solver, RunFolder(self.out_dir), extra)
-        extra["timings_s"] = {k: round(v, 3) for k, v in self.timings.items()}
+        model_s = {"reinit_model_s": self.policy.model.seconds} if self.policy.model is not None else {}
+        extra["timings_s"] = {k: round(v, 3) for k, v in {**self.timings, **model_s}.items()}
         extra["solver_restarts"] = self.solver.rebuilds
         extra["reinit_searches"] = dict(self.policy.counts)
         extra["cuts"] = self.cuts

@@ -30,7 +30,7 @@ def contract(width_px: int, height_px: int, threshold: float = 0.3) -> dict:
     }
 
 
-def export(checkpoint: Path, out: Path, width_px: int, height_px: int) -> Path:
+def export(checkpoint: Path, out: Path, width_px: int, height_px: int, threshold: float = 0.3) -> Path:
     """Write ``out`` (.onnx) and ``out`` with .json from a checkpoint; load both back with onnxruntime and check shapes."""
     import onnxruntime as ort
 
@@ -42,7 +42,7 @@ def export(checkpoint: Path, out: Path, width_px: int, height_px: int) -> Path:
     out.parent.mkdir(parents=True, exist_ok=True)
     torch.onnx.export(model, dummy, str(out), input_names=["image"], output_names=["keypoints", "lines"],
                       opset_version=17, dynamo=False)
-    out.with_suffix(".json").write_text(json.dumps(contract(width_px, height_px), indent=1))
+    out.with_suffix(".json").write_text(json.dumps(contract(width_px, height_px, threshold), indent=1))
     session = ort.InferenceSession(str(out), providers=["CPUExecutionProvider"])
     keypoints, lines = session.run(None, {"image": dummy.numpy()})
     assert keypoints.shape == (1, KEYPOINTS, height_px // 4, width_px // 4), keypoints.shape

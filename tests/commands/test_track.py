@@ -66,7 +66,6 @@ def test_config_file_and_flags_given_override_it(calls, tmp_path):
 
 @pytest.mark.parametrize("argv, message", [
     (["--lag", "0"], "argument --lag: 0 is too small; give an integer >= 1"),
-    (["--detector", "onnx"], "--detector onnx needs --segmentation-model and/or --keypoint-model"),
     (["--config", "missing.toml"], "missing.toml: config file not found"),
     (["--detector", "onnx", "--field-model", "f.onnx", "--keypoint-model", "k.onnx"],
      "f.onnx: a field model holds both outputs"),
@@ -98,3 +97,13 @@ def test_a_field_model_reaches_the_action(calls):
     assert main(["track", "clip.mp4", "--out", "run", "--detector", "onnx", "--field-model", "field.onnx"]) == 0
     options = calls[0]["detector"]
     assert options.kind == "onnx" and str(options.field_model) == "field.onnx" and options.keypoint_model is None
+
+
+def test_onnx_without_a_model_runs_the_shipped_one_and_the_reinit_model_is_an_option(calls):
+    from broadtrack_graph.detect.field_model import SHIPPED_FIELD_MODEL
+
+    assert main(["track", "clip.mp4", "--out", "run", "--detector", "onnx"]) == 0
+    assert calls[0]["detector"].field_model == SHIPPED_FIELD_MODEL
+    assert calls[0]["config"].reinit_model == "shipped"
+    assert main(["track", "clip.mp4", "--out", "run", "--reinit-model", "none"]) == 0
+    assert calls[1]["config"].reinit_model == "none"

@@ -9,11 +9,14 @@ import pytest
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.io.nbjw_keypoints import NBJW_KEYPOINTS_W
 from broadtrack_graph.reinit.keypoints import (
+    camera_from_keypoints,
     camera_from_two_points,
     focal_from_ray_angle,
     reinit_from_keypoints,
 )
+from broadtrack_graph.synth.field_cameras import aim_angles
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -143,3 +146,43 @@ def test_ransac_with_30_percent_wrong_ids_and_3px_noise_at_candidate_positions()
     error = np.linalg.norm(est - uv[good], axis=1)
     assert 0.0 < np.median(error) < 4.0
     assert result.score.inlier_share == pytest.approx(len(good) / len(uv), abs=0.11)
+
+
+NBJW_W = np.array([NBJW_KEYPOINTS_W[k] for k in range(1, 58)], float)
+
+
+def _aimed(focal, position, aim, roll_deg=0.0):
+    """A camera at position whose optical axis passes through the ground point aim."""
+    position, aim = np.asarray(position, float), np.array([*aim, 0.0])
+    pan, tilt = aim_angles(position, aim)
+    return Camera(focal, 0.0, pan, tilt, math.radians(roll_deg), position, W, H)
+
+
+@pytest.mark.parametrize("truth", [
+    _aimed(1100.0, (1.5, 57.0, -13.0), (-10.0, 0.0), 0.3),  # main camera
+    _aimed(1350.0, (67.0, 3.7, -14.3), (40.0, 0.0), -0.4),  # high behind the goal
+    _aimed(1600.0, (35.0, 47.0, -8.0), (45.0, 5.0), 0.2),  # low on the 16 m line
+    _aimed(830.0, (3.0, 60.0, -27.0), (0.0, 0.0)),  # tactical
+])
+def test_camera_from_keypoints_finds_a_camera_wherever_it_stands(truth):
+    rng = np.random.default_rng(3)
+    uv, front = truth.project(NBJW_W)
+    seen = front & truth.in_image(uv)
+    assert seen.sum() >= 6
+    noisy = uv[seen] + rng.normal(0.0, 1.5, (seen.sum(), 2))
+    noisy[0] += 80.0  # one keypoint badly off: RANSAC leaves it out
+    result = camera_from_keypoints(noisy, NBJW_W[seen], W, H)
+    assert result.hypothesis == "keypoint homography"
+    assert result.score.tp == seen.sum() - 1
+    estimate, _ = result.camera.project(NBJW_W[seen])
+    assert np.median(np.linalg.norm(estimate - uv[seen], axis=1)) < 2.5
+    assert np.linalg.norm(result.camera.position_m - truth.position_m) < 3.0
+
+
+def test_camera_from_keypoints_falls_back_to_the_two_point_method_with_three_keypoints():
+    truth = _camera(roll=0.0, position=(0.0, 55.0, -12.0))
+    uv, front = truth.project(NBJW_W)
+    seen = np.flatnonzero(front & truth.in_image(uv))[:3]
+    result = camera_from_keypoints(uv[seen], NBJW_W[seen], W, H)
+    assert result.camera is not None and result.hypothesis.startswith("two-point")
+    assert camera_from_keypoints(uv[seen[:1]], NBJW_W[seen[:1]], W, H).camera is None

@@ -175,3 +175,14 @@ def test_a_rerun_clears_what_the_earlier_run_left(tmp_path):
     result = run_frames([], 960, 540, out, TrackingConfig(), progress=False)
     assert sorted(p.name for p in out.iterdir()) == ["cameras", "notes.txt", "summary.json", "track.jsonl"]
     assert list((out / "cameras").iterdir()) == [] and result.summary["frames_written"] == 0
+
+
+def test_the_shipped_field_model_places_the_first_frame_without_the_global_search(clip, tmp_path):
+    with_model = track_input(clip, tmp_path / "model", TrackingConfig(mode="online"), end=6, progress=False)
+    without = track_input(clip, tmp_path / "search", TrackingConfig(mode="online", reinit_model="none"), end=6,
+                          progress=False)
+    assert with_model.summary["reinit_searches"]["model_used"] == 1
+    assert with_model.summary["reinit_searches"]["global"] == 0 and without.summary["reinit_searches"]["global"] == 1
+    assert with_model.summary["timings_s"]["reinit_s"] < without.summary["timings_s"]["reinit_s"]
+    for run in ("model", "search"):
+        assert jac5(clip, tmp_path / run)["accuracy"] >= 0.9

@@ -11,7 +11,8 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.reinit_policy import SEARCH_STAGES, ReinitPolicy, SearchBudget
+from broadtrack_graph.track.reinit_policy import SEARCH_STAGES, ReinitPolicy
+from broadtrack_graph.track.search_budget import SearchBudget
 from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
@@ -240,3 +241,80 @@ def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
     policy.tripod("high-corner-1", known[0])
     decision = _decide(policy, 0)
     assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)
+
+
+class FakeModel:
+    """The field model's camera: a fixed camera (or None) whose confidence the fakes' table gives."""
+
+    def __init__(self, fakes, camera, confidence):
+        self.camera, self.calls = camera, []
+        if camera is not None:
+            fakes.confidences[id(camera)] = confidence
+
+    def __call__(self, image):
+        self.calls.append(image)
+        if self.camera is None:
+            return ReinitResult(None, None, "", "field model: 0 keypoints")
+        return ReinitResult(self.camera, LabelledScore(0.0, 12, 0, 0, 1.0, 1.0), "field model (12 keypoints)")
+
+
+IMAGE = np.zeros((H, W, 3), np.uint8)
+
+
+def _with_model(fakes, camera, confidence, **config):
+    model = FakeModel(fakes, camera, confidence)
+    return ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence, model=model), model
+
+
+def test_a_confident_model_camera_skips_the_search_and_gets_the_camera_id_of_where_it_stands():
+    fakes = Fakes({None: (MAIN, 0.9)})
+    policy, model = _with_model(fakes, CORNER, 0.92)
+    decision = _decide(policy, 0, image=IMAGE)
+    assert decision.camera is CORNER and decision.camera_id == "high-corner-1" and decision.new_camera
+    assert not decision.searched and not decision.continues_chain and fakes.searched == []
+    assert policy.counts["model_used"] == 1 and len(model.calls) == 1
+
+
+def test_a_new_shot_takes_the_model_camera_at_once_only_when_certain():
+    fakes = Fakes({None: (MAIN, 0.95)})
+    policy, _ = _with_model(fakes, CORNER, 0.8)  # confident by the margin, not certain (0.9)
+    decision = _decide(policy, 0, image=IMAGE)
+    assert fakes.searched and decision.camera is MAIN  # the search ran and found a better camera
+    fakes = Fakes()
+    policy, _ = _with_model(fakes, CORNER, 0.8)
+    decision = _decide(policy, 0, image=IMAGE)
+    assert decision.camera is CORNER and decision.searched and decision.new_camera  # nothing better: the candidate
+
+
+def test_mid_shot_a_model_camera_above_the_threshold_is_taken_for_the_shots_camera():
+    fakes = Fakes({None: (MAIN, 0.9)})
+    policy, _ = _with_model(fakes, MAIN, 0.55, cheap_reinit=False)
+    policy.switch("main")
+    decision = _decide(policy, 3, image=IMAGE)
+    assert decision.camera is MAIN and decision.camera_id == "main" and not decision.searched
+
+
+def test_the_model_backs_off_on_frames_it_cannot_place_and_restarts_after_a_cut():
+    fakes = Fakes()
+    policy, model = _with_model(fakes, None, 0.0, search_time_share=1.0)
+    for i in range(20):
+        _decide(policy, i, image=IMAGE)
+    # Tried at frames 0, 1, 3, 7, 15 (gaps 1, 2, 4, 8): five tries in twenty frames.
+    assert len(model.calls) == 5 and policy.counts["model_tried"] == 5
+    policy.new_stretch()
+    _decide(policy, 20, image=IMAGE)
+    assert len(model.calls) == 6
+
+
+def test_no_image_no_model():
+    fakes = Fakes({None: (MAIN, 0.9)})
+    policy, model = _with_model(fakes, CORNER, 0.9)
+    decision = _decide(policy, 0)
+    assert model.calls == [] and decision.camera is MAIN
+
+
+def test_a_model_camera_that_is_not_taken_registers_no_camera():
+    fakes = Fakes({None: (MAIN, 0.85)})
+    policy, _ = _with_model(fakes, CORNER, 0.8)  # a candidate only: the search runs and its camera wins
+    decision = _decide(policy, 0, image=IMAGE)
+    assert decision.camera is MAIN and set(policy.registry.positions) == {"main"}

@@ -1,0 +1,66 @@
+"""The global search's budget in frames: how often a search may run where nothing is found.
+
+Counted in frames, not seconds, so a run gives the same cameras on any machine; the rules are
+:mod:`broadtrack_graph.track.reinit_policy`'s (its module docstring, "The search budget").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class SearchBudget:
+    """The global search's budget in frames (module docstring).
+
+    refill_frames: frames that pay for one search stage (a shot whose camera is not known).
+    max_backoff: the price of a search doubles after each that finds nothing, up to this many searches;
+        a known camera lost mid-shot is searched again after 1, 2, 4, ... frames, up to this many times
+        ``max_gap_frames``.
+    """
+
+    refill_frames: float
+    max_backoff: int = 8
+    tokens: float = 1.0
+    price: float = 1.0
+    max_gap_frames: int = 8
+    _last_frame: int | None = None
+    _gap: int = 1
+    _next_known: int | None = None
+
+    def _refill(self, frame_index: int) -> None:
+        if self.refill_frames <= 0:  # no budget: every search is paid for
+            self.tokens = self.price
+        elif self._last_frame is not None and frame_index > self._last_frame:
+            self.tokens = min(self.price, self.tokens + (frame_index - self._last_frame) / self.refill_frames)
+        self._last_frame = frame_index
+
+    def allows(self, frame_index: int, known_camera: bool = False) -> bool:
+        """A search may run at this frame (known_camera: the shot's camera is known, lost mid-shot)."""
+        self._refill(frame_index)
+        if known_camera:
+            return self.refill_frames <= 0 or self._next_known is None or frame_index >= self._next_known
+        return self.tokens >= self.price - 1e-9
+
+    def next_frame(self, frame_index: int, known_camera: bool = False) -> int:
+        """The first frame at which a search will be allowed (from frame_index on)."""
+        self._refill(frame_index)
+        if known_camera:
+            return max(frame_index, self._next_known if self._next_known is not None else frame_index)
+        return frame_index + max(0, int(np.ceil((self.price - self.tokens) * self.refill_frames - 1e-9)))
+
+    def spend(self, frame_index: int, found: bool, searches: int = 1, known_camera: bool = False) -> None:
+        """A search of ``searches`` stages ran at frame_index; found: it gave a confident camera."""
+        if known_camera:
+            # The camera is still there, only lost: searched again soon, then less and less often.
+            self._next_known = None if found else frame_index + self._gap
+            self._gap = 1 if found else min(2 * self._gap, self.max_gap_frames * self.max_backoff)
+            return
+        self.tokens -= self.price * max(1, searches)
+        self.price = 1.0 if found else min(self.price * 2.0, float(self.max_backoff))
+
+    def restart(self) -> None:
+        """A new stretch (a cut, a view change, a confident frame): the next search is paid at once."""
+        self.tokens, self.price, self._gap, self._next_known = 1.0, 1.0, 1, None
