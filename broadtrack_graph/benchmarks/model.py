@@ -25,9 +25,6 @@ import numpy as np
 
 HELP = "the learned field model alone: held-out synthetic keypoints and cameras, real clips against the search, speed"
 
-HELD_OUT_SEED = 1001
-"""The seed of the held-out field samples (scripts/field_model/shards.py: never used in training)."""
-
 JAC_TAU_PX = 5.0
 GOOD_JAC = 0.8
 KEYPOINT_TOLERANCE_PX = 5.0
@@ -80,11 +77,11 @@ def _frame_figures(reinit, image, truth, lines_norm, W: int, H: int) -> dict:
     inside = front & truth.in_image(uv_true)
     if len(keypoints):
         # Each keypoint of the model is matched to the truth's projection of the same pitch point.
-        index = [int(np.argmin(np.linalg.norm(world - p, axis=1))) for p in keypoints.points_w]
+        index = np.argmin(np.linalg.norm(keypoints.points_w[:, None] - world[None], axis=2), axis=1)
         error = np.linalg.norm(keypoints.uv_px - uv_true[index], axis=1)
         error[~front[index]] = np.inf
         out["keypoint_errors_px"] = error.tolist()
-        found = {i for i, e in zip(index, error) if e < KEYPOINT_TOLERANCE_PX}
+        found = set(index[error < KEYPOINT_TOLERANCE_PX].tolist())
     else:
         out["keypoint_errors_px"], found = [], set()
     out["visible_keypoints"] = int(inside.sum())
@@ -108,7 +105,7 @@ def _synthetic(reinit, args) -> dict:
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling
     from broadtrack_graph.synth.clip import render_clip
-    from broadtrack_graph.synth.field_samples import sample_field
+    from broadtrack_graph.synth.field_samples import HELD_OUT_SEED, sample_field
 
     W, H = args.width, args.height
     sampling = TemplateSampling(PitchTemplate())
@@ -171,11 +168,13 @@ def _real(reinit, args) -> dict:
         scored, size = 0, (0, 0)
         total = int(capture.get(cv2.CAP_PROP_FRAME_COUNT))
         for index in tqdm(range(total), desc=f"model: {video.stem}", unit="frame"):
+            if index % max(1, args.every):
+                if not capture.grab():  # a frame not scored is not decoded into an image
+                    break
+                continue
             ok, image = capture.read()
             if not ok:
                 break
-            if index % max(1, args.every):
-                continue
             scored += 1
             size = image.shape[1::-1]
             pixels = line_pixels(image, config)

@@ -59,6 +59,15 @@ FIELD_KEYPOINTS_W = np.array([NBJW_KEYPOINTS_W[number] for number in range(1, FI
 SCHEDULE_BLOCK = 40
 """Consecutive indices over which the kinds' shares are met exactly."""
 
+TRAIN_SEED = 1
+"""The seed of the field model's training samples."""
+
+VALIDATION_SEED = 2001
+"""The seed of the samples its thresholds are chosen on (never trained on)."""
+
+HELD_OUT_SEED = 1001
+"""The seed of the samples it is measured on (never trained on, never used to choose anything)."""
+
 SAMPLE_STREAM = 2401
 """Random stream of the samples (numpy SeedSequence entropy [seed, index, SAMPLE_STREAM, ...])."""
 

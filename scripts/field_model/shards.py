@@ -23,14 +23,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from broadtrack_graph.synth.field_samples import HELD_OUT_SEED, TRAIN_SEED  # noqa: F401  (the seeds live there)
+
 SHARD_SIZE = 100
 """Samples per shard."""
 
-TRAIN_SEED = 1
-"""The seed of the training samples."""
-
-HELD_OUT_SEED = 1001
-"""The seed of the held-out samples: never used in training."""
 
 JPEG_QUALITY = 95
 

@@ -38,15 +38,15 @@ def test_calibrate_command_writes_camera_files(tmp_path, capsys):
 
 def test_calibrate_images_gives_one_camera_per_frame_from_the_model_alone(tmp_path, capsys):
     from broadtrack_graph.io.nbjw_keypoints import NBJW_KEYPOINTS_W
-    from broadtrack_graph.synth.field_samples import sample_field
+    from broadtrack_graph.synth.field_samples import HELD_OUT_SEED, sample_field
 
     NBJW_W = np.array([NBJW_KEYPOINTS_W[k] for k in range(1, 58)], float)
 
     folder = tmp_path / "images"
     folder.mkdir()
     truths = {}
-    for index in range(60):  # held-out samples (scripts/field_model/shards.py: seed 1001, never trained on)
-        sample = sample_field(1001, index, 960, 540)
+    for index in range(60):  # held-out samples: never trained on
+        sample = sample_field(HELD_OUT_SEED, index, 960, 540)
         if sample.kind in ("wide", "close-up") and len(truths) < 4:  # the shipped model places wide views best
             cv2.imwrite(str(folder / f"{index:05d}.png"), sample.image_bgr)
             truths[f"{index:05d}"] = sample

@@ -13,9 +13,8 @@ from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.pitch import LINE_CLASSES
 from broadtrack_graph.io.nbjw_keypoints import NBJW_KEYPOINTS_W
 from broadtrack_graph.reinit.field_model import ModelAcceptance, ModelReinit, model_reinit_for
-from broadtrack_graph.synth.field_samples import sample_field
+from broadtrack_graph.synth.field_samples import HELD_OUT_SEED, sample_field
 
-HELD_OUT_SEED = 1001  # scripts/field_model/shards.py: never trained on
 NBJW_W = np.array([NBJW_KEYPOINTS_W[k] for k in range(1, 58)], float)
 
 
