@@ -50,7 +50,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from broadtrack_graph.benchmarks.options import add_reinit_model
+from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
 
@@ -92,6 +92,7 @@ def add_arguments(parser) -> None:
     from broadtrack_graph.types.modes import MODES
 
     add_reinit_model(parser)
+    add_search_workers(parser)
     parser.add_argument("--presets", nargs="+", default=["main", "16m"], choices=sorted(PRESETS),
                         help="synthetic presets (default main 16m)")
     parser.add_argument("--frames", type=int, default=200, help="frames per clip (default 200)")
@@ -348,7 +349,7 @@ def run(args) -> dict:
                                       "render_s": round(time.perf_counter() - started, 2) if rendered else None}
         return Path(report["clips"][group]["path"])
 
-    mode_configs = {mode: TrackingConfig(mode=mode, lag_frames=args.lag, reinit_model=args.reinit_model)
+    mode_configs = {mode: TrackingConfig(mode=mode, lag_frames=args.lag, **tracker_options(args))
                     for mode in args.modes}
     for preset in args.presets:
         clip = clip_for(preset)
@@ -366,7 +367,7 @@ def run(args) -> dict:
 
     if ablation:
         base = mode_configs.get(args.ablation_mode) or TrackingConfig(mode=args.ablation_mode, lag_frames=args.lag,
-                                                                          reinit_model=args.reinit_model)
+                                                                          **tracker_options(args))
         report["ablation"] = {"mode": args.ablation_mode, "factors": {}}
         for factor, preset, seed in ablation:
             clip = clip_for(preset, seed)

@@ -37,7 +37,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from broadtrack_graph.benchmarks.options import add_reinit_model
+from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
 from broadtrack_graph.track.config import TrackingConfig
 
 HELP = ("whole broadcasts: cuts, shot kinds, camera ids and per-camera accuracy on a rendered multi-camera clip; "
@@ -62,6 +62,7 @@ def add_arguments(parser) -> None:
                         help=f"fixed-lag smoother lag in frames (default {TrackingConfig.lag_frames})")
     parser.add_argument("--no-synthetic", action="store_true", help="skip the synthetic part")
     add_reinit_model(parser)
+    add_search_workers(parser)
     parser.add_argument("--video-dir", type=Path, default=None,
                         help="real part: splice the *.mp4 videos of this folder with hard cuts and track it online")
     parser.add_argument("--segment-frames", type=int, default=120, help="real part: typical segment length (default 120)")
@@ -199,7 +200,7 @@ def synthetic_section(args, out: Path, progress: bool) -> dict:
     for mode in args.modes:
         run_dir = out / "runs" / mode
         log.info("tracking the broadcast clip, %s", mode)
-        tracked = track_clip(clip, run_dir, TrackingConfig(mode=mode, lag_frames=args.lag, reinit_model=args.reinit_model),
+        tracked = track_clip(clip, run_dir, TrackingConfig(mode=mode, lag_frames=args.lag, **tracker_options(args)),
                               args.reuse_runs, progress)
         section["modes"][mode] = score_broadcast_run(run_dir, truth, annotations, args.width, args.height, tracked)
     return section
@@ -258,6 +259,6 @@ def run(args) -> dict:
         from broadtrack_graph.benchmarks.broadcast_real import real_section
 
         report["real"] = real_section(args.video_dir, out / "real", args.segment_frames, args.segments,
-                                      args.real_width, args.real_height, progress, args.reinit_model)
+                                      args.real_width, args.real_height, progress, tracker_options(args))
     print(summary_table(report), file=sys.stderr)
     return report

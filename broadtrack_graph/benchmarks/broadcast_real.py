@@ -194,8 +194,9 @@ def score_splice(video: Path, run_dir: Path, segments: list[Segment], wall_s: fl
 
 def real_section(video_dir: Path, work_dir: Path, segment_frames: int = 120, segments: int = 6,
                  width_px: int = 1280, height_px: int = 720, progress: bool = True,
-                 reinit_model: str = "shipped") -> dict:
-    """Splice the videos of ``video_dir`` under ``work_dir``, track online, score (module docstring)."""
+                 options: dict | None = None) -> dict:
+    """Splice the videos of ``video_dir`` under ``work_dir``, track online (``options``: TrackingConfig fields), score
+    (module docstring)."""
     from broadtrack_graph.actions.track import track_input
     from broadtrack_graph.track.config import TrackingConfig
 
@@ -205,6 +206,6 @@ def real_section(video_dir: Path, work_dir: Path, segment_frames: int = 120, seg
     plan = write_splice(splice_plan(videos, segment_frames, segments), work_dir / "splice.mp4", width_px, height_px)
     run_dir = work_dir / "run-online"
     started = time.perf_counter()
-    track_input(work_dir / "splice.mp4", run_dir, TrackingConfig(mode="online", reinit_model=reinit_model), progress=progress)
+    track_input(work_dir / "splice.mp4", run_dir, TrackingConfig(mode="online", **(options or {})), progress=progress)
     wall_s = time.perf_counter() - started
     return score_splice(work_dir / "splice.mp4", run_dir, plan, wall_s)

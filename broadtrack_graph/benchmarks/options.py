@@ -2,9 +2,31 @@
 
 from __future__ import annotations
 
+import argparse
+
 
 def add_reinit_model(parser) -> None:
     """``--reinit-model``: the field model the tracker tries before the global search (``TrackingConfig.reinit_model``)."""
     parser.add_argument("--reinit-model", default="shipped", metavar="shipped|none|FILE",
                         help="the learned field model tried before the global search (default shipped; none: the "
                              "search alone, as before the model)")
+
+
+def add_search_workers(parser) -> None:
+    """``--search-workers``: worker processes running the global search's next stages ahead
+    (``TrackingConfig.search_workers``; the cameras are the same with any number)."""
+    parser.add_argument("--search-workers", type=_count, default=None, metavar="N",
+                        help="worker processes running the global search's next stages ahead (default: every core "
+                             "but one, at most 3; 0: none, the search in the tracker's process)")
+
+
+def tracker_options(args) -> dict:
+    """The TrackingConfig fields the shared options set: ``reinit_model`` and ``search_workers``."""
+    return {"reinit_model": args.reinit_model, "search_workers": getattr(args, "search_workers", None)}
+
+
+def _count(text: str) -> int:
+    value = int(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value

@@ -28,7 +28,7 @@ import logging
 import time
 from pathlib import Path
 
-from broadtrack_graph.benchmarks.options import add_reinit_model
+from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers
 from broadtrack_graph.types.modes import MODES
 
 HELP = ("the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a "
@@ -49,6 +49,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     parser.add_argument("--video-dir", type=Path, default=None, help="folder of real broadcast videos (*.mp4)")
     add_reinit_model(parser)
+    add_search_workers(parser)
     parser.add_argument("--runs", type=Path, default=None,
                         help="video: score existing run folders <RUNS>/<clip> instead of tracking again")
     parser.add_argument("--end", type=int, default=None, help="video: track only the first END frames of each clip")

@@ -17,6 +17,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.actions.track import track_input
+from broadtrack_graph.benchmarks.options import tracker_options
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
@@ -45,7 +46,7 @@ def run_video_clips(args) -> dict:
     for video in clips:
         run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
         if args.runs is None:
-            track_input(video, run_dir, TrackingConfig(mode="online", reinit_model=args.reinit_model), end=args.end, progress=not args.no_progress)
+            track_input(video, run_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end, progress=not args.no_progress)
         report[video.stem] = score_clip(video, run_dir, args.score_every, end=args.end)
         if not args.no_overlay:
             from broadtrack_graph.products.overlay import write_overlay

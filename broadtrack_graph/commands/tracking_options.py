@@ -60,6 +60,10 @@ def add_tracking_arguments(parser) -> None:
                         help="the learned field model tried before the global search when a frame needs a camera "
                              "from nothing: 'shipped' (the package's), 'none', or a field model .onnx with its .json "
                              f"contract (default {_DEFAULT.reinit_model})")
+    parser.add_argument("--search-workers", type=int_at_least(0), default=None, metavar="N",
+                        help="worker processes that run the global search's next stages ahead while the tracker "
+                             "runs the one it needs (the cameras are the same with any N; 0: none; default: every "
+                             "core but one, at most 3)")
     parser.add_argument("--start", type=frame_index, default=None, help="first frame index (0-based, inclusive)")
     parser.add_argument("--end", type=frame_index, default=None, help="last frame index (exclusive)")
     parser.add_argument("--no-flow", action="store_true", help="switch the optical-flow factor off")
@@ -85,7 +89,7 @@ def config_from_args(args) -> TrackingConfig:
     overrides = {}
     for flag, field in (("mode", "mode"), ("lag", "lag_frames"), ("confidence_threshold", "confidence_threshold"),
                         ("batch_tripod", "batch_tripod"), ("recover_max_frames", "recover_max_frames"),
-                        ("reinit_model", "reinit_model")):
+                        ("reinit_model", "reinit_model"), ("search_workers", "search_workers")):
         if getattr(args, flag, None) is not None:
             overrides[field] = getattr(args, flag)
     for flag, field in (("no_flow", "use_flow"), ("no_tripod", "use_tripod"), ("no_k1", "estimate_k1")):

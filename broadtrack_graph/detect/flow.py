@@ -72,6 +72,17 @@ def grid_flow(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height
     Returns:
         FlowMatches (uv_prev_px, uv_cur_px), possibly empty.
     """
+    p0, p1, good, scale = _tracked_grid(prev_frame, cur_frame, width_px, height_px, prev_camera, keep_mask, config,
+                                        pitch_half_size_m)
+    if len(p0) == 0:
+        return FlowMatches(np.zeros((0, 2)), np.zeros((0, 2)))
+    return FlowMatches(((p0[good] + 0.5) / scale - 0.5).astype(float), ((p1[good] + 0.5) / scale - 0.5).astype(float))
+
+
+def _tracked_grid(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height_px: int,
+                  prev_camera: Camera | None, keep_mask: np.ndarray | None, config: FlowConfig, pitch_half_size_m):
+    """(p0, p1, good, scale): the grid points kept (working pixels, float32), where LK took them, which matches
+    pass the checks, and working / frame pixels."""
     h, w = prev_frame.shape
     scale = w / width_px
     step = config.grid_step_px
@@ -82,13 +93,10 @@ def grid_flow(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height
     if keep_mask is not None:
         ok &= _mask_at(keep_mask, full0, width_px, height_px)
     if prev_camera is not None and ok.any():
-        ground, hits = prev_camera.ground_intersection(full0[ok])
-        inside = hits & (np.abs(ground[:, 0]) <= pitch_half_size_m[0] + config.pitch_margin_m) & (
-            np.abs(ground[:, 1]) <= pitch_half_size_m[1] + config.pitch_margin_m)
-        ok[np.flatnonzero(ok)[~inside]] = False
+        ok[np.flatnonzero(ok)[~_on_pitch(prev_camera, full0[ok], config, pitch_half_size_m)]] = False
     p0 = p0[ok]
     if len(p0) == 0:
-        return FlowMatches(np.zeros((0, 2)), np.zeros((0, 2)))
+        return p0, p0, np.zeros(0, bool), scale
     params = dict(winSize=(config.window_px, config.window_px), maxLevel=config.pyramid_levels,
                   criteria=(cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 20, 0.03))
     p1, st1, _ = cv2.calcOpticalFlowPyrLK(prev_frame.grey, cur_frame.grey, p0.reshape(-1, 1, 2), None, **params)
@@ -98,7 +106,63 @@ def grid_flow(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height
     good &= (p1[:, 0] >= 0) & (p1[:, 0] < w) & (p1[:, 1] >= 0) & (p1[:, 1] < h)
     if keep_mask is not None and good.any():
         good &= _mask_at(keep_mask, (p1 + 0.5) / scale - 0.5, width_px, height_px)
-    return FlowMatches(((p0[good] + 0.5) / scale - 0.5).astype(float), ((p1[good] + 0.5) / scale - 0.5).astype(float))
+    return p0, p1, good, scale
+
+
+def flow_keep_mask(detections) -> np.ndarray | None:
+    """Where a frame's flow may start: its field, off the players (a Detections' masks; None: anywhere)."""
+    keep = detections.field_mask
+    if keep is not None and detections.player_mask is not None:
+        keep = keep & ~detections.player_mask
+    return keep
+
+
+@dataclass(frozen=True)
+class FlowCandidates:
+    """What :func:`grid_flow` finds before the previous camera's pitch check: computable ahead, before camera t-1
+    is known (the tracker does it in the thread that decodes the frames).
+
+    prev_frame: the prepared frame t-1 they start from; keep_mask: the keep mask used (or None);
+    width_px, height_px: the frame size the pixels are at.
+    uv_prev_px, uv_cur_px: (N, 2) float32 full-frame pixels of the grid points tracked both ways, grid order.
+    """
+
+    prev_frame: FlowFrame
+    keep_mask: np.ndarray | None
+    width_px: int
+    height_px: int
+    uv_prev_px: np.ndarray
+    uv_cur_px: np.ndarray
+
+
+def flow_candidates(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height_px: int,
+                    keep_mask: np.ndarray | None = None, config: FlowConfig = FlowConfig()) -> FlowCandidates:
+    """:func:`grid_flow` without a previous camera, its matches kept for :func:`on_pitch`.
+
+    Lucas-Kanade tracks every point on its own, so ``on_pitch(flow_candidates(...), camera)`` gives exactly
+    ``grid_flow(..., camera, ...)`` (at the cost of tracking the grid points off the pitch too).
+    """
+    p0, p1, good, scale = _tracked_grid(prev_frame, cur_frame, width_px, height_px, None, keep_mask, config,
+                                        (0.0, 0.0))
+    return FlowCandidates(prev_frame, keep_mask, width_px, height_px, (p0[good] + 0.5) / scale - 0.5,
+                          (p1[good] + 0.5) / scale - 0.5)
+
+
+def on_pitch(candidates: FlowCandidates, prev_camera: Camera, config: FlowConfig = FlowConfig(),
+             pitch_half_size_m=(52.5, 34.0)) -> FlowMatches:
+    """The candidates whose frame t-1 point back-projects onto the pitch (grown by ``pitch_margin_m``) through
+    camera t-1: the matches :func:`grid_flow` gives with that camera."""
+    uv0, uv1 = candidates.uv_prev_px, candidates.uv_cur_px
+    if not len(uv0):
+        return FlowMatches(np.zeros((0, 2)), np.zeros((0, 2)))
+    inside = _on_pitch(prev_camera, uv0, config, pitch_half_size_m)
+    return FlowMatches(uv0[inside].astype(float), uv1[inside].astype(float))
+
+
+def _on_pitch(camera: Camera, uv_px: np.ndarray, config: FlowConfig, pitch_half_size_m) -> np.ndarray:
+    ground, hits = camera.ground_intersection(uv_px)
+    return hits & (np.abs(ground[:, 0]) <= pitch_half_size_m[0] + config.pitch_margin_m) & (
+        np.abs(ground[:, 1]) <= pitch_half_size_m[1] + config.pitch_margin_m)
 
 
 def _mask_at(mask: np.ndarray, uv_px: np.ndarray, width_px: int, height_px: int) -> np.ndarray:

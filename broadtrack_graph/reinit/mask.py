@@ -13,6 +13,7 @@ has z < 0); pan 0 looks towards -y. No I/O.
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
 from dataclasses import replace
@@ -89,8 +90,8 @@ def reinit_from_mask(
         return ReinitResult(None, None, "", "too few marking pixels")
     positions = list(DEFAULT_TRIPOD_POSITIONS_W.values()) if positions_w is None else [tuple(p) for p in positions_w]
     ground = [n for n in pitch.elements if pitch.is_on_ground(n)]
-    scorer = MapScorer(marking_mask, points_px, (W, H), pitch, config)
-    lines = marking_lines(marking_mask, W, config.structures)
+    structures = _map_structures(marking_mask, points_px, (W, H), pitch, config)
+    scorer, lines = structures.scorer, structures.lines
     lines_w = pitch_lines(pitch)
     ratio = (config.line_focal_range_per_width[1] / config.line_focal_range_per_width[0]) ** (
         1.0 / max(config.line_focal_count - 1, 1))
@@ -103,13 +104,13 @@ def reinit_from_mask(
         # the same line of sight to the centre spot (the images along it differ mostly by f).
         for position in config.far_positions_w:
             hypotheses += line_pair_hypotheses(lines, position, (W, H), pitch, lines_w, scorer, config, steps)
-    ellipses = marking_ellipses(marking_mask, W, config.structures) if config.structures.max_ellipses else []
+    ellipses = structures.ellipses() if config.structures.max_ellipses else []
     if ellipses:
         hypotheses += circle_hypotheses(ellipses, points_px, positions, (W, H), pitch, curves, scorer, config)
     if config.structures.max_ellipses and (not hypotheses or -min(h.cost for h in hypotheses) < config.poor_score):
         # Nothing fits well: arcs at the image border (a tight zoom's centre circle) are tried too. Not
         # before: fitted to a short arc (or a penalty arc taken for the centre circle) they mislead.
-        border = marking_ellipses(marking_mask, W, config.structures, at_border=True)
+        border = structures.border_ellipses()
         hypotheses += circle_hypotheses(border, points_px, positions, (W, H), pitch, curves, scorer, config)
         ellipses = ellipses + border
     if not hypotheses:
@@ -128,9 +129,7 @@ def reinit_from_mask(
     points = points_px
     if len(points) > config.max_fit_points:
         points = points[np.linspace(0, len(points) - 1, config.max_fit_points).astype(int)]
-    fine = MapScorer(marking_mask, points_px, (W, H), pitch,
-                      replace(config, score_template_step_m=config.fit_template_step_m,
-                              score_max_points=config.fit_max_points))
+    fine = structures.fine_scorer
     check_w = np.vstack(list(pitch.sample_uniform(4.0, classes=ground).values()))
     best = None  # (fit score, camera, focal point, whether from the first fitted hypothesis)
     refined: list[Camera] = []
@@ -167,6 +166,51 @@ def reinit_from_mask(
     jac = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
     return ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
                         f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
+
+
+class MapStructures:
+    """What a search takes from one marking map before any candidate position: the scorers, the straight
+    markings and the ellipses (the border ones when asked). The stages of a search (several calls of
+    :func:`reinit_from_mask` on one frame) share them: :func:`_map_structures` keeps the last frame's."""
+
+    def __init__(self, marking_mask: np.ndarray, points_px: np.ndarray, frame_size: tuple[int, int],
+                 pitch: PitchTemplate, config: MaskSearchConfig):
+        W = frame_size[0]
+        self._mask, self._W, self._config = marking_mask, W, config
+        self.scorer = MapScorer(marking_mask, points_px, frame_size, pitch, config)
+        self.fine_scorer = MapScorer(marking_mask, points_px, frame_size, pitch,
+                                     replace(config, score_template_step_m=config.fit_template_step_m,
+                                             score_max_points=config.fit_max_points))
+        self.lines = marking_lines(marking_mask, W, config.structures)
+        self._ellipses: list | None = None
+        self._border: list | None = None
+
+    def ellipses(self) -> list:
+        if self._ellipses is None:
+            self._ellipses = marking_ellipses(self._mask, self._W, self._config.structures)
+        return self._ellipses
+
+    def border_ellipses(self) -> list:
+        if self._border is None:
+            self._border = marking_ellipses(self._mask, self._W, self._config.structures, at_border=True)
+        return self._border
+
+
+_LAST_STRUCTURES: list = []  # [(key, pitch, MapStructures)] of the last frame searched
+
+
+def _map_structures(marking_mask, points_px, frame_size, pitch, config) -> MapStructures:
+    """The :class:`MapStructures` of a map: the last frame's when the map, points, size and settings are the same."""
+    digest = hashlib.blake2b(digest_size=16)
+    for array in (np.ascontiguousarray(marking_mask), np.ascontiguousarray(points_px, float)):
+        digest.update(str(array.shape).encode())
+        digest.update(array.tobytes())
+    key = (digest.digest(), tuple(frame_size), config)
+    if _LAST_STRUCTURES and _LAST_STRUCTURES[0][0] == key and _LAST_STRUCTURES[0][1] is pitch:
+        return _LAST_STRUCTURES[0][2]
+    structures = MapStructures(marking_mask, points_px, frame_size, pitch, config)
+    _LAST_STRUCTURES[:] = [(key, pitch, structures)]
+    return structures
 
 
 def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: TemplateCurves,

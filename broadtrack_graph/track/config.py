@@ -35,6 +35,9 @@ class TrackingConfig:
     search_time_share: float = 0.2
     search_cost_frames: float = 10.0
     max_search_backoff: int = 8
+    # worker processes running the global search's next stages ahead (track/stage_runner.py; the cameras do not
+    # depend on it); None: every core but the tracker's own, at most 3; 0: all in the tracker's process
+    search_workers: int | None = None
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
     mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow
@@ -74,6 +77,8 @@ class TrackingConfig:
             raise ValueError(f"search_time_share must be in (0, 1], got {self.search_time_share}")
         if self.search_cost_frames < 0 or self.max_search_backoff < 1:
             raise ValueError("search_cost_frames must be >= 0 and max_search_backoff >= 1")
+        if self.search_workers is not None and self.search_workers < 0:
+            raise ValueError(f"search_workers must be >= 0, got {self.search_workers}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
 

@@ -35,6 +35,7 @@ class FrameInput:
     shot: object | None = None  # shots.segmenter.FrameShot: cut, view kind and camera id, when shots are detected
     graphics_mask: np.ndarray | None = None  # (h, w) bool static broadcast graphics at any size, or None
     markings: object | None = None  # detect.weightfree.FoundMarkings: the camera-free half of detection, done ahead
+    flow_ahead: object | None = None  # detect.flow.FlowCandidates from the previous frame, done ahead (no camera yet)
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:

@@ -4,8 +4,10 @@ The detector names the markings with the predicted camera (the markings found ah
 thread that decodes the frames, when the detector offers it); the static graphics mask is taken
 out; optical flow links the frame to the previous one while the previous camera is trusted
 (:func:`~broadtrack_graph.detect.flow.grid_flow`: back-projected through that camera, kept only on
-the field and off the players). A detections file's frames bring their observations; flow is added
-when their images come too. No I/O beyond a detections file's mask images.
+the field and off the players; tracked ahead in the decoding thread when the markings are found
+there, :func:`~broadtrack_graph.detect.flow.flow_candidates`, and only checked against the previous
+camera here). A detections file's frames bring their observations; flow is added when their images
+come too. No I/O beyond a detections file's mask images.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera
-from broadtrack_graph.detect.flow import grid_flow, prepare
+from broadtrack_graph.detect.flow import flow_keep_mask, grid_flow, on_pitch, prepare
 from broadtrack_graph.detect.graphics import mask_graphics
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -88,21 +90,31 @@ class FrameObserver:
         flow = None
         if grey is not None and self._prev_grey is not None and previous is not None:
             started = time.perf_counter()
-            flow = grid_flow(self._prev_grey, grey, self.W, self.H, previous, self._prev_keep_mask, self.config.flow,
-                             self.half_pitch_m)
+            if self._flow_ahead_applies(frame.flow_ahead):
+                flow = on_pitch(frame.flow_ahead, previous, self.config.flow, self.half_pitch_m)
+            else:
+                flow = grid_flow(self._prev_grey, grey, self.W, self.H, previous, self._prev_keep_mask,
+                                 self.config.flow, self.half_pitch_m)
             self.timings["flow_s"] += time.perf_counter() - started
         if detections is not None and frame.observations is None:
             observations = detections.to_observations(frame.frame_index, flow)
-            keep = detections.field_mask
-            if keep is not None and detections.player_mask is not None:
-                keep = keep & ~detections.player_mask
-            self._prev_keep_mask = keep
+            self._prev_keep_mask = flow_keep_mask(detections)
         elif flow is not None:
             observations = replace(observations, flow=flow)
         self._prev_grey = grey
         if observations.width_px != self.W or observations.height_px != self.H:
             observations = observations.rescaled(self.W, self.H)
         return observations, detections
+
+    def _flow_ahead_applies(self, ahead) -> bool:
+        """The flow found ahead starts from this loop's previous frame, with its keep mask, at the run's size."""
+        if ahead is None or ahead.prev_frame is not self._prev_grey or (ahead.width_px, ahead.height_px) != (
+                self.W, self.H):
+            return False
+        if ahead.keep_mask is None or self._prev_keep_mask is None:
+            return ahead.keep_mask is None and self._prev_keep_mask is None
+        return ahead.keep_mask.shape == self._prev_keep_mask.shape and np.array_equal(ahead.keep_mask,
+                                                                                        self._prev_keep_mask)
 
     def named_by(self, frame: FrameInput, observations: FrameObservations, detections: Detections | None,
                  camera: Camera) -> tuple[FrameObservations, Detections | None]:

@@ -25,8 +25,8 @@ from typing import Callable
 
 from tqdm import tqdm
 
-from broadtrack_graph.detect.flow import prepare
-from broadtrack_graph.detect.graphics import GraphicsConfig
+from broadtrack_graph.detect.flow import flow_candidates, flow_keep_mask, prepare
+from broadtrack_graph.detect.graphics import GraphicsConfig, mask_graphics
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
@@ -353,19 +353,29 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
     """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
     flow_config = run.config.flow
     find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
+    previous: list = [None, None]  # the last frame prepared ahead: its flow frame and keep mask (or Nones)
 
     def prepare_ahead(frame: FrameInput) -> FrameInput:
         # In the background thread: what needs no camera, so it overlaps the tracking of the previous frames.
         if frame.image is None:
+            previous[:] = [None, None]
             return frame
         if run.config.use_flow and frame.flow_frame is None:
             frame.flow_frame = prepare(frame.image, flow_config)
         other_view = frame.shot is not None and frame.shot.is_other_view
+        keep = None
         if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:
             try:
                 frame.markings = find_markings(frame.image)
+                keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
             except ValueError:
                 pass  # a bad image: the loop's own detection reports it on this frame
+        if frame.flow_frame is not None and previous[0] is not None and keep is not None:
+            # The flow from the previous frame, short of the previous camera's pitch check (the loop's, when it
+            # knows that camera): the same matches as the loop's own flow (detect.flow.flow_candidates).
+            frame.flow_ahead = flow_candidates(previous[0], frame.flow_frame, frame.image.shape[1],
+                                               frame.image.shape[0], previous[1], flow_config)
+        previous[:] = [frame.flow_frame, keep] if keep is not None else [None, None]
         return frame
 
     bar = tqdm(prefetch(frames, prepare_ahead), total=total, desc=f"track {label}", unit="frame", disable=not progress)
@@ -382,3 +392,4 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
         raise
     finally:
         bar.close()
+        run.policy.close()  # the search's workers: no search after the last frame

@@ -78,6 +78,7 @@ from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.search_budget import SearchBudget
 from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KIND_STAGES, MAIN_STAGES, SEARCH_STAGES
+from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
 """``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
@@ -137,6 +138,8 @@ class ReinitPolicy:
                  model: ModelCamera | None = None) -> None:
         self.config = config
         self.search = search
+        self.stages = StageRunner(search, default_search_workers() if config.search_workers is None
+                                  else config.search_workers)
         self.refine = refine
         self.confidence = confidence
         self.registry = registry or CameraRegistry()
@@ -149,6 +152,10 @@ class ReinitPolicy:
         self._model_next, self._model_gap = 0, 1  # the next frame the model runs on; its back-off
         self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0,
                        "skipped_by_budget": 0}
+
+    def close(self) -> None:
+        """Stop the search's workers (the end of the run)."""
+        self.stages.close()
 
     # ----------------------------------------------------------------- what the loop tells
 
@@ -361,11 +368,10 @@ class ReinitPolicy:
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         trusted = threshold + margin
-        for k, (stage_label, positions) in enumerate(stages):
-            if best is not None and best_confidence >= (trusted if best_known else enough):
-                break
+        results = self.stages.results([positions for _, positions in stages], observations, detections, pitch,
+                                      curves, sampling)
+        for k, ((stage_label, _), result) in enumerate(zip(stages, results)):
             self.counts["stages"] += 1
-            result = self.search(observations, detections, pitch, positions, curves, sampling)
             if result.camera is None:
                 reasons.append(f"{stage_label}: {result.reason}")
                 continue
@@ -380,6 +386,9 @@ class ReinitPolicy:
                 best, best_confidence = result, float(confidence)
                 label = f"global search, {stage_label}: {result.reason}"
                 best_known = stage_label == "known cameras"  # a returning camera, confidently found: no more stages
+            if best is not None and best_confidence >= (trusted if best_known else enough):
+                break
+        results.close()  # the stages not read (run ahead on the workers) are dropped
         if best is None:
             return None, 0.0, "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
         return best, best_confidence, label

@@ -7,7 +7,7 @@ import numpy as np
 from drawn_frames import draw_frame
 
 from broadtrack_graph.detect.detector import PredictedCamera, draw_detections
-from broadtrack_graph.detect.flow import FlowConfig, grid_flow, prepare
+from broadtrack_graph.detect.flow import FlowConfig, flow_candidates, grid_flow, on_pitch, prepare
 from broadtrack_graph.detect.meanshift import mean_shift_thin
 from broadtrack_graph.detect.template_raster import template_mask
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
@@ -132,6 +132,26 @@ def test_flow_recovers_a_known_shift_and_respects_the_mask():
     assert 0 < len(ground) < len(matches)
     points_w, hits = camera.ground_intersection(ground.uv_prev_px)
     assert hits.all() and np.all(np.abs(points_w[:, 1]) < 35.1)
+
+
+def test_flow_computed_ahead_of_the_camera_is_the_same_flow():
+    rng = np.random.default_rng(5)
+    texture = cv2.GaussianBlur(rng.integers(0, 255, (H + 20, W + 20, 3)).astype(np.uint8), (0, 0), 1.5)
+    prev, cur = texture[10:10 + H, 10:10 + W], texture[8:8 + H, 13:13 + W]
+    config = FlowConfig(work_width_px=480, grid_step_px=24)  # working size below the frame's, as in a run
+    keep = np.ones((H // 2, W // 2), bool)
+    keep[:40, :] = keep[:, 250:] = False  # a reduced-size keep mask
+    camera = Camera.from_degrees(700.0, 0.0, 0.0, 89.0, 0.0, (0.0, 55.0, -12.0), W, H)
+    prev_frame, cur_frame = prepare(prev, config), prepare(cur, config)
+    candidates = flow_candidates(prev_frame, cur_frame, W, H, keep, config)
+    assert candidates.prev_frame is prev_frame and candidates.keep_mask is keep
+    for kept in (keep, None):
+        direct = grid_flow(prev_frame, cur_frame, W, H, camera, kept, config)
+        ahead = on_pitch(flow_candidates(prev_frame, cur_frame, W, H, kept, config), camera, config)
+        assert 0 < len(direct) < len(flow_candidates(prev_frame, cur_frame, W, H, kept, config).uv_prev_px)
+        np.testing.assert_array_equal(ahead.uv_prev_px, direct.uv_prev_px)
+        np.testing.assert_array_equal(ahead.uv_cur_px, direct.uv_cur_px)
+        assert ahead.uv_prev_px.dtype == direct.uv_prev_px.dtype == np.float64
 
 
 def test_reinit_from_the_marking_map_alone_finds_the_camera():
