@@ -349,14 +349,21 @@ def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observatio
     return track, fitted, fit_info
 
 
+FLOW_AHEAD_MIN_LEAD = 2
+"""The decoding thread tracks a frame's optical flow ahead only while it is at least this many frames ahead of the
+loop (it has time to spare: the loop is searching, say); else the loop does (the decoding thread is the slower)."""
+
+
 def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:
     """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
     flow_config = run.config.flow
     find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
     previous: list = [None, None]  # the last frame prepared ahead: its flow frame and keep mask (or Nones)
+    count = {"made": 0, "taken": 0}  # frames prepared ahead, and taken by the loop
 
     def prepare_ahead(frame: FrameInput) -> FrameInput:
         # In the background thread: what needs no camera, so it overlaps the tracking of the previous frames.
+        count["made"] += 1
         if frame.image is None:
             previous[:] = [None, None]
             return frame
@@ -370,9 +377,12 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
                 keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
             except ValueError:
                 pass  # a bad image: the loop's own detection reports it on this frame
-        if frame.flow_frame is not None and previous[0] is not None and keep is not None:
+        lead = count["made"] - 1 - count["taken"]  # frames ready before this one: how far ahead this thread is
+        if frame.flow_frame is not None and previous[0] is not None and keep is not None and \
+                lead >= FLOW_AHEAD_MIN_LEAD:
             # The flow from the previous frame, short of the previous camera's pitch check (the loop's, when it
-            # knows that camera): the same matches as the loop's own flow (detect.flow.flow_candidates).
+            # knows that camera): the same matches as the loop's own flow (detect.flow.flow_candidates). Only
+            # when this thread has time to spare: else the loop tracks it (the same matches).
             frame.flow_ahead = flow_candidates(previous[0], frame.flow_frame, frame.image.shape[1],
                                                frame.image.shape[0], previous[1], flow_config)
         previous[:] = [frame.flow_frame, keep] if keep is not None else [None, None]
@@ -381,6 +391,7 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
     bar = tqdm(prefetch(frames, prepare_ahead), total=total, desc=f"track {label}", unit="frame", disable=not progress)
     try:
         for frame in bar:
+            count["taken"] += 1
             run.process(frame)
             if progress:
                 bar.set_postfix(run.writer.progress_postfix() if hasattr(run.writer, "progress_postfix") else {},

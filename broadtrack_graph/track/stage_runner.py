@@ -10,8 +10,8 @@ cameras do not depend on the number of workers, only its speed: the tracker runs
 decodes ahead in a thread, so at a cut, while it searches, the machine's other cores are idle.
 
 The search function must be a module-level function (it is sent to the workers by name); a search
-that is not (a test's fake) runs in this process. The workers start at the first search with more
-than one stage, each taking the pitch and template once; a worker that dies leaves the rest of the
+that is not (a test's fake) runs in this process. The workers start when a search first reads past
+its first stage, each taking the pitch and template once; a worker that dies leaves the rest of the
 run to this process. The one other place that spreads work over processes is
 :func:`broadtrack_graph.actions.parallel.map_jobs` (whole units of work).
 """
@@ -112,14 +112,22 @@ class StageRunner:
         def here(positions):
             return self.search(observations, detections, pitch, positions, curves, sampling)
 
-        pool = None if len(stages) < 2 else self._pool_for(pitch, curves, sampling)
+        started = self._pool is not None
+        pool = self._pool_for(pitch, curves, sampling) if started and len(stages) > 1 else None
+        first = 0
+        if not started and not self._disabled and len(stages) > 2:
+            # The workers start when a search first reads past its first stage: a run whose cameras are found
+            # at once never pays for starting them.
+            yield here(stages[0])
+            first = 1
+            pool = self._pool_for(pitch, curves, sampling)
         if pool is None:
-            for positions in stages:
+            for positions in stages[first:]:
                 yield here(positions)
             return
         done: dict[int, object] = {}
         ahead: dict[int, Future] = {}
-        claimed = 0  # stages [0, claimed) are done, or running here or on a worker
+        claimed = first  # stages [0, claimed) are done, or running here or on a worker
 
         def feed() -> None:
             nonlocal claimed
@@ -133,7 +141,7 @@ class StageRunner:
                 claimed += 1
 
         try:
-            for k in range(len(stages)):
+            for k in range(first, len(stages)):
                 while k not in done:
                     if k == claimed:  # the stage needed now, not started: here, with the next ones ahead
                         claimed += 1

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.actions.track import track_input
+from broadtrack_graph.detect.flow import on_pitch
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.io.annotations import read_annotations
 from broadtrack_graph.io.detections import annotations_to_observations
@@ -66,6 +67,23 @@ def test_markings_found_ahead_in_the_decoding_thread_change_no_camera(clip, tmp_
     files = sorted((tmp_path / "ahead" / "cameras").glob("*.json"))
     assert len(files) == FRAMES
     assert all(f.read_bytes() == (tmp_path / "inline" / "cameras" / f.name).read_bytes() for f in files)
+
+
+def test_flow_tracked_ahead_in_the_decoding_thread_changes_no_camera(clip, tmp_path, monkeypatch):
+    from broadtrack_graph.track import observe, passes
+
+    used = []
+    monkeypatch.setattr(observe, "on_pitch", lambda *args: used.append(1) or on_pitch(*args))
+    monkeypatch.setattr(passes, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
+    track_input(clip, tmp_path / "ahead", TrackingConfig(mode="online"), progress=False)
+    ahead_uses = len(used)
+    assert ahead_uses >= FRAMES - 2  # every frame with a previous camera but the first
+    monkeypatch.setattr(passes, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
+    track_input(clip, tmp_path / "loop", TrackingConfig(mode="online"), progress=False)
+    assert len(used) == ahead_uses
+    files = sorted((tmp_path / "ahead" / "cameras").glob("*.json"))
+    assert len(files) == FRAMES
+    assert all(f.read_bytes() == (tmp_path / "loop" / "cameras" / f.name).read_bytes() for f in files)
 
 
 def test_fixed_lag_outputs_every_frame_in_order(clip, tmp_path):
