@@ -1,12 +1,11 @@
 """Whole tracking runs: online, fixed-lag, and the two-pass offline workflow (online pass, batch refinement).
 
-Without a known tripod, the online modes track the opening frames without the
-tripod term, fit (T, delta) to them (robust to outlier frames) and then hold it
-fixed in the tripod factor; the offline mode does the paper's two passes: track
-with the online tripod (provisional, then fitted), then a batch refinement
-(Levenberg-Marquardt over overlapping chunks) with that tripod held fixed, or re-estimated
-with the trajectory (``batch_tripod``). The fitted
-tripod is written to ``tripod.json`` for later runs of the same camera.
+Without a known tripod, the online modes track the opening frames without the tripod term, fit
+(T, delta) to them (robust to outlier frames) and then hold it fixed in the tripod factor; the
+offline mode does the paper's two passes: track with the online tripod (provisional, then
+fitted), then a batch refinement (Levenberg-Marquardt over overlapping chunks) with that tripod
+held fixed, or re-estimated with the trajectory (``batch_tripod``). The fitted tripod is written
+to ``tripod.json`` for later runs of the same camera.
 
 Both offline modes then give a camera to the frames the forward pass could not lock
 (:mod:`broadtrack_graph.track.recover`: walked in from the nearest good frame, backwards for
@@ -74,41 +73,37 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                tripods: dict[str, Tripod] | None = None, record_observer: RecordObserver | None = None) -> RunResult:
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
-    In batch mode this is the paper's two-pass offline workflow: an online first pass
-    (written to ``<out>/pass1``), a tripod fit, and a batch refinement with that tripod held
-    fixed, or re-estimated jointly with the trajectory (``batch_tripod``), written to
-    ``<out>``. Unlike the paper, the
-    first pass already holds the focal point with the online tripod (provisional, then
-    fitted on its confident frames: ``tripod_provisional_frames``, ``tripod_fit_frames``):
-    without any tripod term, biased detections at tight zoom walked the focal point
-    metres along the optical axis on the 16m preset, and the fit of such a track put T
-    metres off (the figures: docs/BENCHMARKS.md, "Why the defaults").
+    In batch mode this is the paper's two-pass offline workflow: an online first pass (written to
+    ``<out>/pass1``), a tripod fit, and a batch refinement with that tripod held fixed, or
+    re-estimated jointly with the trajectory (``batch_tripod``), written to ``<out>``. Unlike the
+    paper, the first pass already holds the focal point with the online tripod (provisional, then
+    fitted on its confident frames: ``tripod_provisional_frames``, ``tripod_fit_frames``): without
+    any tripod term, biased detections at tight zoom walked the focal point metres along the
+    optical axis on the 16m preset, and the fit of such a track put T metres off (the figures:
+    docs/BENCHMARKS.md, "Why the defaults").
 
     ``on_frame_done`` observes every processed frame of the (first) pass
     (:data:`~broadtrack_graph.track.frame_loop.FrameDone`), e.g. to collect the detector's player boxes.
 
     With a detector (image input), the shot step runs on the frames as they are decoded
-    (:class:`~broadtrack_graph.track.shot_stream.ShotStream`): ``shots.json`` is written to the
-    run folder, and a clip with no shot of the main camera says so in one line (summary
-    ``note``). ``tripods``: known tripods by camera id (see :class:`TrackingRun`).
-    ``record_observer`` (:data:`RecordObserver`) sees every record of every run folder as it is written
-    (e.g. to put the players on the pitch as the run goes).
+    (:class:`~broadtrack_graph.track.shot_stream.ShotStream`): ``shots.json`` is written to the run
+    folder, and a clip with no shot of the main camera says so in one line (summary ``note``).
+    ``tripods``: known tripods by camera id (see :class:`TrackingRun`). ``record_observer``
+    (:data:`RecordObserver`) sees every record of every run folder as it is written (e.g. to put
+    the players on the pitch as the run goes).
     """
     out_dir = Path(out_dir)
     RunFolder(out_dir).clear()  # nothing of an earlier run into this folder survives (tripod.json, pass1/, ...)
     recover = config.mode != "online" and config.recover_max_frames > 0
-    given: dict[int, FrameObservations] = {}
-    if recover:
-        frames = _capturing(frames, given)
+    given: dict[int, FrameObservations] = {}  # the observations a detections file brought (for the recovery)
+    frames = _capturing(frames, given) if recover else frames
     stream = None
     if detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
         stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,
                             GraphicsConfig() if config.mask_graphics else None)
         frames = stream
-    if config.mode != "batch":
-        # Fixed-lag keeps no per-frame observations of its own (a long run would grow without
-        # bound): the recovery works on the observations a detections file brought.
+    if config.mode != "batch":  # fixed-lag keeps no observations of its own (a long run would grow without bound)
         run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
                           reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
                           tripods=tripods, backfill=recover)
@@ -380,9 +375,8 @@ def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None 
         lead = count["made"] - 1 - count["taken"]  # frames ready before this one: how far ahead this thread is
         if frame.flow_frame is not None and previous[0] is not None and keep is not None and \
                 lead >= FLOW_AHEAD_MIN_LEAD:
-            # The flow from the previous frame, short of the previous camera's pitch check (the loop's, when it
-            # knows that camera): the same matches as the loop's own flow (detect.flow.flow_candidates). Only
-            # when this thread has time to spare: else the loop tracks it (the same matches).
+            # The flow from the previous frame short of the previous camera's pitch check (the loop's, when it knows
+            # that camera): the loop's own matches (detect.flow.flow_candidates), computed here when there is time.
             frame.flow_ahead = flow_candidates(previous[0], frame.flow_frame, frame.image.shape[1],
                                                frame.image.shape[0], previous[1], flow_config)
         previous[:] = [frame.flow_frame, keep] if keep is not None else [None, None]
