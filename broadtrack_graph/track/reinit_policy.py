@@ -27,7 +27,9 @@ What is tried, cheapest first:
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
      a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
      confident by the margin (a camera returning after a cut): each camera's first appearance
-     costs a full search.
+     costs a full search. A chain's first camera that is not certain, when searched for or about to
+     be trusted, is also tried nearer and further along its line of sight
+     (:func:`~broadtrack_graph.reinit.mask.along_line_of_sight`) and moved there when better by the margin.
    * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
      that camera's position, then its kind's stage (the main camera's: the default positions,
      in case its position came from a provisional tripod); the first confident stage ends it.
@@ -44,21 +46,11 @@ unconfident one (a later stage's camera must also be better by the margin); the 
 new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
 All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
-**The search budget** (searches of the marking map; keypoints and labelled lines are searched
-at once, in milliseconds), counted in frames, not seconds, so a run gives the same cameras on
-any machine:
-
-* a known camera lost mid-shot (a blurred sweep) is still there: it is searched again after
-  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each;
-* a shot whose camera is not known is searched at its first frame, then paid from a bucket
-  that fills by one stage every ``search_cost_frames * (1 - s) / s`` frames (s =
-  ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
-  at most one, each stage paid (the bucket goes into debt): over any stretch where nothing is
-  found, searching takes about the share s of the run. Each search that finds nothing
-  confident doubles the price of the next (up to ``max_search_backoff``).
-
-A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame
-(:meth:`ReinitPolicy.confident`) restart the budget.
+**The search budget** (:mod:`~broadtrack_graph.track.search_budget`; in frames, so a run gives the
+same cameras on any machine): a known camera lost mid-shot is searched again after 1, 2, 4, ...
+frames; a shot whose camera is not known at its first frame, then for about ``search_time_share``
+of the time while nothing is found. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and
+a confident frame (:meth:`ReinitPolicy.confident`) restart it.
 """
 
 from __future__ import annotations
@@ -69,10 +61,8 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.positions import (
-    MAIN_KIND,
-    camera_kind,
-)
+from broadtrack_graph.reinit.mask import best_along_line_of_sight
+from broadtrack_graph.reinit.positions import MAIN_KIND, camera_kind
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
@@ -103,9 +93,8 @@ class ReinitDecision:
         chain (and the trust it earned) goes on.
     searched: a global search ran for this frame.
     reason: one line.
-    new_camera: ``camera`` was searched for a shot whose camera was not known: its chain is trusted
-        only from a frame confident by the margin (a shot's first frame can be explained, nearly as
-        well, by a wrong camera).
+    new_camera: ``camera`` was searched for a shot whose camera was not known: its chain is trusted only from
+        a frame confident by the margin (a shot's first frame can be explained, nearly as well, by a wrong camera).
     """
 
     camera: Camera | None
@@ -121,9 +110,8 @@ class ReinitPolicy:
     """The one re-initialisation decision of a run (module docstring).
 
     Args:
-        config: thresholds and budget (``confidence_threshold``, ``lost_confidence``,
-            ``reinit_switch_margin``, ``search_time_share``, ``search_cost_frames``,
-            ``max_search_backoff``, ``max_guess_age_frames``, ``cheap_reinit``).
+        config: thresholds and budget (``confidence_threshold``, ``lost_confidence``, ``reinit_switch_margin``,
+            ``search_*``, ``max_search_backoff``, ``max_guess_age_frames``, ``cheap_reinit``).
         search: one global search (:data:`Search`).
         refine: refines guesses on the frame's marking map (:data:`Refiner`).
         confidence: the tracker's confidence (:data:`Confidence`); every camera is judged by it.
@@ -185,7 +173,25 @@ class ReinitPolicy:
     def decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                held_confidence: float | None = None, chain_trusted: bool = False,
                image: np.ndarray | None = None) -> ReinitDecision:
-        """A camera for a frame without a trusted one (module docstring).
+        """A camera for a frame without a trusted one (module docstring; arguments: :meth:`_decide`)."""
+        decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence,
+                                chain_trusted, image)
+        points, margin = getattr(detections, "marking_points_px", None), self.config.reinit_switch_margin
+        if chain_trusted or decision.camera is None or points is None or len(points) < 10 \
+                or not (decision.searched or decision.confidence >= self.config.confidence_threshold + margin) \
+                or decision.confidence >= CERTAIN_CONFIDENCE:
+            return decision
+        # A chain's first camera, searched for or about to be trusted: nearer or further along its line of sight?
+        confidence, camera = best_along_line_of_sight(decision.camera, lambda c: self.confidence(
+            c, observations, detections, curves, sampling), points, curves)
+        if confidence <= decision.confidence + margin:
+            return decision
+        return replace(decision, camera=camera, confidence=confidence,
+                       reason=decision.reason + " (moved along its line of sight)")
+
+    def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
+                held_confidence: float | None = None, chain_trusted: bool = False, image=None) -> ReinitDecision:
+        """The decision before a new camera is tried along its line of sight.
 
         Args:
             observations, detections: the frame's (detections None for a detections file).

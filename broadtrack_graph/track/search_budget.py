@@ -1,7 +1,22 @@
 """The global search's budget in frames: how often a search may run where nothing is found.
 
-Counted in frames, not seconds, so a run gives the same cameras on any machine; the rules are
-:mod:`broadtrack_graph.track.reinit_policy`'s (its module docstring, "The search budget").
+Counted in frames, not seconds, so a run gives the same cameras on any machine; the re-initialisation
+policy (:mod:`broadtrack_graph.track.reinit_policy`) asks it before each search.
+
+The rules (searches of the marking map; keypoints and labelled lines are searched at once, in
+milliseconds):
+
+* a known camera lost mid-shot (a blurred sweep) is still there: it is searched again after
+  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each;
+* a shot whose camera is not known is searched at its first frame, then paid from a bucket
+  that fills by one stage every ``search_cost_frames * (1 - s) / s`` frames (s =
+  ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
+  at most one, each stage paid (the bucket goes into debt): over any stretch where nothing is
+  found, searching takes about the share s of the run. Each search that finds nothing
+  confident doubles the price of the next (up to ``max_search_backoff``).
+
+A cut or a view change (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.new_stretch`) and a
+confident frame (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.confident`) restart the budget.
 """
 
 from __future__ import annotations

@@ -318,3 +318,35 @@ def test_a_model_camera_that_is_not_taken_registers_no_camera():
     policy, _ = _with_model(fakes, CORNER, 0.8)  # a candidate only: the search runs and its camera wins
     decision = _decide(policy, 0, image=IMAGE)
     assert decision.camera is MAIN and set(policy.registry.positions) == {"main"}
+
+
+def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_better(monkeypatch):
+    import broadtrack_graph.reinit.mask as mask_module
+
+    further = MAIN.replace(focal_px=1600.0, position_m=(0.0, 59.0, -12.8))  # the same view from 4 m further back
+    tried = []
+
+    def along_line_of_sight(camera, points, curves):
+        tried.append(camera)
+        return [MAIN.replace(focal_px=1400.0, position_m=(0.0, 51.0, -11.2)), further]
+
+    monkeypatch.setattr(mask_module, "along_line_of_sight", along_line_of_sight)
+    points = SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((40, 2)))
+
+    def decided(main_confidence, further_confidence, **kw):
+        fakes = Fakes({None: (MAIN, main_confidence)})
+        fakes.confidences[id(further)] = further_confidence
+        return _decide(_policy(fakes), 0, detections=points, **kw)
+
+    decision = decided(0.62, 0.8)  # searched for a new shot: moved, better by more than the margin
+    assert decision.camera is further and decision.confidence == pytest.approx(0.8)
+    assert decision.reason.endswith("(moved along its line of sight)") and len(tried) == 1
+    assert decided(0.62, 0.7).camera is MAIN  # better by less than the margin (0.1): kept
+    assert decided(0.95, 0.99).camera is MAIN  # certain: not tried
+    held = MAIN.replace(pan_rad=0.3)
+    # A trusted chain's camera is not moved (it has been tracked; its tripod holds it).
+    assert decided(0.62, 0.8, held=held, held_confidence=0.3, chain_trusted=True).camera is MAIN
+    # Without a marking map's points there is nothing to refine on.
+    fakes = Fakes({None: (MAIN, 0.62)})
+    fakes.confidences[id(further)] = 0.8
+    assert _decide(_policy(fakes), 0).camera is MAIN
