@@ -15,7 +15,7 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.mask import refine_on_map
+from broadtrack_graph.reinit.mask import fit_points, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
@@ -38,8 +38,7 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
     points = np.asarray(detections.marking_points_px, float).reshape(-1, 2)
     if len(points) < 10 or not detections.marking_mask.any():
         return ReinitResult(None, None, "", "too few marking pixels")
-    if len(points) > config.max_fit_points:
-        points = points[np.linspace(0, len(points) - 1, config.max_fit_points).astype(int)]
+    points = fit_points(points, config)
     W, H = detections.width_px, detections.height_px
     best: ReinitResult | None = None
     for label, guess in guesses:

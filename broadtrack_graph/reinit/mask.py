@@ -126,9 +126,7 @@ def reinit_from_mask(
                            np.array([h.focal_px for h in hypotheses]), costs, config.refine_top_k,
                            config.distinct_per_width * W, W)
     log.debug("mask re-init: %d lines, %d ellipses, %d hypotheses", len(lines), len(ellipses), len(hypotheses))
-    points = points_px
-    if len(points) > config.max_fit_points:
-        points = points[np.linspace(0, len(points) - 1, config.max_fit_points).astype(int)]
+    points = fit_points(points_px, config)
     fine = structures.fine_scorer
     check_w = np.vstack(list(pitch.sample_uniform(4.0, classes=ground).values()))
     best = None  # (fit score, camera, focal point, whether from the first fitted hypothesis)
@@ -213,6 +211,14 @@ def _map_structures(marking_mask, points_px, frame_size, pitch, config) -> MapSt
     return structures
 
 
+def fit_points(marking_points_px: np.ndarray, config: MaskSearchConfig) -> np.ndarray:
+    """(M', 2) the marking points the label-and-fit rounds use: at most ``config.max_fit_points``, evenly subsampled."""
+    points = np.asarray(marking_points_px, float).reshape(-1, 2)
+    if len(points) > config.max_fit_points:
+        points = points[np.linspace(0, len(points) - 1, config.max_fit_points).astype(int)]
+    return points
+
+
 def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: TemplateCurves,
                    config: MaskSearchConfig, schedule: RefineSchedule) -> Camera:
     """Label-and-fit rounds with a shrinking gate and a robust scale tied to it (:class:`RefineSchedule`)."""
@@ -263,9 +269,7 @@ def along_line_of_sight(camera: Camera, marking_points_px: np.ndarray, curves: T
     if axis[2] <= 1e-6 or position[2] >= 0.0:
         return []
     looked_at = position + (-position[2] / axis[2]) * axis
-    points = np.asarray(marking_points_px, float).reshape(-1, 2)
-    if len(points) > config.max_fit_points:
-        points = points[np.linspace(0, len(points) - 1, config.max_fit_points).astype(int)]
+    points = fit_points(marking_points_px, config)
     cameras = []
     for scale in scales:
         moved = looked_at + scale * (position - looked_at)
