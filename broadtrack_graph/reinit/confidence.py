@@ -28,15 +28,15 @@ tracker re-initialises and ignores flow from the previous camera. No I/O.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
-from scipy.spatial import cKDTree
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
-from broadtrack_graph.geometry.template import KDTREE_FAST_BUILD, TemplateCurves, project_template
+from broadtrack_graph.geometry.template import TemplateCurves, project_template
 
 DEFAULT_THRESHOLD = 0.5
 
@@ -59,9 +59,40 @@ class ConfidenceConfig:
     goal_margin_m: float = 0.5  # ... and this much wider, higher and in front of it (0 depth: not left out)
 
 
+def pixels_within(points_px: np.ndarray, size: tuple[int, int], tolerance_px: float) -> tuple[np.ndarray, np.ndarray]:
+    """The pixels of a (w, h) grid strictly closer than ``tolerance_px`` to each point.
+
+    Args:
+        points_px: (N, 2) pixel coordinates (x, y), pixel (c, r) at integer coordinates (c, r).
+        size: (w, h) of the grid.
+        tolerance_px: the distance (pixels).
+
+    Returns:
+        near: (N, K) bool, the pair is within the tolerance and the pixel inside the grid; pixel: (N, K) int,
+        flat index ``r * w + c`` of each point's K candidate pixels (meaningless where not ``near``).
+        The same pairs as a KD-tree query with ``distance_upper_bound=tolerance_px``, without building a tree.
+    """
+    w, h = size
+    reach = int(math.ceil(tolerance_px))
+    offsets = np.arange(-reach, reach + 2)
+    ox, oy = (o.ravel() for o in np.meshgrid(offsets, offsets))
+    # Offsets from floor(point) that a point of the unit cell can be within the tolerance of.
+    gap_x, gap_y = np.maximum(np.maximum(ox - 1, -ox), 0), np.maximum(np.maximum(oy - 1, -oy), 0)
+    reachable = gap_x * gap_x + gap_y * gap_y < tolerance_px * tolerance_px
+    ox, oy = ox[reachable], oy[reachable]
+    base = np.floor(points_px).astype(np.int64)
+    cols, rows = base[:, 0:1] + ox, base[:, 1:2] + oy
+    dx, dy = cols - points_px[:, 0:1], rows - points_px[:, 1:2]
+    distance2 = dx * dx
+    distance2 += dy * dy
+    near = (distance2 < tolerance_px * tolerance_px) & (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
+    return near, rows * w + cols
+
+
 def _resized(mask: np.ndarray, w: int, h: int) -> np.ndarray:
+    """The map at (w, h) as bool (the map itself when it is already that: read only)."""
     if mask.shape == (h, w):
-        return mask.astype(bool)
+        return mask.astype(bool, copy=False)
     return cv2.resize(mask.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
 
 
@@ -74,51 +105,51 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     w = config.work_width_px
     h = max(1, int(round(H * w / W)))
     if marking_mask.shape == (h, w):
-        marks = marking_mask.astype(bool)
+        marks = marking_mask.astype(bool, copy=False)  # read only
     else:
         # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
         marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
                            interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
-    found = cv2.findNonZero(marks.astype(np.uint8))
-    marks_uv = np.zeros((0, 2)) if found is None else found.reshape(-1, 2).astype(float)
     template = project_template(camera, curves, w, h, config.template_spacing_px)
     # Detectable: at least min_line_width_px wide at the working width, and as wide in the frame itself
     # (upsampling a 640 px frame to the working width does not bring out a line thinner than its pixels).
     min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
     uv = template.uv_px[template.width_m_px >= min_width_work_px]
-    if len(uv) and (field_mask is not None or player_mask is not None):
+    field = None if field_mask is None else _resized(field_mask, w, h)
+    if len(uv) and (field is not None or player_mask is not None):
         col = np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)
         row = np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1)
         keep = np.ones(len(uv), bool)
-        if field_mask is not None:
-            keep &= _resized(field_mask, w, h)[row, col]
+        if field is not None:
+            keep &= field[row, col]
         if player_mask is not None:
             keep &= ~_resized(player_mask, w, h)[row, col]
         uv = uv[keep]
-    if field_mask is not None and len(marks_uv):
-        marks_uv = marks_uv[_resized(field_mask, w, h)[marks_uv[:, 1].astype(int), marks_uv[:, 0].astype(int)]]
+    if field is not None:
+        marks = marks & field
     goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
     if goals is not None:
         if len(uv):
             uv = uv[~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]]
-        if len(marks_uv):
-            marks_uv = marks_uv[~goals[marks_uv[:, 1].astype(int), marks_uv[:, 0].astype(int)]]
-    tol = config.tolerance_px
+        marks = marks & ~goals
+    marking_pixels = int(np.count_nonzero(marks))
     recall = precision = 0.0
-    if len(uv) and len(marks_uv):
-        d_template, _ = cKDTree(marks_uv, **KDTREE_FAST_BUILD).query(uv, distance_upper_bound=tol)
-        recall = float(np.sum(np.isfinite(d_template)) / max(len(uv), config.min_template_px))
-        d_marks, _ = cKDTree(uv, **KDTREE_FAST_BUILD).query(marks_uv, distance_upper_bound=tol)
-        precision = float(np.mean(np.isfinite(d_marks)))
+    if len(uv) and marking_pixels:
+        near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
+        found = marks.ravel()[np.where(near, pixel, 0)] & near
+        recall = float(np.count_nonzero(found.any(axis=1)) / max(len(uv), config.min_template_px))
+        explained = np.zeros(h * w, bool)
+        explained[pixel[near]] = True
+        precision = float(np.count_nonzero(explained & marks.ravel()) / marking_pixels)
     b2 = config.beta**2
     score = (1 + b2) * precision * recall / (b2 * precision + recall) if precision + recall > 0 else 0.0
     coverage = 1.0
-    if field_mask is not None and score > 0:
-        coverage = field_coverage(camera, _resized(field_mask, w, h), curves.pitch, config.field_margin_m,
+    if field is not None and score > 0:
+        coverage = field_coverage(camera, field, curves.pitch, config.field_margin_m,
                                   config.field_grid_px)
         score *= min(1.0, coverage / config.min_field_coverage) if config.min_field_coverage > 0 else 1.0
     return {"confidence": float(score), "precision": precision, "recall": recall, "field_coverage": coverage,
-            "template_samples": int(len(uv)), "marking_pixels": int(len(marks_uv))}
+            "template_samples": int(len(uv)), "marking_pixels": marking_pixels}
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:

@@ -27,8 +27,8 @@ What is tried, cheapest first:
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
      a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
      confident by the margin (a camera returning after a cut): each camera's first appearance
-     costs a full search. A chain's first camera that is not certain, when searched for or about to
-     be trusted, is also tried nearer and further along its line of sight
+     costs a full search. A chain's first camera that is not certain nor a refined guess, when searched
+     for or about to be trusted, is also tried nearer and further along its line of sight
      (:func:`~broadtrack_graph.reinit.mask.along_line_of_sight`) and moved there when better by the margin.
    * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
      that camera's position, then its kind's stage (the main camera's: the default positions,
@@ -177,11 +177,11 @@ class ReinitPolicy:
         decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence,
                                 chain_trusted, image)
         points, margin = getattr(detections, "marking_points_px", None), self.config.reinit_switch_margin
-        if chain_trusted or decision.camera is None or points is None or len(points) < 10 \
+        if chain_trusted or decision.camera is None or decision.continues_chain or points is None or len(points) < 10 \
                 or not (decision.searched or decision.confidence >= self.config.confidence_threshold + margin) \
                 or decision.confidence >= CERTAIN_CONFIDENCE:
             return decision
-        # A chain's first camera, searched for or about to be trusted: nearer or further along its line of sight?
+        # A chain's first camera (a refined guess stands where its camera stood): nearer or further along its sight?
         confidence, camera = best_along_line_of_sight(decision.camera, lambda c: self.confidence(
             c, observations, detections, curves, sampling), points, curves)
         if confidence <= decision.confidence + margin:
