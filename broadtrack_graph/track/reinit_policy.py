@@ -196,8 +196,7 @@ class ReinitPolicy:
         Args:
             observations, detections: the frame's (detections None for a detections file).
             pitch, curves, sampling: the template.
-            held: the camera the solver holds for this frame (its confidence under the threshold), or None
-                when the track is lost.
+            held: the camera the solver holds for this frame (confidence under the threshold), None when lost.
             held_confidence: its confidence.
             chain_trusted: the held camera's chain has had a confident frame (switching it costs smoothing).
             image: the frame (H, W, 3) BGR, for the field model; None: no model this frame.
@@ -391,7 +390,8 @@ class ReinitPolicy:
                                 else confidence >= threshold and confidence > best_confidence + margin):
                 best, best_confidence = result, float(confidence)
                 label = f"global search, {stage_label}: {result.reason}"
-                best_known = stage_label == "known cameras"  # a returning camera, confidently found: no more stages
+                best_known = stage_label == "known cameras" and self.registry.nearest(  # a returning camera
+                    result.camera.position_m, result.camera.R_cw[2]) is not None
             if best is not None and best_confidence >= (trusted if best_known else enough):
                 break
         results.close()  # the stages not read (run ahead on the workers) are dropped

@@ -9,7 +9,7 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
-from broadtrack_graph.reinit.confidence import ConfidenceConfig, confidence_parts, field_coverage
+from broadtrack_graph.reinit.confidence import ConfidenceConfig, confidence_parts, field_coverage, pixels_within
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -59,3 +59,21 @@ def test_a_camera_that_leaves_the_grass_off_its_pitch_is_scaled_down():
     _, grass_wide = _maps(TRUTH, grass_margin_m=8.0)
     assert field_coverage(TRUTH, grass_wide, PITCH, margin_m=10.0) == pytest.approx(1.0)
     assert field_coverage(TRUTH, grass_wide, PITCH, margin_m=2.0) < 1.0
+
+
+@pytest.mark.parametrize("tolerance_px", [2.5, 1.0, 3.2])
+def test_pixels_within_a_tolerance_are_the_pairs_a_kd_tree_finds(tolerance_px):
+    from scipy.spatial import cKDTree
+
+    rng = np.random.default_rng(7)
+    points = rng.uniform(-5.0, 70.0, (400, 2))
+    points[:150] = np.round(points[:150] * 2.0) / 2.0  # on pixels and half-way between: the strict boundary
+    w, h = 64, 48
+    near, pixel = pixels_within(points, (w, h), tolerance_px)
+    rows, cols = np.mgrid[0:h, 0:w]
+    grid = np.column_stack([cols.ravel(), rows.ravel()]).astype(float)
+    expected = cKDTree(grid).query_ball_point(points, tolerance_px + 1.0)
+    for k in range(len(points)):
+        found = set(pixel[k][near[k]].tolist())
+        truth = {j for j in expected[k] if np.sum((grid[j] - points[k]) ** 2) < tolerance_px**2}
+        assert found == truth

@@ -243,6 +243,17 @@ def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
     assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)
 
 
+def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
+    known = ((53.0, 70.0, -22.0),)
+    elsewhere = CORNER.replace(position_m=(40.0, 70.0, -22.0))  # 13 m across its line of sight from the known one
+    fakes = Fakes({known: (elsewhere, 0.7)})
+    policy = _policy(fakes)
+    policy.tripod("high-corner-1", known[0])
+    decision = _decide(policy, 0)
+    assert decision.camera is elsewhere and len(fakes.searched) == 1 + len(SEARCH_STAGES)
+    assert decision.camera_id not in (None, "high-corner-1")
+
+
 class FakeModel:
     """The field model's camera: a fixed camera (or None) whose confidence the fakes' table gives."""
 
