@@ -361,3 +361,13 @@ def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_be
     fakes = Fakes({None: (MAIN, 0.62)})
     fakes.confidences[id(further)] = 0.8
     assert _decide(_policy(fakes), 0).camera is MAIN
+    # A refined guess continues a confident chain and stands where its camera stood: not moved either.
+    fakes = Fakes({None: (MAIN, 0.62)}, guess_confidence=0.62)
+    fakes.confidences[id(further)] = 0.8
+    policy = _policy(fakes)
+    policy.switch("main")
+    policy.confident(0, MAIN)
+    policy.new_stretch()
+    tried.clear()
+    decision = _decide(policy, 5, detections=points)
+    assert decision.continues_chain and decision.camera is MAIN and tried == []
