@@ -13,7 +13,11 @@ the few positions that cover its usual range. Where the numbers come from:
   frames, main camera, have their focal point at y = 48-90 m, 5th-95th percentile, and
   z = -10 to -25 m); lower-league grounds have a low gantry a few metres behind the touchline:
   (0, 41, -6), (0, 45, -8) and (0, 38.5, -4.5) m (so close to the pitch a guess 4-5 m off does
-  not converge, hence three).
+  not converge, hence three). The three gantry guesses all see the centre spot 12.3-12.4 deg
+  below the horizon; main cameras stand at other elevations too (the main cameras tracked on the real
+  clips this project is measured on were fitted at 9.3-15.6 deg), and a guess 3 deg off in
+  elevation can miss a tight view: (0, 75, -12) m (9.1 deg) and (0, 55, -16) m (16.2 deg) are
+  tried when nothing else gives a confident camera.
 - ``high-16m``: the cameras of the main stand level with the penalty areas' 16.5 m lines,
   x = +-36 m, on the main camera's gantry.
 - ``high-behind``: high behind a goal, on the pitch's long axis: (-65, 0, -15) and (-75, 0, -24) m
@@ -67,7 +71,8 @@ class CameraKind:
 
 CAMERA_KINDS: tuple[CameraKind, ...] = (
     CameraKind(MAIN_KIND, ((0.0, 55.0, -12.0), (0.0, 75.0, -16.5), (0.0, 100.0, -22.0),
-                           (0.0, 41.0, -6.0), (0.0, 45.0, -8.0), (0.0, 38.5, -4.5))),
+                           (0.0, 41.0, -6.0), (0.0, 45.0, -8.0), (0.0, 38.5, -4.5),
+                           (0.0, 75.0, -12.0), (0.0, 55.0, -16.0))),
     CameraKind("high-16m", ((-36.0, 55.0, -12.0), (36.0, 55.0, -12.0))),
     CameraKind("high-behind", ((-65.0, 0.0, -15.0), (-75.0, 0.0, -24.0))),
     CameraKind("high-corner", ((52.5, 70.0, -22.0), (-52.5, 70.0, -22.0))),
@@ -78,8 +83,11 @@ CAMERA_KINDS: tuple[CameraKind, ...] = (
 FAR_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[1:3]
 """Main cameras of larger stadiums: further back and higher than the default."""
 
-NEAR_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[3:]
+NEAR_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[3:6]
 """Main cameras of lower-league grounds: a low gantry a few metres behind the touchline."""
+
+OTHER_ELEVATION_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[6:]
+"""Main cameras seeing the centre spot lower and higher than the guesses above (9.1 and 16.2 deg against 12.4)."""
 
 
 

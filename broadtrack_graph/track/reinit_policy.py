@@ -23,7 +23,8 @@ What is tried, cheapest first:
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
      positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
-     the other camera kinds (:mod:`broadtrack_graph.reinit.positions`). Every stage is
+     the other camera kinds, and when none of these gives a camera confident by the margin, the
+     main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`). Every stage is
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
      a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
      confident by the margin (a camera returning after a cut): each camera's first appearance
@@ -62,12 +63,11 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.mask import best_along_line_of_sight
-from broadtrack_graph.reinit.positions import MAIN_KIND, camera_kind
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KIND_STAGES, MAIN_STAGES, SEARCH_STAGES
+from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
@@ -344,6 +344,18 @@ class ReinitPolicy:
             self._model_next, self._model_gap = 0, 1
         return found if found is not None else (None, 0.0)
 
+    def _stage_results(self, groups, go_on: Callable[[], bool], *frame):
+        """(stage label, result) of the groups of stages in order, a group after the first only while go_on();
+        the stages not read (run ahead on the workers) are dropped."""
+        for n, group in enumerate(groups):
+            if n and not go_on():
+                return
+            results = self.stages.results([positions for _, positions in group], *frame)
+            try:
+                yield from zip((stage_label for stage_label, _ in group), results)
+            finally:
+                results.close()
+
     def _search(self, observations, detections, pitch, curves, sampling, score,
                 with_map: bool) -> tuple[ReinitResult | None, float, str]:
         """The global search in stages (module docstring): (best result or None, its confidence, one line).
@@ -352,30 +364,20 @@ class ReinitPolicy:
         labelled: the known cameras' positions, then the default positions (mirrored too) only.
         """
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
-        known: list = []
-        if self.search_positions is not None:
-            stages = [("the given positions", self.search_positions)]
-        elif self.camera_id is not None and self.camera_id in self.registry.positions:
-            # Mid-shot: the camera has not moved; its own position, then its kind's stages.
-            known = [tuple(self.registry.positions[self.camera_id])]
-            kind, _ = camera_kind(known[0])
-            # The main camera's default stage guards against a wrong provisional tripod (its position).
-            own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES else ())
-            stages = [(f"camera {self.camera_id}", known)] + list(own)
-        else:
-            known = [tuple(p) for p in self.registry.positions.values()]
-            stages = ([("known cameras", known)] if known else []) + list(SEARCH_STAGES if with_map else SEARCH_STAGES[:1])
+        plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map)
         # A shot whose camera is not known is searched through every stage (until a camera is certain): a view
         # of one camera can be explained, less well, by a camera elsewhere (a penalty area seen from behind the
         # goal by a camera on the 16 m line). A known camera found confidently at its own position (a camera
-        # returning after a cut), and mid-shot the first confident camera, end the search.
+        # returning after a cut), and mid-shot the first confident camera, end the search. When no stage gives
+        # a camera confident by the margin, the fallback stages are searched too.
         enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         trusted = threshold + margin
-        results = self.stages.results([positions for _, positions in stages], observations, detections, pitch,
-                                      curves, sampling)
-        for k, ((stage_label, _), result) in enumerate(zip(stages, results)):
+        groups = [plan.stages] + [[stage] for stage in plan.fallback]
+        stage_results = self._stage_results(groups, lambda: best_confidence < trusted, observations, detections,
+                                            pitch, curves, sampling)
+        for k, (stage_label, result) in enumerate(stage_results):
             self.counts["stages"] += 1
             if result.camera is None:
                 reasons.append(f"{stage_label}: {result.reason}")
@@ -385,16 +387,15 @@ class ReinitPolicy:
                 confidence = result.score.jaccard if result.score is not None else 0.0
             # The known cameras and the default positions are the likely ones: the better camera of the two wins.
             # A later stage's camera (a less likely position) must be confident and better by the margin.
-            likely = k < (2 if known else 1) if self.search_positions is None else k == 0
-            if best is None or (confidence > best_confidence if likely
+            if best is None or (confidence > best_confidence if k < plan.likely
                                 else confidence >= threshold and confidence > best_confidence + margin):
                 best, best_confidence = result, float(confidence)
                 label = f"global search, {stage_label}: {result.reason}"
-                best_known = stage_label == "known cameras" and self.registry.nearest(  # a returning camera
+                best_known = stage_label == KNOWN_CAMERAS and self.registry.nearest(  # a returning camera
                     result.camera.position_m, result.camera.R_cw[2]) is not None
             if best is not None and best_confidence >= (trusted if best_known else enough):
                 break
-        results.close()  # the stages not read (run ahead on the workers) are dropped
+        stage_results.close()
         if best is None:
             return None, 0.0, "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
         return best, best_confidence, label

@@ -6,11 +6,16 @@ each stage runs); the positions and where their numbers come from are :mod:`broa
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from broadtrack_graph.reinit.positions import (
     CAMERA_KINDS,
     DEFAULT_TRIPOD_POSITIONS_W,
     FAR_MAIN_POSITIONS_W,
+    MAIN_KIND,
     NEAR_MAIN_POSITIONS_W,
+    OTHER_ELEVATION_MAIN_POSITIONS_W,
+    camera_kind,
 )
 
 MAIN_STAGES: tuple[tuple[str, tuple | None], ...] = (
@@ -29,7 +34,50 @@ KIND_STAGES: dict[str, tuple[str, tuple]] = {
 SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_STAGES.values())
 """The stages of a shot whose camera is not known yet, after the known cameras' positions."""
 
+FALLBACK_STAGES: tuple[tuple[str, tuple], ...] = tuple(
+    (f"main camera at another elevation {p}", (p,)) for p in OTHER_ELEVATION_MAIN_POSITIONS_W)
+"""Stages searched after :data:`SEARCH_STAGES`, each only when no stage before it gave a camera confident by the
+margin."""
+
+
+KNOWN_CAMERAS = "known cameras"
+"""The label of the stage that searches the known cameras' positions."""
 
 CERTAIN_CONFIDENCE = 0.9
 """A camera found this confident at a shot's start is not searched past (the later stages cannot do better by
 the margin); below it, every stage is searched."""
+
+
+class SearchPlan(NamedTuple):
+    """One search's stages: (label, positions) in order; the fallback stages, searched after them only when none gave
+    a camera confident by the margin; and how many of the first stages are the likely ones (their best camera wins
+    by any amount; a later stage's must be confident and better by the margin)."""
+
+    stages: list
+    fallback: list
+    likely: int
+
+
+def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool) -> SearchPlan:
+    """The stages of one search (the policy's module docstring says why).
+
+    Args:
+        known_positions: camera id -> (3,) position of the cameras known so far (metres).
+        camera_id: the shot's camera id, None when the shot's camera is not known.
+        search_positions: the run's given candidate positions (searched alone), or None.
+        with_map: the frame has a marking map (without one, the labelled search is cheap: the default stage only).
+    """
+    if search_positions is not None:
+        return SearchPlan([("the given positions", search_positions)], [], 1)
+    if camera_id is not None and camera_id in known_positions:
+        # Mid-shot: the camera has not moved; its own position, then its kind's stage (the main camera's default
+        # stage guards against a wrong provisional tripod, its position).
+        own_position = tuple(known_positions[camera_id])
+        kind, _ = camera_kind(own_position)
+        own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES else ())
+        return SearchPlan([(f"camera {camera_id}", [own_position])] + list(own), [], 2)
+    known = [tuple(p) for p in known_positions.values()]
+    first = [(KNOWN_CAMERAS, known)] if known else []
+    if not with_map:
+        return SearchPlan(first + list(SEARCH_STAGES[:1]), [], len(first) + 1)
+    return SearchPlan(first + list(SEARCH_STAGES), list(FALLBACK_STAGES), len(first) + 1)

@@ -11,8 +11,9 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.reinit_policy import SEARCH_STAGES, ReinitPolicy
+from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.search_budget import SearchBudget
+from broadtrack_graph.track.search_stages import FALLBACK_STAGES, SEARCH_STAGES
 from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
@@ -140,13 +141,14 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     fakes = Fakes()  # nothing is ever found
     policy = _policy(fakes, search_cost_frames=5.0, search_time_share=0.2, max_search_backoff=8)
     first = _decide(policy, 0)
-    assert first.camera is None and first.searched and len(fakes.searched) == len(SEARCH_STAGES)
+    stages = len(SEARCH_STAGES) + len(FALLBACK_STAGES)  # nothing confident: the fallback stages too
+    assert first.camera is None and first.searched and len(fakes.searched) == stages
     # Every stage is paid: the next search waits len(stages) * 5 * 4 frames (and twice that after a failure).
     blocked = _decide(policy, 1)
     assert not blocked.searched and "next global search at frame" in blocked.reason
     # A frame refills 1/20 of a search; the bucket owes len(stages) - 1 and the next search costs 2.
     next_frame = policy.budget.next_frame(1)
-    assert next_frame == 20 * (len(SEARCH_STAGES) + 1)
+    assert next_frame == 20 * (stages + 1)
     assert not _decide(policy, next_frame - 1).searched and _decide(policy, next_frame).searched
     policy.new_stretch()
     assert _decide(policy, next_frame + 1).searched  # a new shot is searched at its first frame
@@ -240,7 +242,31 @@ def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
     policy = _policy(fakes)
     policy.tripod("high-corner-1", known[0])
     decision = _decide(policy, 0)
-    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)
+    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES) + len(FALLBACK_STAGES)
+
+
+def test_the_fallback_stages_are_searched_only_when_no_stage_is_confident_by_the_margin():
+    (_, lower_stage), (_, higher_stage) = FALLBACK_STAGES
+    lower, higher = MAIN.replace(position_m=lower_stage[0]), MAIN.replace(position_m=higher_stage[0])
+    stages = [p for _, p in SEARCH_STAGES]
+    # Nothing confident by the margin: a fallback's camera wins when confident and better by the margin, and
+    # once one is confident by the margin the next fallback is not searched.
+    fakes = Fakes({None: (MAIN, 0.36), lower_stage: (lower, 0.66), higher_stage: (higher, 0.9)})
+    decision = _decide(_policy(fakes), 0)
+    assert decision.camera is lower and decision.camera_id == "main" and "another elevation" in decision.reason
+    assert fakes.searched == stages + [lower_stage]
+    fakes = Fakes({None: (MAIN, 0.36), lower_stage: (lower, 0.4), higher_stage: (higher, 0.7)})
+    assert _decide(_policy(fakes), 0).camera is higher and fakes.searched == stages + [lower_stage, higher_stage]
+    fakes = Fakes({None: (MAIN, 0.58), lower_stage: (lower, 0.66)})  # confident, but not better by the margin
+    assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages + [lower_stage, higher_stage]
+    # A camera confident by the margin: no fallback is searched.
+    fakes = Fakes({None: (MAIN, 0.61), lower_stage: (lower, 0.95)})
+    assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages
+    # Mid-shot (the shot's camera is known) there is no fallback.
+    policy = _policy(fakes := Fakes({lower_stage: (lower, 0.95)}))
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    policy.switch("main")
+    assert _decide(policy, 0).camera is None and lower_stage not in fakes.searched
 
 
 def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
@@ -371,3 +397,44 @@ def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_be
     tried.clear()
     decision = _decide(policy, 5, detections=points)
     assert decision.continues_chain and decision.camera is MAIN and tried == []
+
+
+def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(real_video_dir, tmp_path):
+    """The FA Cup clip's first frame cut to its middle 574 rows and written as MPEG-4 video, as a screen recording
+    is: a centre-circle view whose boards' lettering passes for markings. Its camera sees the centre spot 9.3 deg
+    below the horizon (12.4 deg for the usual main-camera guesses): only the fallback stage finds it (without it,
+    a camera behind the goal, 0.36)."""
+    import cv2
+
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
+    from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
+
+    capture = cv2.VideoCapture(str(real_video_dir / "facup-wembley-720p.mp4"))
+    ok, image = capture.read()
+    capture.release()
+    assert ok and image.shape[:2] == (720, 1280)
+    recording = str(tmp_path / "crop.mp4")
+    writer = cv2.VideoWriter(recording, cv2.VideoWriter_fourcc(*"mp4v"), 25.0, (1280, 574))
+    writer.write(np.ascontiguousarray(image[73:647]))
+    writer.release()
+    ok, image = cv2.VideoCapture(recording).read()
+    assert ok and image.shape[:2] == (574, 1280)
+    detections = WeightFreeDetector().detect(image, None)
+    pitch = PitchTemplate()
+    policy = ReinitPolicy(TrackingConfig(search_workers=0), reinitialise, refine_guesses, frame_confidence)
+    decision = policy.decide(FrameObservations(0, 1280, 574), detections, pitch, fitting_curves(pitch),
+                             TemplateSampling(pitch))
+    camera = decision.camera
+    assert camera is not None and decision.confidence > 0.6 and decision.camera_id == "main", decision.reason
+    # The camera this clip is tracked with (every frame passes the alignment check of `bench real`); one frame
+    # leaves the distance along the line of sight loose (f scales with it), the image is what must agree.
+    tracked = Camera(4045.0, 0.56, np.radians(-7.29), np.radians(81.87), np.radians(-0.12), (0.19, 74.87, -12.43),
+                     1280, 574)
+    ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
+    (uv, front), (uv_tracked, front_tracked) = camera.project(ground), tracked.project(ground)
+    shown = front & front_tracked & tracked.in_image(uv_tracked)
+    assert shown.sum() > 100 and np.median(np.linalg.norm(uv[shown] - uv_tracked[shown], axis=1)) < 4.0
+    assert camera.position_m[0] == pytest.approx(0.0, abs=1.0) and camera.position_m[2] < -10.0
