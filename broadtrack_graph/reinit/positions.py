@@ -13,11 +13,11 @@ the few positions that cover its usual range. Where the numbers come from:
   frames, main camera, have their focal point at y = 48-90 m, 5th-95th percentile, and
   z = -10 to -25 m); lower-league grounds have a low gantry a few metres behind the touchline:
   (0, 41, -6), (0, 45, -8) and (0, 38.5, -4.5) m (so close to the pitch a guess 4-5 m off does
-  not converge, hence three). The three gantry guesses all see the centre spot 12.3-12.4 deg
-  below the horizon; main cameras stand at other elevations too (the main cameras tracked on the real
-  clips this project is measured on were fitted at 9.3-15.6 deg), and a guess 3 deg off in
-  elevation can miss a tight view: (0, 75, -12) m (9.1 deg) and (0, 55, -16) m (16.2 deg) are
-  tried when nothing else gives a confident camera.
+  not converge, hence three). The three guesses on the main stand all see the centre spot
+  12.3-12.4 deg below the horizon; main cameras stand at other elevations too (the main cameras
+  tracked on the real clips this project is measured on were fitted at 9.3-15.6 deg), and a
+  guess 3 deg off in elevation can miss a tight view: (0, 75, -12) m (9.1 deg) and (0, 55, -16) m
+  (16.2 deg) are tried when nothing else gives a confident camera.
 - ``high-16m``: the cameras of the main stand level with the penalty areas' 16.5 m lines,
   x = +-36 m, on the main camera's gantry.
 - ``high-behind``: high behind a goal, on the pitch's long axis: (-65, 0, -15) and (-75, 0, -24) m
