@@ -23,7 +23,7 @@ What is tried, cheapest first:
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
      positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
-     the other camera kinds, and when none of these gives a camera confident by the margin, the
+     the other camera kinds, and when none of these gives a confident camera, the
      main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`). Every stage is
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
      a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
@@ -369,13 +369,13 @@ class ReinitPolicy:
         # of one camera can be explained, less well, by a camera elsewhere (a penalty area seen from behind the
         # goal by a camera on the 16 m line). A known camera found confidently at its own position (a camera
         # returning after a cut), and mid-shot the first confident camera, end the search. When no stage gives
-        # a camera confident by the margin, the fallback stages are searched too.
+        # a confident camera, the fallback stages are searched too (a shot that cannot be placed costs little).
         enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         trusted = threshold + margin
         groups = [plan.stages] + [[stage] for stage in plan.fallback]
-        stage_results = self._stage_results(groups, lambda: best_confidence < trusted, observations, detections,
+        stage_results = self._stage_results(groups, lambda: best_confidence < threshold, observations, detections,
                                             pitch, curves, sampling)
         for k, (stage_label, result) in enumerate(stage_results):
             self.counts["stages"] += 1

@@ -36,8 +36,7 @@ SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_S
 
 FALLBACK_STAGES: tuple[tuple[str, tuple], ...] = tuple(
     (f"main camera at another elevation {p}", (p,)) for p in OTHER_ELEVATION_MAIN_POSITIONS_W)
-"""Stages searched after :data:`SEARCH_STAGES`, each only when no stage before it gave a camera confident by the
-margin."""
+"""Stages searched after :data:`SEARCH_STAGES`, each only when no stage before it gave a confident camera."""
 
 
 KNOWN_CAMERAS = "known cameras"
@@ -50,7 +49,7 @@ the margin); below it, every stage is searched."""
 
 class SearchPlan(NamedTuple):
     """One search's stages: (label, positions) in order; the fallback stages, searched after them only when none gave
-    a camera confident by the margin; and how many of the first stages are the likely ones (their best camera wins
+    a confident camera; and how many of the first stages are the likely ones (their best camera wins
     by any amount; a later stage's must be confident and better by the margin)."""
 
     stages: list
