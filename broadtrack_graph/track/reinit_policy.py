@@ -67,7 +67,7 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, search_plan
+from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, SearchPlan, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
@@ -344,10 +344,10 @@ class ReinitPolicy:
             self._model_next, self._model_gap = 0, 1
         return found if found is not None else (None, 0.0)
 
-    def _stage_results(self, groups, go_on: Callable[[], bool], *frame):
-        """(stage label, result) of the groups of stages in order, a group after the first only while go_on();
-        the stages not read (run ahead on the workers) are dropped."""
-        for n, group in enumerate(groups):
+    def _stage_results(self, plan: SearchPlan, go_on: Callable[[], bool], *frame):
+        """(stage label, result) of the plan's stages in order, then of each fallback stage while go_on(); the
+        stages not read (run ahead on the workers) are dropped."""
+        for n, group in enumerate([plan.stages] + [[stage] for stage in plan.fallback]):
             if n and not go_on():
                 return
             results = self.stages.results([positions for _, positions in group], *frame)
@@ -374,8 +374,7 @@ class ReinitPolicy:
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         trusted = threshold + margin
-        groups = [plan.stages] + [[stage] for stage in plan.fallback]
-        stage_results = self._stage_results(groups, lambda: best_confidence < threshold, observations, detections,
+        stage_results = self._stage_results(plan, lambda: best_confidence < threshold, observations, detections,
                                             pitch, curves, sampling)
         for k, (stage_label, result) in enumerate(stage_results):
             self.counts["stages"] += 1
