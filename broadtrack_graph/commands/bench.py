@@ -24,6 +24,7 @@ SUITES = (
     "scale",
     "broadcast",
     "model",
+    "placements",
 )
 
 

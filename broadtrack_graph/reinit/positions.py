@@ -15,9 +15,12 @@ the few positions that cover its usual range. Where the numbers come from:
   (0, 41, -6), (0, 45, -8) and (0, 38.5, -4.5) m (so close to the pitch a guess 4-5 m off does
   not converge, hence three). The three guesses on the main stand all see the centre spot
   12.3-12.4 deg below the horizon; main cameras stand at other elevations too (the main cameras
-  tracked on the real clips this project is measured on were fitted at 9.3-15.6 deg), and a
-  guess 3 deg off in elevation can miss a tight view: (0, 75, -12) m (9.1 deg) and (0, 55, -16) m
-  (16.2 deg) are tried when nothing else gives a confident camera.
+  tracked on the real clips this project is measured on were fitted at 9.3-15.6 deg, and the
+  published ranges above allow up to about 27 deg), and a guess 3 deg off in elevation can miss
+  a tight view. Tried, in turn, while nothing else gives a camera confident by the margin:
+  (0, 75, -12) m (9.1 deg), (0, 55, -16) m (16.2 deg), (0, 65, -24) m (20.3 deg) and
+  (0, 75, -27) m (19.8 deg). Of 27 views rendered from main cameras 55-85 m back at 18-26 deg,
+  the search alone finds 8 without them and 23 with them (``bench placements``).
 - ``high-16m``: the cameras of the main stand level with the penalty areas' 16.5 m lines,
   x = +-36 m, on the main camera's gantry.
 - ``high-behind``: high behind a goal, on the pitch's long axis: (-65, 0, -15) and (-75, 0, -24) m
@@ -72,7 +75,7 @@ class CameraKind:
 CAMERA_KINDS: tuple[CameraKind, ...] = (
     CameraKind(MAIN_KIND, ((0.0, 55.0, -12.0), (0.0, 75.0, -16.5), (0.0, 100.0, -22.0),
                            (0.0, 41.0, -6.0), (0.0, 45.0, -8.0), (0.0, 38.5, -4.5),
-                           (0.0, 75.0, -12.0), (0.0, 55.0, -16.0))),
+                           (0.0, 75.0, -12.0), (0.0, 55.0, -16.0), (0.0, 65.0, -24.0), (0.0, 75.0, -27.0))),
     CameraKind("high-16m", ((-36.0, 55.0, -12.0), (36.0, 55.0, -12.0))),
     CameraKind("high-behind", ((-65.0, 0.0, -15.0), (-75.0, 0.0, -24.0))),
     CameraKind("high-corner", ((52.5, 70.0, -22.0), (-52.5, 70.0, -22.0))),
@@ -87,7 +90,8 @@ NEAR_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[3:6]
 """Main cameras of lower-league grounds: a low gantry a few metres behind the touchline."""
 
 OTHER_ELEVATION_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[6:]
-"""Main cameras seeing the centre spot lower and higher than the guesses above (9.1 and 16.2 deg against 12.4)."""
+"""Main cameras seeing the centre spot lower and higher than the guesses above (9.1, 16.2, 20.3 and 19.8 deg against
+12.4)."""
 
 
 

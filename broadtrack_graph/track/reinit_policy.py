@@ -23,8 +23,8 @@ What is tried, cheapest first:
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
      positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
-     the other camera kinds, and when none of these gives a confident camera, the
-     main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`). Every stage is
+     the other camera kinds, and when none of these gives a camera confident by the margin,
+     the main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`). Every stage is
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
      a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
      confident by the margin (a camera returning after a cut): each camera's first appearance
@@ -345,14 +345,15 @@ class ReinitPolicy:
         return found if found is not None else (None, 0.0)
 
     def _stage_results(self, plan: SearchPlan, go_on: Callable[[], bool], *frame):
-        """(stage label, result) of the plan's stages in order, then of each fallback stage while go_on(); the
-        stages not read (run ahead on the workers) are dropped."""
-        for n, group in enumerate([plan.stages] + [[stage] for stage in plan.fallback]):
-            if n and not go_on():
-                return
+        """(stage label, result) of the plan's stages in order, then of its fallback stages, each while go_on()
+        (the next ones run ahead on the workers all the same); the stages not read are dropped."""
+        for fallback, group in enumerate((plan.stages, plan.fallback)):
             results = self.stages.results([positions for _, positions in group], *frame)
             try:
-                yield from zip((stage_label for stage_label, _ in group), results)
+                for stage_label, _ in group:
+                    if fallback and not go_on():
+                        return
+                    yield stage_label, next(results)
             finally:
                 results.close()
 
@@ -368,14 +369,13 @@ class ReinitPolicy:
         # A shot whose camera is not known is searched through every stage (until a camera is certain): a view
         # of one camera can be explained, less well, by a camera elsewhere (a penalty area seen from behind the
         # goal by a camera on the 16 m line). A known camera found confidently at its own position (a camera
-        # returning after a cut), and mid-shot the first confident camera, end the search. When no stage gives
-        # a confident camera, the fallback stages are searched too (a shot that cannot be placed costs little).
+        # returning after a cut), and mid-shot the first confident camera, end the search. While no stage gives
+        # a camera confident by the margin (a wrong camera can reach the threshold), the fallback stages too.
         enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
-        trusted = threshold + margin
-        stage_results = self._stage_results(plan, lambda: best_confidence < threshold, observations, detections,
-                                            pitch, curves, sampling)
+        stage_results = self._stage_results(plan, lambda: best_confidence < threshold + margin, observations,
+                                            detections, pitch, curves, sampling)
         for k, (stage_label, result) in enumerate(stage_results):
             self.counts["stages"] += 1
             if result.camera is None:
@@ -392,7 +392,7 @@ class ReinitPolicy:
                 label = f"global search, {stage_label}: {result.reason}"
                 best_known = stage_label == KNOWN_CAMERAS and self.registry.nearest(  # a returning camera
                     result.camera.position_m, result.camera.R_cw[2]) is not None
-            if best is not None and best_confidence >= (trusted if best_known else enough):
+            if best is not None and best_confidence >= (threshold + margin if best_known else enough):
                 break
         stage_results.close()
         if best is None:

@@ -36,7 +36,8 @@ SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_S
 
 FALLBACK_STAGES: tuple[tuple[str, tuple], ...] = tuple(
     (f"main camera at another elevation {p}", (p,)) for p in OTHER_ELEVATION_MAIN_POSITIONS_W)
-"""Stages searched after :data:`SEARCH_STAGES`, each only when no stage before it gave a confident camera."""
+"""Stages searched after :data:`SEARCH_STAGES`, each only while no stage before it gave a camera confident by the
+margin."""
 
 
 KNOWN_CAMERAS = "known cameras"
@@ -48,8 +49,8 @@ the margin); below it, every stage is searched."""
 
 
 class SearchPlan(NamedTuple):
-    """One search's stages: (label, positions) in order; the fallback stages, searched after them only when none gave
-    a confident camera; and how many of the first stages are the likely ones (their best camera wins
+    """One search's stages: (label, positions) in order; the fallback stages, searched after them only while none gave
+    a camera confident by the margin; and how many of the first stages are the likely ones (their best camera wins
     by any amount; a later stage's must be confident and better by the margin)."""
 
     stages: list

@@ -242,25 +242,28 @@ def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
     policy = _policy(fakes)
     policy.tripod("high-corner-1", known[0])
     decision = _decide(policy, 0)
-    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)  # confident: no fallback
+    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES) + len(FALLBACK_STAGES)
 
 
-def test_the_fallback_stages_are_searched_only_when_no_stage_is_confident():
-    (_, lower_stage), (_, higher_stage) = FALLBACK_STAGES
+def test_the_fallback_stages_are_searched_only_while_no_stage_is_confident_by_the_margin():
+    (_, lower_stage), (_, higher_stage), *_ = FALLBACK_STAGES
     lower, higher = MAIN.replace(position_m=lower_stage[0]), MAIN.replace(position_m=higher_stage[0])
-    stages = [p for _, p in SEARCH_STAGES]
-    # Nothing confident: a fallback's camera wins when confident and better by the margin, and once a camera is
-    # confident the next fallback is not searched.
+    stages, fallback = [p for _, p in SEARCH_STAGES], [p for _, p in FALLBACK_STAGES]
+    # Nothing confident by the margin: a fallback's camera wins when confident and better by the margin, and once
+    # a camera is confident by the margin the next fallback is not searched.
     fakes = Fakes({None: (MAIN, 0.36), lower_stage: (lower, 0.66), higher_stage: (higher, 0.9)})
     decision = _decide(_policy(fakes), 0)
     assert decision.camera is lower and decision.camera_id == "main" and "another elevation" in decision.reason
     assert fakes.searched == stages + [lower_stage]
     fakes = Fakes({None: (MAIN, 0.36), lower_stage: (lower, 0.4), higher_stage: (higher, 0.7)})
     assert _decide(_policy(fakes), 0).camera is higher and fakes.searched == stages + [lower_stage, higher_stage]
+    # A wrong camera can reach the threshold: the fallbacks are searched until one is confident by the margin.
+    fakes = Fakes({None: (MAIN, 0.55), lower_stage: (lower, 0.6), higher_stage: (higher, 0.66)})
+    assert _decide(_policy(fakes), 0).camera is higher and fakes.searched == stages + [lower_stage, higher_stage]
     fakes = Fakes({None: (MAIN, 0.45), lower_stage: (lower, 0.52)})  # confident, but not better by the margin
-    assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages + [lower_stage, higher_stage]
-    # A confident camera (not yet by the margin): no fallback is searched.
-    fakes = Fakes({None: (MAIN, 0.52), lower_stage: (lower, 0.95)})
+    assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages + fallback
+    # A camera confident by the margin: no fallback is searched.
+    fakes = Fakes({None: (MAIN, 0.61), lower_stage: (lower, 0.95)})
     assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages
     # Mid-shot (the shot's camera is known) there is no fallback.
     policy = _policy(fakes := Fakes({lower_stage: (lower, 0.95)}))

@@ -1,0 +1,96 @@
+"""``broadtrack-graph bench placements``: a new shot's first frame from main cameras at other distances and heights.
+
+The main camera's search guesses (:mod:`broadtrack_graph.reinit.positions`) stand at a few places;
+real main cameras stand 48-90 m back and 10-25 m up. This suite renders one frame of the ``main``
+preset's look from a main camera on the halfway line at each distance and elevation asked
+(elevation: the angle below the horizon at which it sees the centre spot) looking at each of three
+views (the centre circle, the right and the left penalty area, zoomed as a broadcast does), and asks
+the re-initialisation policy for the frame's camera as the tracker does at a new shot (the learned
+field model first, then the search in stages, on one process). Found: a camera at least
+``confidence_threshold + reinit_switch_margin`` confident (what a new shot's chain needs to be
+trusted) whose projected ground template lies within ``--success-px`` (median) of the truth's.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from broadtrack_graph.benchmarks.options import add_reinit_model
+
+HELP = "a new shot's first frame from main cameras at several distances and elevations: is the camera found?"
+
+VIEWS = {  # ground point looked at (metres), horizontal field of view (degrees)
+    "centre circle": ((0.0, 0.0, 0.0), 28.0),
+    "right penalty area": ((38.0, 0.0, 0.0), 33.0),
+    "left penalty area": ((-38.0, 5.0, 0.0), 38.0),
+}
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--distances", type=float, nargs="+", default=[55.0, 68.0, 85.0],
+                        help="horizontal distances of the camera from the centre spot, metres (default 55 68 85)")
+    parser.add_argument("--elevations", type=float, nargs="+", default=[8.0, 10.0, 15.0, 18.0, 22.0, 26.0],
+                        help="angles below the horizon at which the camera sees the centre spot, degrees")
+    parser.add_argument("--width", type=int, default=1280)
+    parser.add_argument("--height", type=int, default=720)
+    parser.add_argument("--seed", type=int, default=3, help="the rendered look (grass, lighting, players)")
+    parser.add_argument("--success-px", type=float, default=3.0, help="found: median template error below this")
+    parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    add_reinit_model(parser)
+
+
+def run(args) -> dict:
+    from tqdm import tqdm
+
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
+    from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.field_model import model_reinit_for
+    from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
+    from broadtrack_graph.synth.clip import render_clip
+    from broadtrack_graph.synth.field_cameras import aim_angles
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.track.reinit_policy import ReinitPolicy
+    from broadtrack_graph.types.observations import FrameObservations
+
+    W, H = args.width, args.height
+    pitch = PitchTemplate()
+    curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
+    config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
+    model = model_reinit_for(config.reinit_model)
+    ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
+    trusted = config.confidence_threshold + config.reinit_switch_margin
+    cells = [(d, e) for d in args.distances for e in args.elevations]
+    rows, found = [], 0
+    for distance, elevation in tqdm(cells, desc="placements", disable=args.no_progress):
+        position = np.array([0.0, distance, -distance * math.tan(math.radians(elevation))])
+        for view, (target, fov_deg) in VIEWS.items():
+            pan, tilt = aim_angles(position, np.asarray(target))
+            truth = Camera(W / 2 / math.tan(math.radians(fov_deg) / 2), 0.0, pan, tilt, 0.0, position, W, H)
+            image = render_clip("main", 1, W, H, seed=args.seed, cameras=[truth]).frames[0].image
+            policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model)
+            started = time.perf_counter()
+            decision = policy.decide(FrameObservations(0, W, H), detector.detect(image), pitch, curves, sampling,
+                                     image=image)
+            seconds = time.perf_counter() - started
+            error = math.inf
+            if decision.camera is not None:
+                uv, front = decision.camera.project(ground)
+                uv_truth, front_truth = truth.project(ground)
+                shown = front & front_truth & truth.in_image(uv_truth)
+                if shown.any():
+                    error = float(np.median(np.linalg.norm(uv[shown] - uv_truth[shown], axis=1)))
+            ok = error < args.success_px and (decision.confidence or 0.0) >= trusted
+            found += ok
+            rows.append({"distance_m": distance, "elevation_deg": elevation, "height_m": round(-position[2], 1),
+                         "view": view, "found": bool(ok), "confidence": decision.confidence,
+                         "template_error_px": None if math.isinf(error) else round(error, 2),
+                         "seconds": round(seconds, 2), "decision": decision.reason})
+    return {"frame_size": [W, H], "success_px": args.success_px, "reinit_model": args.reinit_model,
+            "found": found, "frames": len(rows), "found_share": round(found / max(len(rows), 1), 3),
+            "frames_by_cell": rows}
