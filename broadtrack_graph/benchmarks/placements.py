@@ -13,6 +13,7 @@ trusted) whose projected ground template lies within ``--success-px`` (median) o
 
 from __future__ import annotations
 
+import argparse
 import math
 import time
 
@@ -29,10 +30,19 @@ VIEWS = {  # ground point looked at (metres), horizontal field of view (degrees)
 }
 
 
+def _within(low: float, high: float):
+    def parse(text: str) -> float:
+        value = float(text)
+        if not low < value < high:
+            raise argparse.ArgumentTypeError(f"must be between {low:g} and {high:g}, got {value:g}")
+        return value
+    return parse
+
+
 def add_arguments(parser) -> None:
-    parser.add_argument("--distances", type=float, nargs="+", default=[55.0, 68.0, 85.0],
+    parser.add_argument("--distances", type=_within(1.0, 500.0), nargs="+", default=[55.0, 68.0, 85.0],
                         help="horizontal distances of the camera from the centre spot, metres (default 55 68 85)")
-    parser.add_argument("--elevations", type=float, nargs="+", default=[8.0, 10.0, 15.0, 18.0, 22.0, 26.0],
+    parser.add_argument("--elevations", type=_within(0.0, 80.0), nargs="+", default=[8.0, 10.0, 15.0, 18.0, 22.0, 26.0],
                         help="angles below the horizon at which the camera sees the centre spot, degrees")
     parser.add_argument("--width", type=int, default=1280)
     parser.add_argument("--height", type=int, default=720)
