@@ -30,3 +30,18 @@ def _count(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
     return value
+
+
+def float_between(low: float, high: float):
+    """An argparse ``type``: a number strictly between low and high (one-line error otherwise)."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+        if not low < value < high:
+            raise argparse.ArgumentTypeError(f"{value:g} is out of range; give a number between {low:g} and {high:g}")
+        return value
+
+    return parse

@@ -13,13 +13,12 @@ trusted) whose projected ground template lies within ``--success-px`` (median) o
 
 from __future__ import annotations
 
-import argparse
 import math
 import time
 
 import numpy as np
 
-from broadtrack_graph.benchmarks.options import add_reinit_model
+from broadtrack_graph.benchmarks.options import add_reinit_model, float_between
 
 HELP = "a new shot's first frame from main cameras at several distances and elevations: is the camera found?"
 
@@ -30,19 +29,11 @@ VIEWS = {  # ground point looked at (metres), horizontal field of view (degrees)
 }
 
 
-def _within(low: float, high: float):
-    def parse(text: str) -> float:
-        value = float(text)
-        if not low < value < high:
-            raise argparse.ArgumentTypeError(f"must be between {low:g} and {high:g}, got {value:g}")
-        return value
-    return parse
-
-
 def add_arguments(parser) -> None:
-    parser.add_argument("--distances", type=_within(1.0, 500.0), nargs="+", default=[55.0, 68.0, 85.0],
+    parser.add_argument("--distances", type=float_between(1.0, 500.0), nargs="+", default=[55.0, 68.0, 85.0],
                         help="horizontal distances of the camera from the centre spot, metres (default 55 68 85)")
-    parser.add_argument("--elevations", type=_within(0.0, 80.0), nargs="+", default=[8.0, 10.0, 15.0, 18.0, 22.0, 26.0],
+    parser.add_argument("--elevations", type=float_between(0.0, 80.0), nargs="+",
+                        default=[8.0, 10.0, 15.0, 18.0, 22.0, 26.0],
                         help="angles below the horizon at which the camera sees the centre spot, degrees")
     parser.add_argument("--width", type=int, default=1280)
     parser.add_argument("--height", type=int, default=720)
@@ -55,6 +46,7 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     from tqdm import tqdm
 
+    from broadtrack_graph.benchmarks.detections import template_errors_px
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.camera import Camera
     from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -88,13 +80,8 @@ def run(args) -> dict:
             decision = policy.decide(FrameObservations(0, W, H), detector.detect(image), pitch, curves, sampling,
                                      image=image)
             seconds = time.perf_counter() - started
-            error = math.inf
-            if decision.camera is not None:
-                uv, front = decision.camera.project(ground)
-                uv_truth, front_truth = truth.project(ground)
-                shown = front & front_truth & truth.in_image(uv_truth)
-                if shown.any():
-                    error = float(np.median(np.linalg.norm(uv[shown] - uv_truth[shown], axis=1)))
+            errors = template_errors_px(decision.camera, truth, ground) if decision.camera is not None else []
+            error = float(np.median(errors)) if len(errors) else math.inf
             ok = error < args.success_px and (decision.confidence or 0.0) >= trusted
             found += ok
             rows.append({"distance_m": distance, "elevation_deg": elevation, "height_m": round(-position[2], 1),
