@@ -240,53 +240,6 @@ def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: Tem
     return camera
 
 
-LINE_OF_SIGHT_SCALES = (0.9, 0.95, 1.05, 1.1, 1.2)
-"""Distances (shares of the camera's distance to the ground point it looks at) tried by :func:`along_line_of_sight`."""
-
-
-def along_line_of_sight(camera: Camera, marking_points_px: np.ndarray, curves: TemplateCurves,
-                        config: MaskSearchConfig = MaskSearchConfig(),
-                        scales=LINE_OF_SIGHT_SCALES) -> list[Camera]:
-    """The camera moved along its optical axis, f scaled with its distance, each refined on the map.
-
-    A view seen from a few metres nearer with a shorter lens (or further with a longer one) looks
-    almost the same around the point the camera looks at: a search can settle on a camera 5-10 %
-    too near or too far that explains most of the map (measured on a real 360p main-camera frame:
-    3 m too near, f 6 % short, confidence 0.63 against 0.80). The focal point is moved to
-    ``s`` times its distance from the ground point on the optical axis (f times ``s``), then refined
-    (:func:`refine_on_map`, the position held near the moved one).
-
-    Args:
-        camera: the camera found (any focal point above the pitch, looking down at it).
-        marking_points_px: (M, 2) centre-line points of the map, frame pixels.
-        scales: the distances tried, as shares of the camera's.
-
-    Returns:
-        The refined cameras, one per scale (none when the optical axis does not meet the ground).
-    """
-    position = np.asarray(camera.position_m, float)
-    axis = np.asarray(camera.R_cw[2], float)  # optical axis in the pitch frame
-    if axis[2] <= 1e-6 or position[2] >= 0.0:
-        return []
-    looked_at = position + (-position[2] / axis[2]) * axis
-    points = fit_points(marking_points_px, config)
-    cameras = []
-    for scale in scales:
-        moved = looked_at + scale * (position - looked_at)
-        start = camera.replace(focal_px=camera.focal_px * scale, position_m=tuple(moved))
-        cameras.append(refine_on_map(start, points, moved, curves, config, config.schedule))
-    return cameras
-
-
-def best_along_line_of_sight(camera: Camera, score, marking_points_px: np.ndarray, curves: TemplateCurves,
-                             ) -> tuple[float, Camera | None]:
-    """(score, camera) of the best of :func:`along_line_of_sight` by ``score`` (camera -> float or None).
-
-    (0, None) when there is none."""
-    scored = [(score(c) or 0.0, c) for c in along_line_of_sight(camera, marking_points_px, curves)]
-    return max(scored, key=lambda item: item[0], default=(0.0, None))
-
-
 def _image_distance_px(a: Camera, b: Camera, points_w: np.ndarray) -> float:
     """Median pixel distance between the projections by two cameras of the points either shows (inf if none)."""
     uv_a, front_a = a.project(points_w)

@@ -100,3 +100,6 @@ class MaskSearchConfig:
     min_classes_free_position: int = 3  # with fewer named classes the fit holds the focal point and k1
     sigma_k1: float = 0.05  # prior on k1 around 0 (few far markings leave k1 and f entangled)
     max_fit_points: int = 400  # marking points used by the label-and-fit rounds (evenly subsampled)
+    # The walk of a near miss (reinit.near_miss.walk_wide): the wide fit repeated from where the last one went ...
+    walk_max_fits: int = 4  # ... at most this many times ...
+    walk_still_m: float = 0.5  # ... until a fit moves the focal point less than this

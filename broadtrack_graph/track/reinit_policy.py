@@ -23,14 +23,15 @@ What is tried, cheapest first:
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
      positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
-     the other camera kinds, and when none of these gives a camera confident by the margin,
-     the main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`). Every stage is
+     the other camera kinds, and while none of these gives a camera confident by the margin,
+     the main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`), then the
+     stages' near misses walked (:func:`~broadtrack_graph.reinit.near_miss.walk_wide`). Every stage is
      searched (a view of one camera can be explained, less well, by a camera elsewhere) until
      a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
      confident by the margin (a camera returning after a cut): each camera's first appearance
      costs a full search. A chain's first camera that is not certain nor a refined guess, when searched
      for or about to be trusted, is also tried nearer and further along its line of sight
-     (:func:`~broadtrack_graph.reinit.mask.along_line_of_sight`) and moved there when better by the margin.
+     (:func:`~broadtrack_graph.reinit.near_miss.along_line_of_sight`) and moved there when better by the margin.
    * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
      that camera's position, then its kind's stage (the main camera's: the default positions,
      in case its position came from a provisional tripod); the first confident stage ends it.
@@ -62,12 +63,12 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.mask import best_along_line_of_sight
+from broadtrack_graph.reinit.near_miss import best_along_line_of_sight, best_walked
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, SearchPlan, search_plan
+from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
@@ -344,19 +345,6 @@ class ReinitPolicy:
             self._model_next, self._model_gap = 0, 1
         return found if found is not None else (None, 0.0)
 
-    def _stage_results(self, plan: SearchPlan, go_on: Callable[[], bool], *frame):
-        """(stage label, result) of the plan's stages in order, then of its fallback stages, each while go_on()
-        (the next ones run ahead on the workers all the same); the stages not read are dropped."""
-        for fallback, group in enumerate((plan.stages, plan.fallback)):
-            results = self.stages.results([positions for _, positions in group], *frame)
-            try:
-                for stage_label, _ in group:
-                    if fallback and not go_on():
-                        return
-                    yield stage_label, next(results)
-            finally:
-                results.close()
-
     def _search(self, observations, detections, pitch, curves, sampling, score,
                 with_map: bool) -> tuple[ReinitResult | None, float, str]:
         """The global search in stages (module docstring): (best result or None, its confidence, one line).
@@ -366,16 +354,15 @@ class ReinitPolicy:
         """
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map)
-        # A shot whose camera is not known is searched through every stage (until a camera is certain): a view
-        # of one camera can be explained, less well, by a camera elsewhere (a penalty area seen from behind the
-        # goal by a camera on the 16 m line). A known camera found confidently at its own position (a camera
-        # returning after a cut), and mid-shot the first confident camera, end the search. While no stage gives
-        # a camera confident by the margin (a wrong camera can reach the threshold), the fallback stages too.
+        # When a search ends and which stages it reads: the module docstring. A wrong camera can reach the threshold
+        # on a shot's first frame: the fallback stages, then the walks, run while none is confident by the margin.
         enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
             else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
-        stage_results = self._stage_results(plan, lambda: best_confidence < threshold + margin, observations,
-                                            detections, pitch, curves, sampling)
+        found = []  # (confidence, result, stage label) of every stage's camera
+        unsure = lambda: best_confidence < threshold + margin  # noqa: E731
+        stage_results = self.stages.labelled_results(plan.stages, plan.fallback, unsure, observations, detections,
+                                                     pitch, curves, sampling)
         for k, (stage_label, result) in enumerate(stage_results):
             self.counts["stages"] += 1
             if result.camera is None:
@@ -384,6 +371,7 @@ class ReinitPolicy:
             confidence = score(result.camera)
             if confidence is None:  # no marking map: the search's own score
                 confidence = result.score.jaccard if result.score is not None else 0.0
+            found.append((float(confidence), result, stage_label))
             # The known cameras and the default positions are the likely ones: the better camera of the two wins.
             # A later stage's camera (a less likely position) must be confident and better by the margin.
             if best is None or (confidence > best_confidence if k < plan.likely
@@ -395,6 +383,13 @@ class ReinitPolicy:
             if best is not None and best_confidence >= (threshold + margin if best_known else enough):
                 break
         stage_results.close()
+        points = getattr(detections, "marking_points_px", None)
+        if plan.fallback and unsure() and points is not None and len(points) >= 10:
+            walked_confidence, walked, k = best_walked([(c, r.camera) for c, r, _ in found], score, points, curves,
+                                                       threshold + margin)
+            if walked is not None and walked_confidence >= threshold and walked_confidence > best_confidence + margin:
+                best, best_confidence = replace(found[k][1], camera=walked), walked_confidence
+                label = f"global search, {found[k][2]} (walked): {found[k][1].reason}"
         if best is None:
             return None, 0.0, "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
         return best, best_confidence, label

@@ -165,6 +165,19 @@ class StageRunner:
             for future in ahead.values():
                 future.cancel()  # not started: dropped; running: its result is ignored
 
+    def labelled_results(self, stages: Sequence, fallback: Sequence, go_on: Callable[[], bool], *frame) -> Iterator:
+        """(label, result) of the (label, positions) stages in order, then of the fallback stages, each of these only
+        while go_on() (they run ahead on the workers all the same); the stages not read are dropped."""
+        for is_fallback, group in enumerate((stages, fallback)):
+            results = self.results([positions for _, positions in group], *frame)
+            try:
+                for label, _ in group:
+                    if is_fallback and not go_on():
+                        return
+                    yield label, next(results)
+            finally:
+                results.close()
+
     def close(self) -> None:
         """Stop the workers (the runner then searches in this process)."""
         if self._pool is not None:

@@ -273,6 +273,46 @@ def test_the_fallback_stages_are_searched_only_while_no_stage_is_confident_by_th
     assert _decide(policy, 0).camera is None and lower_stage not in fakes.searched
 
 
+def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_by_the_margin(monkeypatch):
+    import broadtrack_graph.reinit.near_miss as near_miss_module
+
+    corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
+    near = MAIN.replace(position_m=(0.0, 51.0, -11.0))  # a near miss: 4 m from where the camera stands
+    walked = MAIN.replace(position_m=(0.0, 55.0, -12.0))
+    walks = []
+
+    def walk_wide(camera, points, curves, config=None):
+        walks.append(camera)
+        return walked if camera is near else None
+
+    monkeypatch.setattr(near_miss_module, "walk_wide", walk_wide)
+    monkeypatch.setattr(near_miss_module, "along_line_of_sight", lambda camera, points, curves: [])
+    points = SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((40, 2)))
+
+    def decided(stages, walked_confidence, detections=points):
+        walks.clear()
+        fakes = Fakes(stages)
+        fakes.confidences[id(walked)] = walked_confidence
+        return _decide(_policy(fakes), 0, detections=detections), fakes
+
+    # A wrong camera of 0.58 and the near miss of 0.45: the near miss walks to a camera better by the margin.
+    decision, _ = decided({None: (near, 0.45), corner_stage: (CORNER, 0.58)}, 0.77)
+    assert decision.camera is walked and decision.confidence == pytest.approx(0.77) and "(walked)" in decision.reason
+    assert walks == [CORNER, near]  # the most confident first; CORNER's walk went nowhere
+    # Walked, but not better by the margin (nor confident): the search's camera stays.
+    assert decided({None: (near, 0.45), corner_stage: (CORNER, 0.58)}, 0.62)[0].camera is CORNER
+    assert decided({None: (near, 0.35)}, 0.49)[0].camera is near
+    # A camera confident by the margin, or no marking points: nothing is walked.
+    assert decided({None: (near, 0.45), corner_stage: (CORNER, 0.65)}, 0.9)[0].camera is CORNER and walks == []
+    assert decided({None: (near, 0.45)}, 0.9, detections=WITH_MAP)[0].camera is near and walks == []
+    # Mid-shot searches walk nothing either; a camera under 0.3 explains too little to be walked.
+    policy = _policy(Fakes({((0.0, 55.0, -12.0),): (near, 0.45)}))
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    policy.switch("main")
+    assert _decide(policy, 0, detections=points).camera is near and walks == []
+    assert decided({None: (near, 0.25)}, 0.9)[0].camera is near and walks == []
+
+
 def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
     known = ((53.0, 70.0, -22.0),)
     elsewhere = CORNER.replace(position_m=(40.0, 70.0, -22.0))  # 13 m across its line of sight from the known one
@@ -362,7 +402,7 @@ def test_a_model_camera_that_is_not_taken_registers_no_camera():
 
 
 def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_better(monkeypatch):
-    import broadtrack_graph.reinit.mask as mask_module
+    import broadtrack_graph.reinit.near_miss as near_miss_module
 
     further = MAIN.replace(focal_px=1600.0, position_m=(0.0, 59.0, -12.8))  # the same view from 4 m further back
     tried = []
@@ -371,7 +411,7 @@ def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_be
         tried.append(camera)
         return [MAIN.replace(focal_px=1400.0, position_m=(0.0, 51.0, -11.2)), further]
 
-    monkeypatch.setattr(mask_module, "along_line_of_sight", along_line_of_sight)
+    monkeypatch.setattr(near_miss_module, "along_line_of_sight", along_line_of_sight)
     points = SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((40, 2)))
 
     def decided(main_confidence, further_confidence, **kw):
@@ -403,18 +443,29 @@ def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_be
     assert decision.continues_chain and decision.camera is MAIN and tried == []
 
 
+def _a_new_shot_s_decision(image: np.ndarray, frame_index: int):
+    """The real tracker's policy (weight-free detections, the staged search, no field model, one process) on a new
+    shot's first frame."""
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
+    from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
+
+    detections = WeightFreeDetector().detect(image, None)
+    pitch = PitchTemplate()
+    policy = ReinitPolicy(TrackingConfig(search_workers=0), reinitialise, refine_guesses, frame_confidence)
+    height, width = image.shape[:2]
+    return policy.decide(FrameObservations(frame_index, width, height), detections, pitch, fitting_curves(pitch),
+                         TemplateSampling(pitch))
+
+
 def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(real_video_dir, tmp_path):
     """The FA Cup clip's first frame cut to its middle 574 rows and written as MPEG-4 video, as a screen recording
     is: a centre-circle view whose boards' lettering passes for markings. Its camera sees the centre spot 9.3 deg
     below the horizon (12.4 deg for the usual main-camera guesses): only the fallback stage finds it (without it,
     a camera behind the goal, 0.36)."""
     import cv2
-
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
-    from broadtrack_graph.geometry.pitch import PitchTemplate
-    from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
-    from broadtrack_graph.reinit.cheap import refine_guesses
-    from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 
     capture = cv2.VideoCapture(str(real_video_dir / "facup-wembley-720p.mp4"))
     ok, image = capture.read()
@@ -426,19 +477,39 @@ def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(re
     writer.release()
     ok, image = cv2.VideoCapture(recording).read()
     assert ok and image.shape[:2] == (574, 1280)
-    detections = WeightFreeDetector().detect(image, None)
-    pitch = PitchTemplate()
-    policy = ReinitPolicy(TrackingConfig(search_workers=0), reinitialise, refine_guesses, frame_confidence)
-    decision = policy.decide(FrameObservations(0, 1280, 574), detections, pitch, fitting_curves(pitch),
-                             TemplateSampling(pitch))
+    decision = _a_new_shot_s_decision(image, 0)
     camera = decision.camera
     assert camera is not None and decision.confidence > 0.6 and decision.camera_id == "main", decision.reason
     # The camera this clip is tracked with (every frame passes the alignment check of `bench real`); one frame
     # leaves the distance along the line of sight loose (f scales with it), the image is what must agree.
     tracked = Camera(4045.0, 0.56, np.radians(-7.29), np.radians(81.87), np.radians(-0.12), (0.19, 74.87, -12.43),
                      1280, 574)
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
     uv_tracked, front_tracked = tracked.project(ground)
     assert np.count_nonzero(front_tracked & tracked.in_image(uv_tracked)) > 100
     assert median_template_error_px(camera, tracked) < 4.0
     assert camera.position_m[0] == pytest.approx(0.0, abs=1.0) and camera.position_m[2] < -10.0
+
+
+def test_a_main_camera_found_metres_from_every_candidate_position_is_walked_there_at_its_first_frame(real_video_dir):
+    """Frame 300 of the 360p clip: a wide view between the centre circle and the right penalty area, its camera
+    4-5 m from every candidate focal point. The stages' cameras all miss (the best, 0.55, is 77 px off); two near
+    misses, walked by repeated wide fits, reach the camera the clip is tracked with."""
+    import cv2
+
+    capture = cv2.VideoCapture(str(real_video_dir / "jpn-tjk-360p-with-cut.mp4"))
+    for _ in range(301):
+        ok, image = capture.read()
+    capture.release()
+    assert ok and image.shape[:2] == (360, 640)
+    decision = _a_new_shot_s_decision(image, 300)
+    camera = decision.camera
+    assert camera is not None and decision.confidence > 0.7 and "(walked)" in decision.reason, decision.reason
+    # The camera this frame is tracked with from the clip's start (every frame passes `bench real`'s check).
+    tracked = Camera(774.8, 0.026, np.radians(22.54), np.radians(67.64), np.radians(0.29), (1.47, 59.57, -16.85),
+                     640, 360)
+    assert median_template_error_px(camera, tracked) < 3.0
+    assert np.linalg.norm(camera.position_m - np.asarray(tracked.position_m)) < 1.5
