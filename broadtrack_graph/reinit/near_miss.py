@@ -108,7 +108,7 @@ def walk_wide(camera: Camera, marking_points_px: np.ndarray, curves: TemplateCur
 
 def best_walked(cameras: Sequence[tuple[float, Camera]], score: Callable[[Camera], float | None],
                 marking_points_px: np.ndarray, curves: TemplateCurves, enough: float,
-                ) -> tuple[float, Camera | None, int]:
+                ) -> tuple[float, Camera | None, int, int]:
     """Walk (:func:`walk_wide`) the near misses among found cameras, most confident first, until one is ``enough``.
 
     Args:
@@ -117,17 +117,19 @@ def best_walked(cameras: Sequence[tuple[float, Camera]], score: Callable[[Camera
         score: camera -> confidence (None counts as 0).
 
     Returns:
-        (confidence, camera, index into ``cameras`` it was walked from) of the most confident walked camera;
-        (0, None, -1) when none was walked.
+        (confidence, camera, index into ``cameras`` it was walked from) of the most confident walked camera
+        ((0, None, -1) when none moved), and how many cameras were walked.
     """
     best: tuple[float, Camera | None, int] = (0.0, None, -1)
+    walks = 0
     for index in sorted(range(len(cameras)), key=lambda k: -cameras[k][0]):
         if not WALK_FROM_CONFIDENCE <= cameras[index][0] < enough:
             continue
+        walks += 1
         walked = walk_wide(cameras[index][1], marking_points_px, curves)
         confidence = 0.0 if walked is None else float(score(walked) or 0.0)
         if walked is not None and confidence > best[0]:
             best = (confidence, walked, index)
         if best[0] >= enough:
             break
-    return best
+    return (*best, walks)

@@ -139,7 +139,7 @@ class ReinitPolicy:
         self._last_confident: dict[str, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
         self.model = model
         self._model_next, self._model_gap = 0, 1  # the next frame the model runs on; its back-off
-        self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0,
+        self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "walks": 0,
                        "skipped_by_budget": 0}
 
     def close(self) -> None:
@@ -237,13 +237,13 @@ class ReinitPolicy:
                 return self._decision(result, confidence, camera_id, continues, False, f"{label} ({why})", held,
                                       held_confidence, chain_trusted, new_camera and not continues)
             return ReinitDecision(None, None, None, False, False, why)
-        stages_before = self.counts["stages"]
+        paid_before = self.counts["stages"] + self.counts["walks"]  # a walk is paid as a stage (it costs up to one)
         found, found_confidence, label = self._search(observations, detections, pitch, curves, sampling, score,
                                                       with_map)
         self.counts["global"] += 1
         if with_map:
             self.budget.spend(i, found is not None and found_confidence >= threshold,
-                              self.counts["stages"] - stages_before, known)
+                              self.counts["stages"] + self.counts["walks"] - paid_before, known)
         if candidate is not None and (found is None or (found_confidence < threshold
                                                         and found_confidence <= candidate[2] + margin)):
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
@@ -385,8 +385,9 @@ class ReinitPolicy:
         stage_results.close()
         points = getattr(detections, "marking_points_px", None)
         if plan.fallback and unsure() and points is not None and len(points) >= 10:
-            walked_confidence, walked, k = best_walked([(c, r.camera) for c, r, _ in found], score, points, curves,
-                                                       threshold + margin)
+            walked_confidence, walked, k, walks = best_walked([(c, r.camera) for c, r, _ in found], score, points,
+                                                              curves, threshold + margin)
+            self.counts["walks"] += walks
             if walked is not None and walked_confidence >= threshold and walked_confidence > best_confidence + margin:
                 best, best_confidence = replace(found[k][1], camera=walked), walked_confidence
                 label = f"global search, {found[k][2]} (walked): {found[k][1].reason}"

@@ -311,6 +311,14 @@ def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_b
     policy.switch("main")
     assert _decide(policy, 0, detections=points).camera is near and walks == []
     assert decided({None: (near, 0.25)}, 0.9)[0].camera is near and walks == []
+    # A search that finds nothing confident pays for its walks as for stages: the next one waits that much longer.
+    walks.clear()
+    policy = _policy(fakes := Fakes({None: (near, 0.45), corner_stage: (CORNER, 0.35)}))
+    fakes.confidences[id(walked)] = 0.45
+    assert _decide(policy, 0, detections=points).camera is near and policy.counts["walks"] == len(walks) == 2
+    stages = len(SEARCH_STAGES) + len(FALLBACK_STAGES)
+    # Tokens 1 - (stages + walks), the price doubled to 2 after a search that found nothing confident.
+    assert policy.budget.next_frame(0) == pytest.approx((1 + stages + 2) * policy.budget.refill_frames, abs=1)
 
 
 def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
