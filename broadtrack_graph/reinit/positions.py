@@ -94,7 +94,6 @@ OTHER_ELEVATION_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[6:]
 12.4)."""
 
 
-
 def mirrored_position(position_w) -> tuple[float, float, float]:
     """The position reflected through the pitch centre (x, y -> -x, -y)."""
     x, y, z = position_w

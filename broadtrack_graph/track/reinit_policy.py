@@ -356,8 +356,7 @@ class ReinitPolicy:
         plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map)
         # When a search ends and which stages it reads: the module docstring. A wrong camera can reach the threshold
         # on a shot's first frame: the fallback stages, then the walks, run while none is confident by the margin.
-        enough = CERTAIN_CONFIDENCE if (self.camera_id is None and self.search_positions is None and with_map) \
-            else threshold
+        enough = CERTAIN_CONFIDENCE if plan.new_shot else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         found = []  # (confidence, result, stage label) of every stage's camera
         unsure = lambda: best_confidence < threshold + margin  # noqa: E731
@@ -384,7 +383,7 @@ class ReinitPolicy:
                 break
         stage_results.close()
         points = getattr(detections, "marking_points_px", None)
-        if plan.fallback and unsure() and points is not None and len(points) >= 10:
+        if plan.new_shot and unsure() and points is not None and len(points) >= 10:
             walked_confidence, walked, k, walks = best_walked([(c, r.camera) for c, r, _ in found], score, points,
                                                               curves, threshold + margin)
             self.counts["walks"] += walks

@@ -50,12 +50,15 @@ the margin); below it, every stage is searched."""
 
 class SearchPlan(NamedTuple):
     """One search's stages: (label, positions) in order; the fallback stages, searched after them only while none gave
-    a camera confident by the margin; and how many of the first stages are the likely ones (their best camera wins
-    by any amount; a later stage's must be confident and better by the margin)."""
+    a camera confident by the margin; how many of the first stages are the likely ones (their best camera wins
+    by any amount; a later stage's must be confident and better by the margin); and whether it is a new shot's
+    search on a marking map (read until a camera is certain; its near misses walked while none is confident by
+    the margin)."""
 
     stages: list
     fallback: list
     likely: int
+    new_shot: bool = False
 
 
 def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool) -> SearchPlan:
@@ -80,4 +83,4 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
     first = [(KNOWN_CAMERAS, known)] if known else []
     if not with_map:
         return SearchPlan(first + list(SEARCH_STAGES[:1]), [], len(first) + 1)
-    return SearchPlan(first + list(SEARCH_STAGES), list(FALLBACK_STAGES), len(first) + 1)
+    return SearchPlan(first + list(SEARCH_STAGES), list(FALLBACK_STAGES), len(first) + 1, new_shot=True)
