@@ -235,8 +235,11 @@ def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: Tem
         fixed = () if round_index >= min(schedule.k1_free_from_round, len(gates) - 1) else (1,)
         if len(lines) < config.min_classes_free_position:
             fixed = (1, 5, 6, 7)  # one or two markings (a circle alone): the focal point and k1 are not observable
-        camera = fit_camera_to_lines(camera, lines, curves, replace(base, cauchy_scale_px=scale * W),
-                                     position_prior_w=np.asarray(position_w), fixed=fixed).camera
+        round_config = replace(base, cauchy_scale_px=scale * W)
+        if round_index < len(gates) - 1:
+            round_config = replace(round_config, min_relative_decrease=schedule.early_round_min_relative_decrease)
+        camera = fit_camera_to_lines(camera, lines, curves, round_config, position_prior_w=np.asarray(position_w),
+                                     fixed=fixed).camera
     return camera
 
 

@@ -19,7 +19,8 @@ class RefineSchedule:
 
     Each round names the marking points by the nearest projected class within its gate and
     fits :func:`fit_camera_to_lines` with Cauchy scale ``clip(cauchy_per_gate * gate,
-    cauchy_min_per_width, cauchy_max_per_width)``.
+    cauchy_min_per_width, cauchy_max_per_width)``; the rounds before the last stop at a looser
+    relative cost decrease.
     """
 
     gates_per_width: tuple[float, ...]  # labelling gate of each round
@@ -28,6 +29,10 @@ class RefineSchedule:
     cauchy_min_per_width: float = 1.0 / 960  # 1 px at 960, 2 px at 1920
     cauchy_max_per_width: float = 1.0 / 960
     k1_free_from_round: int = 2  # k1 is held at 0 before this round (and free in the last round)
+    # A round before the last stops once an LM step lowers its cost by less than this share: the next round names
+    # the points again with a smaller gate, so converging further moves nothing it keeps. The last round stops at
+    # LineFitConfig.min_relative_decrease.
+    early_round_min_relative_decrease: float = 1e-3
 
 
 TIGHT_SCHEDULE = RefineSchedule((0.02, 0.008, 0.004), 20)
