@@ -44,6 +44,46 @@ def test_reinit_from_mask_finds_a_tight_zoom_on_a_rendered_hard_frame(hard_frame
     assert 0.7 < result.score.jaccard <= 1.0
 
 
+def test_label_and_fit_rounds_before_the_last_stop_early_and_land_where_fully_converged_rounds_do(main_frame,
+                                                                                                 monkeypatch):
+    from dataclasses import replace
+
+    from broadtrack_graph.reinit import mask
+    from broadtrack_graph.reinit.mask import fit_points, refine_on_map
+    from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+
+    truth, det = main_frame
+    config = MaskSearchConfig()
+    points = fit_points(det.marking_points_px, config)
+    # A hypothesis as a search makes one: roll and k1 0, pan, tilt and f a little off, at the right focal point.
+    start = truth.replace(focal_px=0.95 * truth.focal_px, pan_rad=truth.pan_rad - np.radians(0.6),
+                          tilt_rad=truth.tilt_rad + np.radians(0.4), roll_rad=0.0, k1=0.0)
+    assert _median_template_error_px(start, truth) > 20.0
+    iterations = []
+    fit = mask.fit_camera_to_lines
+
+    def counted(*args, **kwargs):
+        result = fit(*args, **kwargs)
+        iterations.append(result.iterations)
+        return result
+
+    monkeypatch.setattr(mask, "fit_camera_to_lines", counted)
+    early_total = full_total = 0
+    for schedule in (config.schedule, config.wide_schedule):
+        assert schedule.early_round_min_relative_decrease > 1e-5
+        converged = replace(schedule, early_round_min_relative_decrease=1e-5)  # every round stops as the last does
+        iterations.clear()
+        early = refine_on_map(start, points, truth.position_m, CURVES, config, schedule)
+        early_iterations = sum(iterations)
+        iterations.clear()
+        full = refine_on_map(start, points, truth.position_m, CURVES, config, converged)
+        assert early_iterations < sum(iterations)
+        early_total, full_total = early_total + early_iterations, full_total + sum(iterations)
+        assert _median_template_error_px(full, truth) < 1.0
+        assert _median_template_error_px(early, full) < 0.01
+    assert early_total < 0.85 * full_total
+
+
 def test_reinit_from_mask_on_the_real_broadcast_frame():
     """The real frame is a main-camera view of the right penalty area from far back (a stadium with a track)."""
     import cv2

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from reinit_helpers import median_template_error_px as _median_template_error_px
 
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -14,18 +13,6 @@ from broadtrack_graph.reinit.near_miss import along_line_of_sight, walk_wide
 
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
-
-
-@pytest.fixture(scope="module")
-def main_frame():
-    """A rendered first frame of the `main` preset at 1280x720: its true camera and its weight-free detections."""
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
-    from broadtrack_graph.synth.clip import render_clip
-    from broadtrack_graph.synth.motion import generate_camera_track
-
-    track = generate_camera_track("main", 1, 1280, 720, seed=0)
-    frame = render_clip("main", 1, 1280, 720, seed=0, cameras=[track.cameras[0]]).frames[0]
-    return frame.camera, WeightFreeDetector(PITCH).detect(frame.image)
 
 
 def test_a_camera_too_near_with_a_shorter_lens_is_moved_back_along_its_line_of_sight(main_frame):
