@@ -38,8 +38,8 @@ What is tried, cheapest first:
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is
 identified by where it stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along
-and across its line of sight): a known camera's id, or a new id when it is confident and stands
-where no known camera stands.
+and across its line of sight): a known camera's id, or a new id when its chain is trusted (a new shot's
+camera: confident by the margin) and it stands where no known camera stands.
 
 **One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
@@ -221,7 +221,7 @@ class ReinitPolicy:
             # against 0.83 for the search's camera).
             if modelled_confidence >= (CERTAIN_CONFIDENCE if new_camera else threshold):
                 self.counts["model_used"] += 1
-                camera_id = self._camera_id_of(modelled, modelled_confidence)
+                camera_id = self._camera_id_of(modelled, modelled_confidence, new_camera)
                 return self._decision(modelled, modelled_confidence, camera_id, False, False, modelled.hypothesis,
                                       held, held_confidence, chain_trusted, new_camera)
             if candidate is None or modelled_confidence > candidate[2]:
@@ -233,7 +233,7 @@ class ReinitPolicy:
             why = f"search budget: the next global search at frame {self.budget.next_frame(i, known)}"
             if candidate is not None:
                 result, camera_id, confidence, continues, label = candidate
-                camera_id = camera_id if continues else self._camera_id_of(result, confidence)
+                camera_id = camera_id if continues else self._camera_id_of(result, confidence, new_camera)
                 return self._decision(result, confidence, camera_id, continues, False, f"{label} ({why})", held,
                                       held_confidence, chain_trusted, new_camera and not continues)
             return ReinitDecision(None, None, None, False, False, why)
@@ -249,20 +249,23 @@ class ReinitPolicy:
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
             # model's camera) stays unless the search's camera is clearly better.
             result, camera_id, confidence, continues, candidate_label = candidate
-            camera_id = camera_id if continues else self._camera_id_of(result, confidence)
+            camera_id = camera_id if continues else self._camera_id_of(result, confidence, new_camera)
             return self._decision(result, confidence, camera_id, continues, True,
                                   f"{candidate_label}; the search found nothing better", held, held_confidence,
                                   chain_trusted, new_camera and not continues)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
-        return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
-                              label, held, held_confidence, chain_trusted, new_camera)
+        return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence, new_camera), False,
+                              True, label, held, held_confidence, chain_trusted, new_camera)
 
-    def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
-        """A found camera's id: the shot's, or by where it stands."""
+    def _camera_id_of(self, result: ReinitResult, confidence: float, new_camera: bool) -> str | None:
+        """A found camera's id: the shot's, or by where it stands. A new id only for a camera whose chain is trusted
+        at once (a new shot's camera: confident by the margin): a wrong camera of a shot's first frame must not
+        become a known camera whose later searches are judged as mid-shot ones."""
         if self.camera_id is not None:
             return self.camera_id  # a shot's camera does not change
-        if confidence >= self.config.confidence_threshold:
+        margin = self.config.reinit_switch_margin if new_camera else 0.0
+        if confidence >= self.config.confidence_threshold + margin:
             return self.registry.identify(result.camera.position_m, result.camera.R_cw[2])
         return self.registry.nearest(result.camera.position_m, result.camera.R_cw[2])
 
