@@ -242,6 +242,8 @@ class TrackingRun:
         """Restarting from the decision's camera: its camera id (and that camera's tripod) from now on."""
         if decision.camera_id is not None and decision.camera_id != self.camera_id:
             self._set_camera(decision.camera_id)
+        elif decision.camera_id is None and self.camera_id is None:
+            self.online_tripod.release(self.solver)  # not identified yet (untrusted): no other camera's tripod
         if not decision.continues_chain:  # a new camera's chain is trusted from a frame confident by the margin
             bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
             self._trust_at = bar if self._chain_confident else max(self._trust_at, bar)  # (see low below)

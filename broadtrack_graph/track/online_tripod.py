@@ -79,6 +79,16 @@ class OnlineTripod:
         self.provisional = False
         self.cameras = []
 
+    def release(self, solver) -> None:
+        """A camera not identified yet took over from camera ``camera_id``: keep that camera's tripod, hold none in the
+        solver (another camera's tripod would pull this one to where that camera stands)."""
+        if self.camera_id is None:
+            return  # nothing identified yet: a tripod given to the run stays for the first camera
+        if solver.tripod is not None and not self.provisional:
+            self.tripods[self.camera_id] = solver.tripod
+        self.camera_id, self.known_tripod, self.provisional, self.cameras = None, None, False, []
+        solver.tripod = None
+
     def by_camera(self, solver) -> dict[str, Tripod]:
         """Every camera's tripod so far (fitted or given; the current camera's as the solver holds it)."""
         out = dict(self.tripods)

@@ -332,6 +332,28 @@ def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camer
     assert decision.camera_id not in (None, "high-corner-1")
 
 
+def test_a_new_shot_s_camera_gets_a_new_id_only_when_confident_by_the_margin():
+    # 0.55: above the threshold, under its chain's trust (0.6). It seeds the chain without an id: if the chain
+    # fails, the next search is a new shot's again, not one around a wrong camera judged as mid-shot.
+    fakes = Fakes({None: (MAIN, 0.55)})
+    policy = _policy(fakes, search_time_share=1.0)
+    decision = _decide(policy, 0)
+    assert decision.camera is MAIN and decision.new_camera and decision.camera_id is None
+    assert policy.registry.positions == {}
+    fakes.searched.clear()
+    _decide(policy, 1)
+    assert fakes.searched == [p for _, p in SEARCH_STAGES + FALLBACK_STAGES]  # a new shot's stages again
+    # Confident by the margin: a new id where it stands.
+    fakes = Fakes({None: (MAIN, 0.65)})
+    policy = _policy(fakes)
+    assert _decide(policy, 0).camera_id == "main" and set(policy.registry.positions) == {"main"}
+    # A camera standing where a known camera stands is that camera at the threshold (a returning camera).
+    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.55)})
+    policy = _policy(fakes)
+    policy.tripod("high-corner-1", (53.0, 70.0, -22.0))
+    assert _decide(policy, 0).camera_id == "high-corner-1"
+
+
 class FakeModel:
     """The field model's camera: a fixed camera (or None) whose confidence the fakes' table gives."""
 
