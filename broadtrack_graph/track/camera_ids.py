@@ -4,7 +4,8 @@ A broadcast cuts between several tripod cameras. Each camera found gets an id: t
 known camera whose tripod (or, before its tripod is fitted, its first confident focal point)
 stands where the new camera stands, else a new id named after its kind
 (:func:`broadtrack_graph.reinit.positions.camera_kind`): ``main`` for the first main camera,
-``high-behind-1``, ``high-corner-1``, ... for the others. No I/O.
+``high-behind-1``, ``high-corner-1``, ... for the others. A new id is provisional until its camera
+has a trusted frame or a tripod: the tracker forgets it at the next cut otherwise. No I/O.
 
 "Where it stands" is judged along and across the new camera's line of sight apart. A camera
 fitted from one frame is uncertain mostly along its optical axis: moving the focal point
@@ -43,6 +44,7 @@ class CameraRegistry:
         self.along_sight_m = float(along_sight_m)
         self.across_sight_m = float(across_sight_m)
         self.positions: dict[str, np.ndarray] = {k: np.asarray(v, float).reshape(3) for k, v in (known or {}).items()}
+        self.untrusted: set[str] = set()  # new ids whose camera has had no trusted frame (nor a tripod) yet
         self._counts: dict[str, int] = {}
 
     def identify(self, position_w, sight_w=None) -> str:
@@ -65,6 +67,7 @@ class CameraRegistry:
                 self._counts[kind] += 1
                 camera_id = f"{kind}-{self._counts[kind]}"
         self.positions[camera_id] = p
+        self.untrusted.add(camera_id)
         return camera_id
 
     def nearest(self, position_w, sight_w=None) -> str | None:
@@ -91,5 +94,16 @@ class CameraRegistry:
         return abs(along) <= self.along_sight_m and across <= self.across_sight_m
 
     def update(self, camera_id: str, position_w) -> None:
-        """A better position for a known camera (its fitted tripod)."""
+        """A better position for a known camera (its fitted tripod): the camera is trusted."""
         self.positions[camera_id] = np.asarray(position_w, float).reshape(3)
+        self.untrusted.discard(camera_id)
+
+    def trust(self, camera_id: str) -> None:
+        """The camera had a trusted frame: its id is kept."""
+        self.untrusted.discard(camera_id)
+
+    def forget_untrusted(self) -> None:
+        """Forget the ids whose camera was never trusted (a wrong camera of a shot's first frame may stand there)."""
+        for camera_id in self.untrusted:
+            self.positions.pop(camera_id, None)
+        self.untrusted.clear()

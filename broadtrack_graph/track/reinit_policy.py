@@ -38,8 +38,9 @@ What is tried, cheapest first:
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is
 identified by where it stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along
-and across its line of sight): a known camera's id, or a new id when its chain is trusted (a new shot's
-camera: confident by the margin) and it stands where no known camera stands.
+and across its line of sight): a known camera's id, or a new id when it is confident and stands
+where no known camera stands; provisional until its chain is trusted (till then judged as a new shot's
+camera; forgotten at the next cut otherwise).
 
 **One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
@@ -149,7 +150,8 @@ class ReinitPolicy:
     # ----------------------------------------------------------------- what the loop tells
 
     def new_stretch(self) -> None:
-        """A cut or a view change: the camera is unknown again and the next search is paid at once."""
+        """A cut or a view change: the camera is unknown (a never trusted id forgotten); the next search is paid now."""
+        self.registry.forget_untrusted()
         self.camera_id = None
         self.budget.restart()
         self._model_next, self._model_gap = 0, 1
@@ -162,6 +164,7 @@ class ReinitPolicy:
         """A frame whose camera the tracker trusts: its camera id's guess from now on; the budget restarts."""
         if self.camera_id is not None:
             self._last_confident[self.camera_id] = (frame_index, camera)
+            self.registry.trust(self.camera_id)
         self.budget.restart()
         self._model_next, self._model_gap = 0, 1
 
@@ -211,7 +214,9 @@ class ReinitPolicy:
             return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
                                         "refined " + guess.reason, held, held_confidence, chain_trusted)
         with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
-        new_camera = self.camera_id is None and self.search_positions is None and with_map
+        # The shot's camera not trusted yet (no id, or an untrusted first camera's): judged as at the shot's start.
+        untrusted = self.camera_id is None or self.camera_id in self.registry.untrusted
+        new_camera = untrusted and self.search_positions is None and with_map
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
         candidate = None if guess is None else (guess, guess_id, guess_confidence, True, "refined " + guess.reason)
         modelled, modelled_confidence = self._model_camera(i, image, detections, curves, score)
@@ -221,7 +226,7 @@ class ReinitPolicy:
             # against 0.83 for the search's camera).
             if modelled_confidence >= (CERTAIN_CONFIDENCE if new_camera else threshold):
                 self.counts["model_used"] += 1
-                camera_id = self._camera_id_of(modelled, modelled_confidence, new_camera)
+                camera_id = self._camera_id_of(modelled, modelled_confidence)
                 return self._decision(modelled, modelled_confidence, camera_id, False, False, modelled.hypothesis,
                                       held, held_confidence, chain_trusted, new_camera)
             if candidate is None or modelled_confidence > candidate[2]:
@@ -233,7 +238,7 @@ class ReinitPolicy:
             why = f"search budget: the next global search at frame {self.budget.next_frame(i, known)}"
             if candidate is not None:
                 result, camera_id, confidence, continues, label = candidate
-                camera_id = camera_id if continues else self._camera_id_of(result, confidence, new_camera)
+                camera_id = camera_id if continues else self._camera_id_of(result, confidence)
                 return self._decision(result, confidence, camera_id, continues, False, f"{label} ({why})", held,
                                       held_confidence, chain_trusted, new_camera and not continues)
             return ReinitDecision(None, None, None, False, False, why)
@@ -249,23 +254,20 @@ class ReinitPolicy:
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
             # model's camera) stays unless the search's camera is clearly better.
             result, camera_id, confidence, continues, candidate_label = candidate
-            camera_id = camera_id if continues else self._camera_id_of(result, confidence, new_camera)
+            camera_id = camera_id if continues else self._camera_id_of(result, confidence)
             return self._decision(result, confidence, camera_id, continues, True,
                                   f"{candidate_label}; the search found nothing better", held, held_confidence,
                                   chain_trusted, new_camera and not continues)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
-        return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence, new_camera), False,
-                              True, label, held, held_confidence, chain_trusted, new_camera)
+        return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
+                              label, held, held_confidence, chain_trusted, new_camera)
 
-    def _camera_id_of(self, result: ReinitResult, confidence: float, new_camera: bool) -> str | None:
-        """A found camera's id: the shot's, or by where it stands. A new id only for a camera whose chain is trusted
-        at once (a new shot's camera: confident by the margin): a wrong camera of a shot's first frame must not
-        become a known camera whose later searches are judged as mid-shot ones."""
+    def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
+        """A found camera's id: the shot's, or by where it stands (a new id is provisional until trusted)."""
         if self.camera_id is not None:
             return self.camera_id  # a shot's camera does not change
-        margin = self.config.reinit_switch_margin if new_camera else 0.0
-        if confidence >= self.config.confidence_threshold + margin:
+        if confidence >= self.config.confidence_threshold:
             return self.registry.identify(result.camera.position_m, result.camera.R_cw[2])
         return self.registry.nearest(result.camera.position_m, result.camera.R_cw[2])
 

@@ -131,3 +131,25 @@ def test_one_tripod_per_camera_id_is_kept_and_put_back():
     assert solver.tripod is main
     policy.switch(solver, "cam2")
     assert solver.tripod is other
+
+
+def test_a_camera_not_identified_yet_is_solved_without_the_tripod_of_the_camera_before_it():
+    main, other = Tripod((0.0, 60.0, -15.0), 0.2), Tripod((-30.0, 55.0, -10.0), 0.3)
+    online = policy(TrackingConfig(mode="online"))
+    solver = SimpleNamespace(tripod=None)
+    online.switch(solver, "main")
+    solver.tripod = main  # (as a fit would set it)
+    online.release(solver)  # a new shot's camera without an id yet: not pulled to where the main camera stands
+    assert solver.tripod is None and online.camera_id is None
+    online.switch(solver, "cam2")  # identified: a new camera, fitted from its own frames
+    assert solver.tripod is None
+    solver.tripod = other
+    online.switch(solver, "main")  # the main camera's tripod was kept
+    assert solver.tripod is main
+    # A tripod given to the run without camera ids stays for the first camera (nothing identified before it).
+    given = policy(known=main)
+    solver = SimpleNamespace(tripod=main)
+    given.release(solver)
+    assert solver.tripod is main
+    given.switch(solver, "main")
+    assert solver.tripod is main

@@ -332,26 +332,32 @@ def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camer
     assert decision.camera_id not in (None, "high-corner-1")
 
 
-def test_a_new_shot_s_camera_gets_a_new_id_only_when_confident_by_the_margin():
-    # 0.55: above the threshold, under its chain's trust (0.6). It seeds the chain without an id: if the chain
-    # fails, the next search is a new shot's again, not one around a wrong camera judged as mid-shot.
-    fakes = Fakes({None: (MAIN, 0.55)})
+def test_a_new_camera_s_id_is_provisional_until_its_chain_is_trusted():
+    # 0.55: above the threshold, under a new shot's trust (0.6). Its id is provisional: while its chain has had no
+    # trusted frame, a camera searched for the shot is judged as a new shot's, and a cut forgets the id (a wrong
+    # first camera does not become a known camera whose searches are judged at the threshold, mid-shot).
+    fakes = Fakes({None: (MAIN, 0.55), ((0.0, 55.0, -12.0),): (MAIN, 0.55)})
     policy = _policy(fakes, search_time_share=1.0)
     decision = _decide(policy, 0)
-    assert decision.camera is MAIN and decision.new_camera and decision.camera_id is None
-    assert policy.registry.positions == {}
+    assert decision.camera is MAIN and decision.camera_id == "main" and decision.new_camera
+    assert policy.registry.untrusted == {"main"}
+    policy.switch("main")  # (as the frame loop does on adopting the decision)
     fakes.searched.clear()
-    _decide(policy, 1)
-    assert fakes.searched == [p for _, p in SEARCH_STAGES + FALLBACK_STAGES]  # a new shot's stages again
-    # Confident by the margin: a new id where it stands.
-    fakes = Fakes({None: (MAIN, 0.65)})
-    policy = _policy(fakes)
-    assert _decide(policy, 0).camera_id == "main" and set(policy.registry.positions) == {"main"}
-    # A camera standing where a known camera stands is that camera at the threshold (a returning camera).
-    fakes = Fakes({((53.0, 70.0, -22.0),): (CORNER, 0.55)})
-    policy = _policy(fakes)
-    policy.tripod("high-corner-1", (53.0, 70.0, -22.0))
-    assert _decide(policy, 0).camera_id == "high-corner-1"
+    decision = _decide(policy, 1)
+    assert fakes.searched[0] == ((0.0, 55.0, -12.0),)  # searched about where it stands, as mid-shot ...
+    assert decision.camera_id == "main" and decision.new_camera  # ... and judged as a new shot's camera
+    policy.new_stretch()  # a cut: the id of a camera never trusted is forgotten
+    assert policy.registry.positions == {} and policy.registry.untrusted == set()
+    # Trusted once (a confident frame), the id is kept across cuts and judged as a known camera's mid-shot.
+    fakes = Fakes({None: (MAIN, 0.55), ((0.0, 55.0, -12.0),): (MAIN, 0.55)}, guess_confidence=0.3)
+    policy = _policy(fakes, search_time_share=1.0)
+    _decide(policy, 0)
+    policy.switch("main")
+    policy.confident(3, MAIN)
+    decision = _decide(policy, 4)  # its guess is not confident: searched
+    assert decision.searched and decision.camera_id == "main" and not decision.new_camera
+    policy.new_stretch()
+    assert set(policy.registry.positions) == {"main"} and policy.registry.untrusted == set()
 
 
 class FakeModel:
