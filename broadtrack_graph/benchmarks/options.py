@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import argparse
+from broadtrack_graph.arguments import int_at_least
 
 
 def add_reinit_model(parser) -> None:
@@ -15,7 +15,7 @@ def add_reinit_model(parser) -> None:
 def add_search_workers(parser) -> None:
     """``--search-workers``: worker processes running the global search's next stages ahead
     (``TrackingConfig.search_workers``; the cameras are the same with any number)."""
-    parser.add_argument("--search-workers", type=_count, default=None, metavar="N",
+    parser.add_argument("--search-workers", type=int_at_least(0), default=None, metavar="N",
                         help="worker processes running the global search's next stages ahead (default: every core "
                              "but one, at most 3; 0: none, the search in the tracker's process)")
 
@@ -24,24 +24,3 @@ def tracker_options(args) -> dict:
     """The TrackingConfig fields the shared options set: ``reinit_model`` and ``search_workers``."""
     return {"reinit_model": args.reinit_model, "search_workers": getattr(args, "search_workers", None)}
 
-
-def _count(text: str) -> int:
-    value = int(text)
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
-    return value
-
-
-def float_between(low: float, high: float):
-    """An argparse ``type``: a number strictly between low and high (one-line error otherwise)."""
-
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
-        if not low < value < high:
-            raise argparse.ArgumentTypeError(f"{value:g} is out of range; give a number between {low:g} and {high:g}")
-        return value
-
-    return parse

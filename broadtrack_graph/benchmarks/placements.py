@@ -18,7 +18,8 @@ import time
 
 import numpy as np
 
-from broadtrack_graph.benchmarks.options import add_reinit_model, float_between
+from broadtrack_graph.arguments import float_between
+from broadtrack_graph.benchmarks.options import add_reinit_model
 
 HELP = "a new shot's first frame from main cameras at several distances and elevations: is the camera found?"
 

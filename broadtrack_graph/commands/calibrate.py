@@ -8,8 +8,8 @@ import logging
 from pathlib import Path
 
 from broadtrack_graph.actions.calibrate import PREVIEW_FRAMES, calibrate_folder, calibrate_images
+from broadtrack_graph.arguments import int_at_least
 from broadtrack_graph.commands.console import EXIT_NO_CAMERA
-from broadtrack_graph.commands.validate import int_at_least
 
 log = logging.getLogger(__name__)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-from broadtrack_graph.commands.validate import finite_float, int_at_least
+from broadtrack_graph.arguments import finite_float, int_at_least
 
 log = logging.getLogger(__name__)
 

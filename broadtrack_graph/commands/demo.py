@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from broadtrack_graph.actions.demo import DemoSettings, run_demo
-from broadtrack_graph.commands.validate import image_side, int_at_least
+from broadtrack_graph.arguments import image_side, int_at_least
 
 HELP = "render the embedded synthetic clip, track it online and smoothed, evaluate, draw and compare"
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from broadtrack_graph.arguments import frame_index, int_at_least
 from broadtrack_graph.commands.console import warning_count
 from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
@@ -11,7 +12,6 @@ from broadtrack_graph.commands.tracking_options import (
     detector_options,
     tripod_from_args,
 )
-from broadtrack_graph.commands.validate import frame_index, int_at_least
 from broadtrack_graph.errors import InputError
 
 HELP = ("write a detections file (JSON lines) from frames with the project's detector, from SoccerNet annotations, "

@@ -6,7 +6,7 @@ import logging
 from pathlib import Path
 
 from broadtrack_graph.actions.evaluate import evaluate_folders, evaluation_table
-from broadtrack_graph.commands.validate import int_at_least, positive_float
+from broadtrack_graph.arguments import int_at_least, positive_float
 from broadtrack_graph.metrics.soccernet import DEFAULT_TAUS
 
 log = logging.getLogger(__name__)

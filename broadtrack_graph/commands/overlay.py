@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from broadtrack_graph.commands.validate import frame_index
+from broadtrack_graph.arguments import frame_index
 
 HELP = "draw the projected pitch (coloured by confidence) and a bird's-eye inset on the frames of a run"
 

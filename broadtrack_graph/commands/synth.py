@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from broadtrack_graph.commands.validate import image_side, int_at_least, int_between
+from broadtrack_graph.arguments import image_side, int_at_least, int_between
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.synth.presets import PRESETS
 

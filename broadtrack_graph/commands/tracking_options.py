@@ -11,7 +11,7 @@ import argparse
 from pathlib import Path
 
 from broadtrack_graph.actions.track import DetectorOptions
-from broadtrack_graph.commands.validate import finite_float, frame_index, int_at_least, unit_interval
+from broadtrack_graph.arguments import finite_float, frame_index, int_at_least, unit_interval
 from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.config_file import read_config_file

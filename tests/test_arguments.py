@@ -6,13 +6,21 @@ import argparse
 
 import pytest
 
+from broadtrack_graph.arguments import (
+    finite_float,
+    float_between,
+    image_side,
+    int_at_least,
+    positive_float,
+    unit_interval,
+)
 from broadtrack_graph.cli import main
-from broadtrack_graph.commands.validate import finite_float, image_side, int_at_least, positive_float, unit_interval
 
 
 @pytest.mark.parametrize("check, text", [(positive_float, "-5"), (positive_float, "0"), (unit_interval, "7"),
                                          (unit_interval, "-0.1"), (finite_float, "nan"), (finite_float, "inf"),
-                                         (int_at_least(1), "0"), (int_at_least(1), "1.5"), (image_side, "8")])
+                                         (int_at_least(1), "0"), (int_at_least(1), "1.5"), (image_side, "8"),
+                                         (float_between(0.0, 80.0), "80"), (float_between(0.0, 80.0), "nan")])
 def test_bad_values_are_refused(check, text):
     with pytest.raises(argparse.ArgumentTypeError):
         check(text)

@@ -2,7 +2,8 @@
 
 Each callable turns the command-line string into a value or raises
 ``argparse.ArgumentTypeError`` with one line naming the value and the remedy; the
-parser (:func:`broadtrack_graph.cli.build_parser`) prints it as one line and exits 2.
+parser (:func:`broadtrack_graph.cli.build_parser`) prints it as one line and exits 2. Used by
+the commands and by the ``bench`` suites' options (hence at the package's root).
 """
 
 from __future__ import annotations
@@ -44,6 +45,19 @@ def int_between(low: int, high: int):
         return value
 
     parse.__name__ = f"integer in [{low}, {high}]"
+    return parse
+
+
+def float_between(low: float, high: float):
+    """A finite number strictly between low and high (e.g. a camera's distance or elevation)."""
+
+    def parse(text: str) -> float:
+        value = _number(text)
+        if not low < value < high:
+            raise argparse.ArgumentTypeError(f"{value:g} is out of range; give a number between {low:g} and {high:g}")
+        return value
+
+    parse.__name__ = f"number in ({low:g}, {high:g})"
     return parse
 
 
