@@ -37,27 +37,25 @@ def int_at_least(minimum: int, what: str = ""):
 
 def int_between(low: int, high: int):
     """An integer in [low, high] (e.g. a JPEG quality)."""
-
-    def parse(text: str) -> int:
-        value = _number(text, int)
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"{value} is out of range; give an integer in [{low}, {high}]")
-        return value
-
-    parse.__name__ = f"integer in [{low}, {high}]"
-    return parse
+    return _in_range(int, low, high, f"[{low}, {high}]", "an integer")
 
 
 def float_between(low: float, high: float):
     """A finite number strictly between low and high (e.g. a camera's distance or elevation)."""
+    return _in_range(float, low, high, f"({low:g}, {high:g})", "a number")
 
-    def parse(text: str) -> float:
-        value = _number(text)
-        if not low < value < high:
-            raise argparse.ArgumentTypeError(f"{value:g} is out of range; give a number between {low:g} and {high:g}")
+
+def _in_range(kind, low, high, interval: str, what: str):
+    """A ``kind`` value in ``interval`` (``[low, high]`` or the open ``(low, high)``)."""
+    closed = interval.startswith("[")
+
+    def parse(text: str):
+        value = _number(text, kind)
+        if not (low <= value <= high if closed else low < value < high):
+            raise argparse.ArgumentTypeError(f"{value:g} is out of range; give {what} in {interval}")
         return value
 
-    parse.__name__ = f"number in ({low:g}, {high:g})"
+    parse.__name__ = f"{what} in {interval}"
     return parse
 
 
