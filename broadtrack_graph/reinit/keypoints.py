@@ -1,9 +1,8 @@
 """Re-initialisation from labelled keypoints: the two-point method inside RANSAC over pairs, then refinement.
 
-The two-point method: with the focal point at the tripod and roll 0, the angle between the
-rays of two keypoints gives f, and rotating the two world rays onto the two camera rays
-gives pan and tilt. Each candidate focal point (default: the common broadcast positions and
-their mirror images) is tried.
+The two-point method (:mod:`broadtrack_graph.reinit.two_point`): with the focal point at the tripod
+and roll 0, two keypoints give f, pan and tilt. Each candidate focal point (default: the common
+broadcast positions and their mirror images) is tried with every pair at once.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down (a camera above the pitch
 has z < 0); pan 0 looks towards -y, positive pan turns towards +x. No I/O.
@@ -17,102 +16,12 @@ import math
 import cv2
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.state import project_state
 from broadtrack_graph.reinit.lines import camera_from_homography
 from broadtrack_graph.reinit.positions import candidate_positions
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
-
-
-def focal_from_ray_angle(uv_px: np.ndarray, angle_rad: float, width_px: int, height_px: int) -> float | None:
-    """Focal length (pixels) at which the rays of two pixels make a given angle.
-
-    The angle between the rays ``(u - cx, v - cy, f)`` decreases monotonically with f, so it is
-    solved by bisection on log f. None when the angle cannot be reached.
-    """
-    d = np.asarray(uv_px, dtype=float) - [width_px / 2.0, height_px / 2.0]
-
-    def angle(f: float) -> float:
-        a = np.array([d[0, 0], d[0, 1], f])
-        b = np.array([d[1, 0], d[1, 1], f])
-        return math.acos(float(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
-
-    lo, hi = 0.05 * width_px, 50.0 * width_px
-    if not (angle(hi) <= angle_rad <= angle(lo)):
-        return None
-    for _ in range(60):
-        mid = math.sqrt(lo * hi)
-        if angle(mid) > angle_rad:
-            lo = mid
-        else:
-            hi = mid
-    return math.sqrt(lo * hi)
-
-
-def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int,
-                           steps: int = 4) -> Camera | None:
-    """The two-point method: focal point fixed at position_w, roll 0, k1 0.
-
-    Args:
-        uv_px: (2, 2) pixels of two pitch points; points_w: (2, 3) their positions (metres).
-        position_w: (3,) focal point (the tripod T).
-        steps: fixed-point steps on (pan, tilt) once roll is set to 0.
-
-    The rotation that carries the two world rays onto the two camera rays (f from their angle)
-    gives pan and tilt; dropping its roll moves the points, so a few Gauss-Newton steps on
-    (pan, tilt) alone then bring the two points back (least squares over both). Sign facts
-    used by the steps, for a camera looking down at the pitch: +pan moves points towards -u by
-    about f sin(tilt) per radian, +tilt moves them towards +v by about f per radian.
-
-    Returns:
-        The camera, or None when the pair is degenerate or the angle cannot be matched.
-    """
-    uv_px = np.asarray(uv_px, dtype=float).reshape(2, 2)
-    rays_w = np.asarray(points_w, dtype=float).reshape(2, 3) - np.asarray(position_w, dtype=float)
-    norms = np.linalg.norm(rays_w, axis=1)
-    if np.any(norms < 1e-6) or np.linalg.norm(uv_px[0] - uv_px[1]) < 2.0:
-        return None
-    rays_w /= norms[:, None]
-    angle = math.acos(float(np.clip(rays_w[0] @ rays_w[1], -1, 1)))
-    focal = focal_from_ray_angle(uv_px, angle, width_px, height_px)
-    if focal is None:
-        return None
-    rays_c = np.column_stack([uv_px - [width_px / 2.0, height_px / 2.0], np.full(2, focal)])
-    rays_c /= np.linalg.norm(rays_c, axis=1, keepdims=True)
-    # Rotation aligning world rays onto camera rays (Kabsch with the two rays and their cross product).
-    a = np.vstack([rays_w, np.cross(rays_w[0], rays_w[1])])
-    b = np.vstack([rays_c, np.cross(rays_c[0], rays_c[1])])
-    u, _, vt = np.linalg.svd(b.T @ a)
-    R_cw = u @ np.diag([1, 1, np.sign(np.linalg.det(u @ vt))]) @ vt
-    pan, tilt, _ = angles_from_rotation(R_cw)
-    camera = Camera(focal, 0.0, pan, tilt, 0.0, np.asarray(position_w, float), width_px, height_px)
-    return _pan_tilt_steps(camera, uv_px, np.asarray(points_w, dtype=float).reshape(2, 3), steps)
-
-
-def _pan_tilt_steps(camera: Camera, uv_px: np.ndarray, points_w: np.ndarray, steps: int) -> Camera | None:
-    """Gauss-Newton steps on (pan, tilt) of ``camera`` (roll, f, k1, C held) bringing points_w onto uv_px.
-
-    Args:
-        uv_px: (N, 2) pixels; points_w: (N, 3) metres. The Jacobian is the analytic one of
-            :func:`project_state` (state columns 2 = pan, 3 = tilt).
-
-    Returns:
-        The camera, or None when a point falls behind it.
-    """
-    W, H = camera.width_px, camera.height_px
-    state = camera.to_vector()
-    for _ in range(steps):
-        uv, J_uv, front = project_state(state, points_w, W, H)
-        if not front.all():
-            return None
-        residual = (uv_px - uv).ravel()
-        J = J_uv.reshape(-1, 8)[:, 2:4]
-        step, *_ = np.linalg.lstsq(J, residual, rcond=None)
-        state[2:4] += np.clip(step, -0.2, 0.2)
-        if np.max(np.abs(step)) < 1e-9:
-            break
-    _, _, front = project_state(state, points_w, W, H)
-    return Camera.from_vector(state, W, H) if front.all() else None
+from broadtrack_graph.reinit.two_point import pair_scores, two_point_cameras
 
 
 def reinit_from_keypoints(
@@ -131,7 +40,7 @@ def reinit_from_keypoints(
 
     For each candidate focal point (default: :func:`candidate_positions`, the common broadcast
     positions and their mirror images; after a tripod fit the tracker passes its T alone),
-    pairs of keypoints give cameras (:func:`camera_from_two_points`), scored by the keypoints
+    pairs of keypoints give cameras (:func:`~broadtrack_graph.reinit.two_point.two_point_cameras`), scored by the keypoints
     of the whole frame within ``inlier_px`` (then by their capped error). The best hypotheses
     of the ``refine_top`` best positions are refined on their inliers (first within
     max(4 ``inlier_px``, ``loose_per_focal`` f) since a focal point metres off moves the keypoints
@@ -155,18 +64,18 @@ def reinit_from_keypoints(
     if len(pairs) > max_pairs:
         pairs = [pairs[i] for i in rng.choice(len(pairs), max_pairs, replace=False)]
     # Hypotheses: the best pair per candidate focal point, scored by inliers among ALL keypoints.
+    pair_index = np.asarray(pairs, int).reshape(-1, 2)
     per_position = []
     for position in positions:
-        best = None
-        for i, j in pairs:
-            camera = camera_from_two_points(uv_px[[i, j]], points_w[[i, j]], position, width_px, height_px)
-            if camera is None:
-                continue
-            key, _ = _score(camera, uv_px, points_w, inlier_px)
-            if best is None or key > best[0]:
-                best = (key, camera, position)
-        if best is not None:
-            per_position.append(best)
+        cameras = two_point_cameras(uv_px[pair_index], points_w[pair_index], position, width_px, height_px)
+        count, capped = pair_scores(cameras, position, uv_px, points_w, width_px, height_px, inlier_px)
+        if count.max() < 0:
+            continue
+        # The first pair with the most inliers, then the least capped error (pairs in order, as a loop would).
+        k = int(np.argmax(np.where(count == count.max(), capped, -np.inf)))
+        camera = Camera(float(cameras[k, 0]), 0.0, float(cameras[k, 1]), float(cameras[k, 2]), 0.0,
+                        np.asarray(position, float), width_px, height_px)
+        per_position.append(((int(count[k]), float(capped[k])), camera, position))
     if not per_position:
         return ReinitResult(None, None, "", "no keypoint pair gave a camera", len(pairs))
     # The most promising hypotheses are refined on their inliers (loose, then tight) and re-scored.

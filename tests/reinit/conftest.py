@@ -1,9 +1,10 @@
-"""Frames shared by the re-initialisation tests."""
+"""Frames and keypoints shared by the re-initialisation tests."""
 
 from __future__ import annotations
 
 import pytest
 
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
 
@@ -17,3 +18,16 @@ def main_frame():
     track = generate_camera_track("main", 1, 1280, 720, seed=0)
     frame = render_clip("main", 1, 1280, 720, seed=0, cameras=[track.cameras[0]]).frames[0]
     return frame.camera, WeightFreeDetector(PitchTemplate()).detect(frame.image)
+
+
+@pytest.fixture(scope="module")
+def broadcast_keypoints():
+    """A roll-free main camera at 1280x720 (tripod (-0.7, 65.9, -13.9) m, f 1480 px) and its ground keypoints in view:
+    (camera, uv_px (N, 2), points_w (N, 3))."""
+    camera = Camera.from_degrees(1480.0, 0.0, -43.0, 84.0, 0.0, (-0.7, 65.9, -13.9), 1280, 720)
+    pitch = PitchTemplate()
+    points_w = pitch.keypoint_array([n for n in pitch.keypoints if abs(pitch.keypoints[n][2]) < 1e-9])
+    uv, front = camera.project(points_w)
+    seen = front & camera.in_image(uv)
+    assert seen.sum() >= 10
+    return camera, uv[seen], points_w[seen]

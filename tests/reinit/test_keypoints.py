@@ -1,4 +1,4 @@
-"""Re-initialisation from keypoints: focal length from a ray angle, the two-point method, RANSAC over pairs."""
+"""Re-initialisation from keypoints: RANSAC over pairs of the two-point method, the keypoint homography."""
 
 from __future__ import annotations
 
@@ -10,12 +10,7 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.io.nbjw_keypoints import NBJW_KEYPOINTS_W
-from broadtrack_graph.reinit.keypoints import (
-    camera_from_keypoints,
-    camera_from_two_points,
-    focal_from_ray_angle,
-    reinit_from_keypoints,
-)
+from broadtrack_graph.reinit.keypoints import camera_from_keypoints, reinit_from_keypoints
 from broadtrack_graph.synth.field_cameras import aim_angles
 
 W, H = 960, 540
@@ -24,28 +19,6 @@ PITCH = PitchTemplate()
 
 def _camera(pan=-12.0, tilt=76.0, focal=1100.0, k1=0.0, position=(1.5, 57.0, -13.0), roll=0.3):
     return Camera.from_degrees(focal, k1, pan, tilt, roll, position, W, H)
-
-
-def test_focal_from_ray_angle_inverts_the_angle():
-    uv = np.array([[100.0, 200.0], [800.0, 350.0]])
-    for focal in (500.0, 1500.0, 4000.0):
-        a = np.array([uv[0, 0] - W / 2, uv[0, 1] - H / 2, focal])
-        b = np.array([uv[1, 0] - W / 2, uv[1, 1] - H / 2, focal])
-        angle = math.acos(a @ b / np.linalg.norm(a) / np.linalg.norm(b))
-        assert focal_from_ray_angle(uv, angle, W, H) == pytest.approx(focal, rel=1e-6)
-    assert focal_from_ray_angle(uv, math.radians(179), W, H) is None
-
-
-def test_two_point_method_recovers_a_roll_free_camera():
-    truth = _camera(roll=0.0, position=(0.0, 55.0, -12.0))
-    points_w = np.array([[-20.0, 10.0, 0.0], [15.0, -20.0, 0.0]])
-    uv, _ = truth.project(points_w)
-    camera = camera_from_two_points(uv, points_w, truth.position_m, W, H)
-    assert camera.focal_px == pytest.approx(truth.focal_px, rel=1e-3)
-    assert camera.pan_deg == pytest.approx(truth.pan_deg, abs=0.05)
-    assert camera.tilt_deg == pytest.approx(truth.tilt_deg, abs=0.05)
-    assert camera.roll_rad == 0.0
-    assert camera_from_two_points(uv[[0, 0]], points_w[[0, 0]], truth.position_m, W, H) is None
 
 
 def test_reinit_from_keypoints_ransac_rejects_outliers():
@@ -66,70 +39,12 @@ def test_reinit_from_keypoints_ransac_rejects_outliers():
     assert result.score.inlier_share == pytest.approx((len(uv) - 2) / len(uv))
 
 
-# ------------------------------------------------------------------ two-point method on a broadcast camera (1280x720)
+# ------------------------------------------------------------------ a broadcast camera (1280x720)
 
-W7, H7 = 1280, 720
-TRIPOD = (-0.7, 65.9, -13.9)
-
-
-def _broadcast(pan=-43.0, tilt=84.0, focal=1480.0):
-    return Camera.from_degrees(focal, 0.0, pan, tilt, 0.0, TRIPOD, W7, H7)
-
-
-def _ground_keypoints(camera):
-    names = [n for n in PITCH.keypoints if abs(PITCH.keypoints[n][2]) < 1e-9]
-    pts = PITCH.keypoint_array(names)
-    uv, front = camera.project(pts)
-    ok = front & camera.in_image(uv)
-    return uv[ok], pts[ok]
-
-
-def test_pan_tilt_steps_move_the_right_way():
-    """+1 deg of pan moves a point towards -u (about f sin(tilt) / 57 px), +1 deg of tilt towards +v;
-    the steps undo an offset of either sign."""
-    from broadtrack_graph.reinit.keypoints import _pan_tilt_steps
-
-    truth = _broadcast()
-    uv, pts = _ground_keypoints(truth)
-    moved_pan, _ = truth.replace(pan_rad=truth.pan_rad + math.radians(1)).project(pts[:1])
-    moved_tilt, _ = truth.replace(tilt_rad=truth.tilt_rad + math.radians(1)).project(pts[:1])
-    assert moved_pan[0, 0] - uv[0, 0] < -20.0 and abs(moved_pan[0, 1] - uv[0, 1]) < 5.0
-    assert moved_tilt[0, 1] - uv[0, 1] > 20.0
-    for d_pan, d_tilt in ((1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.5, -1.5)):
-        start = truth.replace(pan_rad=truth.pan_rad + math.radians(d_pan), tilt_rad=truth.tilt_rad + math.radians(d_tilt))
-        fixed = _pan_tilt_steps(start, uv[:2], pts[:2], steps=4)
-        assert fixed.pan_deg == pytest.approx(truth.pan_deg, abs=1e-3)
-        assert fixed.tilt_deg == pytest.approx(truth.tilt_deg, abs=1e-3)
-
-
-def test_two_point_method_noise_free_and_with_3px_noise():
-    truth = _broadcast()
-    uv, pts = _ground_keypoints(truth)
-    far = np.argmax(np.linalg.norm(uv[:, None] - uv[None], axis=2).max(axis=1))
-    other = np.argmax(np.linalg.norm(uv - uv[far], axis=1))
-    pair = [far, other]
-    camera = camera_from_two_points(uv[pair], pts[pair], TRIPOD, W7, H7)
-    assert camera.focal_px == pytest.approx(truth.focal_px, rel=1e-4)
-    assert camera.pan_deg == pytest.approx(truth.pan_deg, abs=1e-3)
-    assert camera.tilt_deg == pytest.approx(truth.tilt_deg, abs=1e-3)
-    rng = np.random.default_rng(0)
-    focal_err, pan_err, tilt_err = [], [], []
-    for _ in range(20):
-        noisy = uv[pair] + rng.normal(0, 3.0, (2, 2))
-        camera = camera_from_two_points(noisy, pts[pair], TRIPOD, W7, H7)
-        focal_err.append(abs(camera.focal_px / truth.focal_px - 1))
-        pan_err.append(abs(camera.pan_deg - truth.pan_deg))
-        tilt_err.append(abs(camera.tilt_deg - truth.tilt_deg))
-    assert 0 < np.median(focal_err) < 0.01 and max(focal_err) < 0.03
-    assert 0 < np.median(pan_err) < 0.1 and 0 < np.median(tilt_err) < 0.1
-
-
-def test_ransac_with_30_percent_wrong_ids_and_3px_noise_at_candidate_positions():
+def test_ransac_with_30_percent_wrong_ids_and_3px_noise_at_candidate_positions(broadcast_keypoints):
     """Keypoints with 3 px noise, 30 % of them labelled with another keypoint's position; the focal point is
     unknown (the default candidates are tried, none at the true place): the camera still lands within a few px."""
-    truth = _broadcast()
-    uv, pts = _ground_keypoints(truth)
-    assert len(uv) >= 10
+    truth, uv, pts = broadcast_keypoints
     rng = np.random.default_rng(1)
     noisy = uv + rng.normal(0, 3.0, uv.shape)
     labels = pts.copy()
@@ -139,7 +54,7 @@ def test_ransac_with_30_percent_wrong_ids_and_3px_noise_at_candidate_positions()
     for k in wrong:
         choices = [p for p in others if np.linalg.norm(p - pts[k]) > 5.0]
         labels[k] = choices[rng.integers(len(choices))]
-    result = reinit_from_keypoints(noisy, labels, W7, H7)
+    result = reinit_from_keypoints(noisy, labels, truth.width_px, truth.height_px)
     assert result.camera is not None
     good = np.setdiff1d(np.arange(len(uv)), wrong)
     est, _ = result.camera.project(pts[good])
