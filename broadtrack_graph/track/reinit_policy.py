@@ -17,8 +17,9 @@ What is tried, cheapest first:
 2. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
    map. Taken when confident (a new shot's camera: when certain, :data:`CERTAIN_CONFIDENCE`), with
-   the id of where it stands; else a candidate the search must beat. After a frame it cannot place it waits 1, 2, 4,
-   ... frames (at most :data:`MAX_MODEL_GAP_FRAMES`): a shot it cannot place costs little.
+   the id of where it stands; else a candidate the search must beat. It tries every frame of a shot's first
+   frames it cannot place (up to 10), then waits 1, 2, 4, ... frames after each
+   (:class:`~broadtrack_graph.track.search_budget.ModelSchedule`): a shot it cannot place costs little.
 3. **The global search** in stages, when the search budget allows.
 
    * A shot whose camera is not known yet: the known cameras' positions, the default
@@ -68,7 +69,7 @@ from broadtrack_graph.reinit.near_miss import best_along_line_of_sight, best_wal
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.search_budget import SearchBudget
+from broadtrack_graph.track.search_budget import ModelSchedule, SearchBudget
 from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
@@ -80,9 +81,6 @@ Confidence = Callable[..., float | None]
 """``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
 ModelCamera = Callable[[np.ndarray], ReinitResult]
 """``image_bgr -> ReinitResult``: a camera from the learned field model alone."""
-
-MAX_MODEL_GAP_FRAMES = 8
-"""The field model waits at most this many frames between tries on frames it cannot place."""
 
 @dataclass(frozen=True)
 class ReinitDecision:
@@ -139,7 +137,7 @@ class ReinitPolicy:
         self.camera_id: str | None = None
         self._last_confident: dict[str, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
         self.model = model
-        self._model_next, self._model_gap = 0, 1  # the next frame the model runs on; its back-off
+        self.model_schedule = ModelSchedule()  # when the model tries a frame
         self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "walks": 0,
                        "skipped_by_budget": 0}
 
@@ -154,7 +152,7 @@ class ReinitPolicy:
         self.registry.forget_untrusted()
         self.camera_id = None
         self.budget.restart()
-        self._model_next, self._model_gap = 0, 1
+        self.model_schedule.new_stretch()
 
     def switch(self, camera_id: str | None) -> None:
         """The frames from now on are camera ``camera_id``'s."""
@@ -166,7 +164,7 @@ class ReinitPolicy:
             self._last_confident[self.camera_id] = (frame_index, camera)
             self.registry.trust(self.camera_id)
         self.budget.restart()
-        self._model_next, self._model_gap = 0, 1
+        self.model_schedule.confident()
 
     def tripod(self, camera_id: str, T_w) -> None:
         """A tripod fitted or given for a camera: its position identifies the camera from now on."""
@@ -331,7 +329,7 @@ class ReinitPolicy:
     def _model_camera(self, frame_index: int, image, detections, curves, score) -> tuple[ReinitResult | None, float]:
         """The field model's camera for the frame, refined on the marking map, and its confidence; (None, 0) when
         there is no model or image, the model is backing off, or it found nothing."""
-        if self.model is None or image is None or frame_index < self._model_next:
+        if self.model is None or image is None or not self.model_schedule.allows(frame_index):
             return None, 0.0
         self.counts["model_tried"] += 1
         result = self.model(image)
@@ -343,11 +341,7 @@ class ReinitPolicy:
             if confidence is None:  # no marking map and no lines: the model's own keypoints
                 confidence = result.score.inlier_share if result.score is not None else 0.0
             found = (ReinitResult(camera, result.score, result.hypothesis), float(confidence))
-        if found is None or found[1] < self.config.confidence_threshold:
-            self._model_next = frame_index + self._model_gap
-            self._model_gap = min(2 * self._model_gap, MAX_MODEL_GAP_FRAMES)
-        else:
-            self._model_next, self._model_gap = 0, 1
+        self.model_schedule.tried(frame_index, found is not None and found[1] >= self.config.confidence_threshold)
         return found if found is not None else (None, 0.0)
 
     def _search(self, observations, detections, pitch, curves, sampling, score,

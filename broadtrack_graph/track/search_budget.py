@@ -1,7 +1,9 @@
-"""The global search's budget in frames: how often a search may run where nothing is found.
+"""The re-initialisation's budgets in frames: how often the global search and the field model run where nothing is
+found.
 
 Counted in frames, not seconds, so a run gives the same cameras on any machine; the re-initialisation
-policy (:mod:`broadtrack_graph.track.reinit_policy`) asks it before each search.
+policy (:mod:`broadtrack_graph.track.reinit_policy`) asks them before each search and each try of the
+field model (:class:`ModelSchedule`).
 
 The rules (searches of the marking map; keypoints and labelled lines are searched at once, in
 milliseconds):
@@ -80,3 +82,49 @@ class SearchBudget:
     def restart(self) -> None:
         """A new stretch (a cut, a view change, a confident frame): the next search is paid at once."""
         self.tokens, self.price, self._gap, self._next_known = 1.0, 1.0, 1, None
+
+
+MODEL_TRIES_AT_SHOT_START = 10
+"""The field model tries every frame of a shot it cannot place, this many times, before it backs off: a shot is to be
+locked within its first 10 frames, and the model is the only camera source of a shot's next frames once the search at
+its first frame has spent the budget (a try costs a few tracked frames)."""
+
+
+@dataclass
+class ModelSchedule:
+    """When the learned field model tries a frame (tens of milliseconds, and a refinement on the marking map).
+
+    After a cut or a view change (:meth:`new_stretch`) it tries every frame it cannot place, up to
+    ``tries_at_shot_start`` of them; after that, and after a confident frame (:meth:`confident`), a frame it cannot
+    place makes it wait 1, 2, 4, ... frames (at most ``max_gap_frames``). A frame it places restarts the wait.
+    """
+
+    tries_at_shot_start: int = MODEL_TRIES_AT_SHOT_START
+    max_gap_frames: int = 8
+    _next: int = 0
+    _gap: int = 1
+    _tries_left: int | None = None  # None: a new stretch (the run's first frames)
+
+    def allows(self, frame_index: int) -> bool:
+        """The model may try this frame."""
+        return frame_index >= self._next
+
+    def tried(self, frame_index: int, placed: bool) -> None:
+        """The model tried frame_index; placed: it gave a confident camera."""
+        if placed:
+            self._next, self._gap = 0, 1
+            return
+        tries_left = self.tries_at_shot_start if self._tries_left is None else self._tries_left
+        if tries_left > 0:
+            self._tries_left, self._next = tries_left - 1, frame_index + 1
+            return
+        self._tries_left, self._next = 0, frame_index + self._gap
+        self._gap = min(2 * self._gap, self.max_gap_frames)
+
+    def new_stretch(self) -> None:
+        """A cut or a view change: the shot's first frames are tried one by one."""
+        self._next, self._gap, self._tries_left = 0, 1, None
+
+    def confident(self) -> None:
+        """A confident frame: a later loss is tried after 1, 2, 4, ... frames."""
+        self._next, self._gap, self._tries_left = 0, 1, 0

@@ -411,16 +411,26 @@ def test_mid_shot_a_model_camera_above_the_threshold_is_taken_for_the_shots_came
     assert decision.camera is MAIN and decision.camera_id == "main" and not decision.searched
 
 
-def test_the_model_backs_off_on_frames_it_cannot_place_and_restarts_after_a_cut():
+def test_the_model_tries_a_shot_s_first_frames_one_by_one_then_backs_off_and_restarts_after_a_cut():
     fakes = Fakes()
     policy, model = _with_model(fakes, None, 0.0, search_time_share=1.0)
-    for i in range(20):
-        _decide(policy, i, image=IMAGE)
-    # Tried at frames 0, 1, 3, 7, 15 (gaps 1, 2, 4, 8): five tries in twenty frames.
-    assert len(model.calls) == 5 and policy.counts["model_tried"] == 5
-    policy.new_stretch()
-    _decide(policy, 20, image=IMAGE)
-    assert len(model.calls) == 6
+
+    def tried(frames):  # the frames the model tried
+        out = []
+        for i in frames:
+            calls = len(model.calls)
+            _decide(policy, i, image=IMAGE)
+            if len(model.calls) > calls:
+                out.append(i)
+        return out
+
+    # A shot's first 10 frames it cannot place, one by one; then gaps of 1, 2, 4, 8 (at most 8).
+    assert tried(range(40)) == [*range(10), 10, 11, 13, 17, 25, 33]
+    assert policy.counts["model_tried"] == 16
+    policy.confident(40, MAIN)  # a loss after a confident frame: the gaps start again at 1, no run of tries
+    assert tried(range(41, 50)) == [41, 42, 44, 48]
+    policy.new_stretch()  # a cut: the new shot's first frames one by one again
+    assert tried(range(50, 62)) == [*range(50, 60), 60, 61]
 
 
 def test_no_image_no_model():
