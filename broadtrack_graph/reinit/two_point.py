@@ -25,9 +25,11 @@ def focal_from_ray_angles(uv_pairs_px: np.ndarray, angles_rad: np.ndarray, width
     With ``d1, d2`` the pixels' offsets from the image centre, the rays ``(d, f)`` make the angle
     t with ``cos t = (p + x) / sqrt((a + x)(b + x))``, where ``x = f^2``, ``a = |d1|^2``,
     ``b = |d2|^2`` and ``p = d1.d2``. Squared, this is the quadratic
-    ``(1 - c^2) x^2 + (2p - c^2 (a + b)) x + p^2 - c^2 a b = 0`` (c = cos t); its root with
-    ``p + x`` of the sign of c is the focal length (the angle falls monotonically with f, so
-    there is at most one).
+    ``(1 - c^2) x^2 + (2p - c^2 (a + b)) x + p^2 - c^2 a b = 0`` (c = cos t), whose roots with
+    ``p + x`` of the sign of c fit. As f grows the angle rises from the pixels' angle in the image
+    plane (f -> 0), peaks (for pixels on one side of the centre) and falls to 0, so up to two
+    focal lengths fit: the longer is given, on the falling side, where a broadcast lens is (a
+    lens wide enough to be on the rising side is not searched for).
 
     Args:
         uv_pairs_px: (P, 2, 2) the two pixels of each pair.
