@@ -53,8 +53,10 @@ All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConf
 **The search budget** (:mod:`~broadtrack_graph.track.search_budget`; in frames, so a run gives the
 same cameras on any machine): a known camera lost mid-shot is searched again after 1, 2, 4, ...
 frames; a shot whose camera is not known at its first frame, then for about ``search_time_share``
-of the time while nothing is found. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and
-a confident frame (:meth:`ReinitPolicy.confident`) restart it.
+of the time while nothing is found. A search finds something when its camera is trusted from its
+frame (a new shot's camera, a provisional id's included: confident by the margin); else the wait grows.
+A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame (:meth:`ReinitPolicy.confident`)
+restart it.
 """
 
 from __future__ import annotations
@@ -244,8 +246,9 @@ class ReinitPolicy:
         found, found_confidence, label = self._search(observations, detections, pitch, curves, sampling, score,
                                                       with_map)
         self.counts["global"] += 1
-        if with_map:
-            self.budget.spend(i, found is not None and found_confidence >= threshold,
+        if with_map:  # found: a camera its chain is trusted from (a new shot's camera: by the margin)
+            trusted_from = threshold + (margin if new_camera else 0.0)
+            self.budget.spend(i, found is not None and found_confidence >= trusted_from,
                               self.counts["stages"] + self.counts["walks"] - paid_before, known)
         if candidate is not None and (found is None or (found_confidence < threshold
                                                         and found_confidence <= candidate[2] + margin)):

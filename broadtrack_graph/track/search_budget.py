@@ -9,7 +9,9 @@ The rules (searches of the marking map; keypoints and labelled lines are searche
 milliseconds):
 
 * a known camera lost mid-shot (a blurred sweep) is still there: it is searched again after
-  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each;
+  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each (so is a shot's
+  provisional camera, found above the threshold but not yet trusted: until a search finds one
+  trusted from its frame, the gaps grow);
 * a shot whose camera is not known is searched at its first frame, then paid from a bucket
   that fills by one stage every ``search_cost_frames * (1 - s) / s`` frames (s =
   ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding

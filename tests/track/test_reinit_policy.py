@@ -360,6 +360,20 @@ def test_a_new_camera_s_id_is_provisional_until_its_chain_is_trusted():
     assert set(policy.registry.positions) == {"main"} and policy.registry.untrusted == set()
 
 
+def test_a_provisional_camera_s_searches_back_off_until_one_is_trusted():
+    # Each search about a provisional camera finds it again at 0.55 (above the threshold, under a new shot's trust):
+    # that is not a trusted camera, so the searches back off (1, 2, 4, ... frames) instead of running every frame.
+    fakes = Fakes({None: (MAIN, 0.55), ((0.0, 55.0, -12.0),): (MAIN, 0.55)}, guess_confidence=0.3)
+    policy = _policy(fakes)
+    _decide(policy, 0)
+    policy.switch("main")
+    searched = [i for i in range(1, 40) if _decide(policy, i).searched]
+    assert searched == [1, 2, 4, 8, 16, 32]
+    # A search that gives a camera trusted from its frame (0.6, a new shot's trust) restarts the gaps.
+    fakes.stage_answers[((0.0, 55.0, -12.0),)] = (MAIN, 0.65)
+    assert _decide(policy, 64).searched and _decide(policy, 65).searched
+
+
 class FakeModel:
     """The field model's camera: a fixed camera (or None) whose confidence the fakes' table gives."""
 
