@@ -126,14 +126,17 @@ def two_point_cameras(uv_pairs_px: np.ndarray, point_pairs_w: np.ndarray, positi
 
     Returns:
         (P, 3) ``[f, pan, tilt]`` (pixels, radians); NaN rows where the pair is degenerate (points on the focal
-        point or under 2 px apart), the angle cannot be matched, or a point falls behind the camera.
+        point or under 2 px apart, or not numbers), the angle cannot be matched, or a point falls behind the camera.
     """
     uv = np.asarray(uv_pairs_px, float).reshape(-1, 2, 2)
     points = np.asarray(point_pairs_w, float).reshape(-1, 2, 3)
     position = np.asarray(position_w, float).reshape(3)
+    finite = np.isfinite(uv).all(axis=(1, 2)) & np.isfinite(points).all(axis=(1, 2))
+    uv = np.where(finite[:, None, None], uv, [[0.0, 0.0], [100.0, 0.0]])  # stand-ins, dropped below
+    points = np.where(finite[:, None, None], points, [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]])
     rays_w = points - position
     norms = np.linalg.norm(rays_w, axis=2)
-    ok = np.all(norms >= 1e-6, axis=1) & (np.linalg.norm(uv[:, 0] - uv[:, 1], axis=1) >= 2.0)
+    ok = finite & np.all(norms >= 1e-6, axis=1) & (np.linalg.norm(uv[:, 0] - uv[:, 1], axis=1) >= 2.0)
     rays_w = rays_w / np.where(norms >= 1e-6, norms, 1.0)[..., None]
     angles = np.arccos(np.clip(np.einsum("pi,pi->p", rays_w[:, 0], rays_w[:, 1]), -1.0, 1.0))
     focal = np.where(ok, focal_from_ray_angles(uv, angles, width_px, height_px), np.nan)
@@ -225,7 +228,8 @@ def pair_scores(cameras: np.ndarray, position_w, uv_px: np.ndarray, points_w: np
     ok = np.isfinite(cameras).all(axis=1)
     safe = np.where(ok[:, None], cameras, [1.0, 0.0, 0.0])
     uv, front = _project_roll_free(safe[:, 0], safe[:, 1], safe[:, 2], position_w, points_w, width_px, height_px)
-    err = np.where(front, np.linalg.norm(uv - uv_px, axis=2), np.inf)
+    err = np.linalg.norm(uv - uv_px, axis=2)
+    err = np.where(front & np.isfinite(err), err, np.inf)  # behind the camera, or a keypoint that is not a number
     count = np.where(ok, (err < inlier_px).sum(axis=1), -1)
     capped = np.where(ok, -np.minimum(err, inlier_px).sum(axis=1), -np.inf)
     return count, capped

@@ -101,3 +101,13 @@ def test_camera_from_keypoints_falls_back_to_the_two_point_method_with_three_key
     result = camera_from_keypoints(uv[seen], NBJW_W[seen], W, H)
     assert result.camera is not None and result.hypothesis.startswith("two-point")
     assert camera_from_keypoints(uv[seen[:1]], NBJW_W[seen[:1]], W, H).camera is None
+
+
+def test_a_keypoint_that_is_not_a_number_is_an_outlier(broadcast_keypoints):
+    truth, uv, pts = broadcast_keypoints
+    uv = uv.copy()
+    uv[3] = np.nan  # a detector's NaN
+    result = reinit_from_keypoints(uv, pts, truth.width_px, truth.height_px, positions_w=[truth.position_m])
+    assert result.camera is not None
+    estimate, _ = result.camera.project(pts)
+    assert np.nanmedian(np.linalg.norm(estimate - uv, axis=1)) < 1.0

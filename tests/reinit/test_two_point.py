@@ -107,6 +107,11 @@ def test_every_pair_at_once_gives_the_camera_and_degenerate_pairs_give_nan(broad
     ])
     points = np.stack([pts[:2], np.stack([truth.position_m, pts[1]])])  # the second: a point at the focal point
     assert np.isnan(two_point_cameras(degenerate, points, truth.position_m, truth.width_px, truth.height_px)).all()
+    # A pixel that is not a number (a detector's NaN) gives no camera for its pairs, and no error.
+    with_nan = uv[pairs[:3]].copy()
+    with_nan[0, 1, 0] = np.nan
+    cameras = two_point_cameras(with_nan, pts[pairs[:3]], truth.position_m, truth.width_px, truth.height_px)
+    assert np.isnan(cameras[0]).all() and np.isfinite(cameras[1:]).all()
 
 
 def test_pan_tilt_steps_move_the_right_way(broadcast_keypoints):
