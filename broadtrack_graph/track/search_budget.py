@@ -88,8 +88,8 @@ class SearchBudget:
 
 MODEL_TRIES_AT_SHOT_START = 10
 """The field model tries every frame of a shot it cannot place, this many times, before it backs off: a shot is to be
-locked within its first 10 frames, and the model is the only camera source of a shot's next frames once the search at
-its first frame has spent the budget (a try costs a few tracked frames)."""
+locked within its first 10 frames, and once the search at a shot's first frame has spent the budget, the model is what
+can still find its camera from nothing on the next frames (a try costs a few tracked frames)."""
 
 
 @dataclass
