@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.camera import angles_from_rotations
 from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z
 
 
@@ -53,14 +53,6 @@ def focal_from_ray_angles(uv_pairs_px: np.ndarray, angles_rad: np.ndarray, width
             ok = np.isnan(focal) & (x >= lo) & (x <= hi) & (np.abs(cos_at_x - c) < 1e-9 * (1.0 + np.abs(c)))
             focal[ok] = np.sqrt(x[ok])
     return focal
-
-
-def focal_from_ray_angle(uv_px: np.ndarray, angle_rad: float, width_px: int, height_px: int) -> float | None:
-    """Focal length (pixels) at which the rays of two pixels (2, 2) make a given angle; None when it cannot
-    (:func:`focal_from_ray_angles` for one pair)."""
-    focal = focal_from_ray_angles(np.asarray(uv_px, float).reshape(1, 2, 2), np.array([angle_rad]), width_px,
-                                  height_px)[0]
-    return None if np.isnan(focal) else float(focal)
 
 
 def _roll_free_rotations(pan_rad: np.ndarray, tilt_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -150,8 +142,8 @@ def two_point_cameras(uv_pairs_px: np.ndarray, point_pairs_w: np.ndarray, positi
     b = np.concatenate([rays_c, np.cross(rays_c[:, 0], rays_c[:, 1])[:, None]], axis=1)
     u, _, vt = np.linalg.svd(np.einsum("pki,pkj->pij", b, a))
     u[:, :, 2] *= np.sign(np.linalg.det(u @ vt))[:, None]
-    orientation = np.swapaxes(u @ vt, 1, 2)  # Rz(pan) Rx(tilt) Rz(roll)
-    pan, tilt = _pan_tilt_nearest_zero_roll(orientation)
+    angles = angles_from_rotations(u @ vt)  # the roll is dropped
+    pan, tilt = angles[:, 0], angles[:, 1]
     pan, tilt, front = _pan_tilt_steps(f, pan, tilt, position, uv, points, width_px, height_px, steps)
     ok &= front
     return np.where(ok[:, None], np.stack([focal, pan, tilt], axis=1), np.nan)
@@ -181,40 +173,6 @@ def _pan_tilt_steps(focal_px, pan_rad, tilt_rad, position_w, uv_px, points_w, wi
         pan, tilt = pan + step[:, 0], tilt + step[:, 1]
     _, front = _project_roll_free(focal_px, pan, tilt, position_w, points_w, width_px, height_px)
     return pan, tilt, ok & front.all(axis=1)
-
-
-def _pan_tilt_nearest_zero_roll(orientation: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(pan, tilt) of P orientations ``Rz(pan) Rx(tilt) Rz(roll)`` (P, 3, 3), of the two (pan, tilt, roll) triples
-    the one whose roll is nearest 0 (:func:`~broadtrack_graph.geometry.camera.angles_from_rotation`, batched)."""
-    cos_tilt = np.clip(orientation[:, 2, 2], -1.0, 1.0)
-    sin_tilt_abs = np.hypot(orientation[:, 2, 0], orientation[:, 2, 1])
-    best_pan, best_tilt, best_roll = None, None, None
-    for sign in (1.0, -1.0):
-        tilt = np.arctan2(sign * sin_tilt_abs, cos_tilt)
-        pan = np.arctan2(sign * orientation[:, 0, 2], -sign * orientation[:, 1, 2])
-        roll = np.arctan2(sign * orientation[:, 2, 0], sign * orientation[:, 2, 1])
-        if best_pan is None:
-            best_pan, best_tilt, best_roll = pan, tilt, roll
-            continue
-        better = np.abs(roll) < np.abs(best_roll)
-        best_pan, best_tilt, best_roll = (np.where(better, pan, best_pan), np.where(better, tilt, best_tilt),
-                                          np.where(better, roll, best_roll))
-    return best_pan, best_tilt
-
-
-def camera_from_two_points(uv_px, points_w, position_w, width_px: int, height_px: int,
-                           steps: int = 4) -> Camera | None:
-    """The two-point method for one pair (:func:`two_point_cameras`): uv_px (2, 2), points_w (2, 3).
-
-    Returns:
-        The camera (roll 0, k1 0, at position_w), or None when the pair gives none.
-    """
-    row = two_point_cameras(np.asarray(uv_px, float).reshape(1, 2, 2), np.asarray(points_w, float).reshape(1, 2, 3),
-                            position_w, width_px, height_px, steps)[0]
-    if not np.isfinite(row).all():
-        return None
-    return Camera(float(row[0]), 0.0, float(row[1]), float(row[2]), 0.0, np.asarray(position_w, float), width_px,
-                  height_px)
 
 
 def pair_scores(cameras: np.ndarray, position_w, uv_px: np.ndarray, points_w: np.ndarray, width_px: int,

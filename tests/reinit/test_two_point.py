@@ -15,14 +15,24 @@ from broadtrack_graph.reinit.two_point import (
     _pan_tilt_steps,
     _project_roll_free,
     _roll_free_rotations,
-    camera_from_two_points,
-    focal_from_ray_angle,
     focal_from_ray_angles,
     pair_scores,
     two_point_cameras,
 )
 
 W, H = 960, 540
+
+
+def focal_from_ray_angle(uv_px, angle_rad, width_px, height_px):
+    """One pair's focal length, or None."""
+    focal = focal_from_ray_angles(np.asarray(uv_px)[None], np.array([angle_rad]), width_px, height_px)[0]
+    return None if np.isnan(focal) else focal
+
+
+def camera_from_two_points(uv_px, points_w, position_w, width_px, height_px):
+    """One pair's roll-free camera at position_w, or None."""
+    row = two_point_cameras(np.asarray(uv_px)[None], np.asarray(points_w)[None], position_w, width_px, height_px)[0]
+    return None if np.isnan(row).any() else Camera(row[0], 0.0, row[1], row[2], 0.0, position_w, width_px, height_px)
 
 
 def _ray_angle(uv_px, focal, width_px=W, height_px=H):
