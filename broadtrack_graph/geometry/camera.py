@@ -99,37 +99,6 @@ def angles_from_rotation(R_cw: np.ndarray) -> tuple[float, float, float]:
     return best
 
 
-def angles_from_rotations(R_cw: np.ndarray) -> np.ndarray:
-    """Pan, tilt and roll (radians) of many world-to-camera rotations at once: :func:`angles_from_rotation`'s rule
-    in numpy (numpy's arctan2 and hypot can differ from :mod:`math`'s in the last bit, so the single-matrix
-    function keeps its own scalar arithmetic, whose numbers the homography decomposition's cameras rest on).
-
-    Two (pan, tilt, roll) triples give the same matrix (tilt and -tilt); the one
-    whose roll is nearest 0 is returned, as camera operators keep roll small.
-    At tilt 0 or 180 deg only pan + roll is defined; roll is then set to 0.
-
-    Args:
-        R_cw: (N, 3, 3) rotation matrices, world to camera.
-
-    Returns:
-        (N, 3) ``[pan_rad, tilt_rad, roll_rad]``.
-    """
-    orientation = np.swapaxes(np.asarray(R_cw, dtype=float).reshape(-1, 3, 3), 1, 2)  # Rz(pan) Rx(tilt) Rz(roll)
-    cos_tilt = np.clip(orientation[:, 2, 2], -1.0, 1.0)
-    sin_tilt_abs = np.hypot(orientation[:, 2, 0], orientation[:, 2, 1])
-    triples = []
-    for sign in (1.0, -1.0):
-        triples.append(np.stack([np.arctan2(sign * orientation[:, 0, 2], -sign * orientation[:, 1, 2]),
-                                 np.arctan2(sign * sin_tilt_abs, cos_tilt),
-                                 np.arctan2(sign * orientation[:, 2, 0], sign * orientation[:, 2, 1])], axis=1))
-    angles = np.where((np.abs(triples[1][:, 2]) < np.abs(triples[0][:, 2]))[:, None], triples[1], triples[0])
-    # Gimbal lock: orientation = Rz(pan +- roll); choose roll = 0.
-    locked = sin_tilt_abs < 1e-12
-    angles[locked] = np.stack([np.arctan2(orientation[locked, 1, 0], orientation[locked, 0, 0]),
-                               np.where(cos_tilt[locked] > 0, 0.0, np.pi), np.zeros(locked.sum())], axis=1)
-    return angles
-
-
 # --------------------------------------------------------------------------- camera
 
 

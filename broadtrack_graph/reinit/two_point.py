@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import angles_from_rotations
-from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z
+from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z, angles_from_rotations
 
 
 def focal_from_ray_angles(uv_pairs_px: np.ndarray, angles_rad: np.ndarray, width_px: int,

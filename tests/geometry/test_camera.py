@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from broadtrack_graph.geometry.camera import Camera, angles_from_rotation, angles_from_rotations, rotation_from_angles
+from broadtrack_graph.geometry.camera import Camera, angles_from_rotation, rotation_from_angles
 from broadtrack_graph.io.cameras import list_camera_files, read_camera_file, write_camera_file
 
 
@@ -145,14 +145,3 @@ def test_reads_every_real_camera_file(sn_calibration_dir):
         np.testing.assert_allclose(camera.R_cw, data["rotation_matrix"], atol=1e-9)
         pan, tilt, roll = np.degrees(angles_from_rotation(camera.R_cw))
         np.testing.assert_allclose([pan, tilt, roll], [data["pan_degrees"], data["tilt_degrees"], data["roll_degrees"]], atol=1e-7)
-
-
-def test_angles_of_many_rotations_at_once_are_those_of_each():
-    rng = np.random.default_rng(0)
-    angles = rng.uniform(-3.1, 3.1, (200, 3))
-    angles[:5, 1] = 0.0  # gimbal lock: tilt 0 ...
-    angles[5:10, 1] = np.pi  # ... and 180 deg
-    R = np.stack([rotation_from_angles(*a) for a in angles])
-    expected = np.array([angles_from_rotation(r) for r in R])
-    np.testing.assert_allclose(angles_from_rotations(R), expected, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(np.stack([rotation_from_angles(*a) for a in angles_from_rotations(R)]), R, atol=1e-12)

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
+from broadtrack_graph.geometry.camera import Camera, angles_from_rotation, rotation_from_angles
 from broadtrack_graph.geometry.distortion import unfolded_radius2
 from broadtrack_graph.geometry.state import (
     ANGLES,
@@ -19,6 +19,7 @@ from broadtrack_graph.geometry.state import (
     STATE_NAMES,
     STATE_SIZE,
     TILT,
+    angles_from_rotations,
     project_state,
     rotation_and_derivatives,
     rotation_x,
@@ -133,3 +134,14 @@ def test_rotation_builders_by_hand():
     np.testing.assert_allclose(rotation_z(math.pi / 2) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15)
     np.testing.assert_allclose(rotation_x(math.pi / 2) @ [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], atol=1e-15)
     np.testing.assert_array_equal(rotation_z(0.0), np.eye(3))
+
+
+def test_angles_of_many_rotations_at_once_are_those_of_each():
+    rng = np.random.default_rng(0)
+    angles = rng.uniform(-3.1, 3.1, (200, 3))
+    angles[:5, 1] = 0.0  # gimbal lock: tilt 0 ...
+    angles[5:10, 1] = np.pi  # ... and 180 deg
+    R = np.stack([rotation_from_angles(*a) for a in angles])
+    expected = np.array([angles_from_rotation(r) for r in R])
+    np.testing.assert_allclose(angles_from_rotations(R), expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.stack([rotation_from_angles(*a) for a in angles_from_rotations(R)]), R, atol=1e-12)
