@@ -15,6 +15,7 @@ from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
 from broadtrack_graph.reinit.lines import reinit_from_lines
 from broadtrack_graph.reinit.mask import reinit_from_mask
+from broadtrack_graph.reinit.mask_config import DEEP_SEARCH, MaskSearchConfig
 from broadtrack_graph.reinit.scoring import ReinitResult, score_labelled
 from broadtrack_graph.types.observations import FrameObservations
 
@@ -26,12 +27,14 @@ def reinitialise(
     positions_w=None,
     curves: TemplateCurves | None = None,
     sampling: TemplateSampling | None = None,
+    deep: bool = False,
 ) -> ReinitResult:
     """A camera for a frame without a trusted prediction.
 
     Tries, by what the frame carries: labelled keypoints (two-point method in RANSAC),
     labelled lines (homography or global search), and the unlabelled marking map
-    (line-pair and circle hypotheses at the candidate positions, scored and fitted).
+    (line-pair and circle hypotheses at the candidate positions, scored and fitted; ``deep``:
+    fitted deep, :data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`, for a frame no other search placed).
     Cameras under 1 m or over the pitch are dropped; the best score is kept.
     """
     W, H = observations.width_px, observations.height_px
@@ -44,7 +47,8 @@ def reinitialise(
                                          sampling=sampling))
     if detections is not None and detections.marking_mask is not None and not observations.lines_px:
         results.append(reinit_from_mask(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
-                                        positions_w=positions_w, curves=curves, field_mask=detections.field_mask))
+                                        positions_w=positions_w, curves=curves, field_mask=detections.field_mask,
+                                        config=DEEP_SEARCH if deep else MaskSearchConfig()))
     good = [replace(r, camera=_wrapped(r.camera)) for r in results
             if r.camera is not None and plausible_position(r.camera.position_m, pitch)]
     if not good and any(r.camera is not None for r in results):

@@ -65,7 +65,9 @@ def reinit_from_mask(
     3. The best distinct hypotheses are fitted in turn (:func:`refine_on_map`: name the marking
        points by the nearest projected class, :func:`fit_camera_to_lines`, shrinking gate; the
        wide schedule as well on poorly scoring ones) and ranked by a fine fit score; the
-       best-scoring hypothesis is kept unless a later one fits ``fit_switch_margin`` better.
+       best-scoring hypothesis is kept unless a later one fits ``fit_switch_margin`` better. A search
+       that fits deep (``deep_fits``, :data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`) then gives,
+       when no fit scores ``accept_fit_score``, one tight fit to each further hypothesis down the list.
 
     The returned score is the confidence of the camera (``score.jaccard``,
     confidence.camera_confidence). One search: which positions to try next when its camera is not
@@ -127,37 +129,56 @@ def reinit_from_mask(
                            config.distinct_per_width * W, W)
     log.debug("mask re-init: %d lines, %d ellipses, %d hypotheses", len(lines), len(ellipses), len(hypotheses))
     points = fit_points(points_px, config)
+    considered: set[int] = set()  # hypotheses fitted, or whose start a fit already reached
     fine = structures.fine_scorer
     check_w = np.vstack(list(pitch.sample_uniform(4.0, classes=ground).values()))
     best = None  # (fit score, camera, focal point, whether from the first fitted hypothesis)
     refined: list[Camera] = []
-    for k in chosen:
-        hypothesis = hypotheses[k]
-        if costs[k] > config.refine_cost_share * costs[chosen[0]] or len(refined) >= config.max_fits:
-            break  # no close competitor of the best-scoring hypothesis left, or enough fits
+
+    def fit(hypothesis: Hypothesis, wide: bool) -> None:
+        nonlocal best
         C = hypothesis.position_w
         start = Camera(hypothesis.focal_px, 0.0, hypothesis.pan_rad, hypothesis.tilt_rad, 0.0, C, W, H)
-        if any(_image_distance_px(start, other, check_w) < config.distinct_per_width * W for other in refined):
-            continue  # a fit already landed here
         camera = refine_on_map(start, points, C, curves, config, config.schedule)
         refined.append(camera)
         score = -fine.camera_cost(camera, config.fit_hit_px, config.fit_point_px)
-        if (config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
-                and len(refined) < config.max_fits):
+        if wide:
             # A poor fit at the guessed focal point: the camera may stand metres away, leaving the hypothesis
             # 10-20 px off, out of reach of the tight fit; one whose robust scale starts wide reaches it.
-            wide = refine_on_map(start, points, C, curves, config, config.wide_schedule)
-            refined.append(wide)
-            wide_score = -fine.camera_cost(wide, config.fit_hit_px, config.fit_point_px)
+            wide_camera = refine_on_map(start, points, C, curves, config, config.wide_schedule)
+            refined.append(wide_camera)
+            wide_score = -fine.camera_cost(wide_camera, config.fit_hit_px, config.fit_point_px)
             if wide_score > score:
-                camera, score = wide, wide_score
+                camera, score = wide_camera, wide_score
         # The best-scoring hypothesis is kept unless a later one fits clearly better: on sparse or blurred
         # markings a fit can slide along the focal length / distance trade-off onto clutter, or push
         # undetected markings out of the image, and look a little better.
         if best is None or score > best[0] + (config.fit_switch_margin if best[3] else 0.0):
             best = (score, camera, C, best is None)
-        if score >= config.accept_fit_score:
+
+    for k in chosen:
+        hypothesis = hypotheses[k]
+        if costs[k] > config.refine_cost_share * costs[chosen[0]] or len(refined) >= config.max_fits:
+            break  # no close competitor of the best-scoring hypothesis left, or enough fits
+        start = Camera(hypothesis.focal_px, 0.0, hypothesis.pan_rad, hypothesis.tilt_rad, 0.0, hypothesis.position_w,
+                       W, H)
+        considered.add(k)
+        if any(_image_distance_px(start, other, check_w) < config.distinct_per_width * W for other in refined):
+            continue  # a fit already landed here
+        fit(hypothesis, config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
+            and len(refined) + 1 < config.max_fits)
+        if best[0] >= config.accept_fit_score:
             break
+    if config.deep_fits and (best is None or best[0] < config.accept_fit_score):
+        # Fitted deep (mask_config.DEEP_SEARCH): the right hypothesis of a guess metres off can rank far down.
+        deeper = [k for k in best_distinct(np.array([h.pan_rad for h in hypotheses]),
+                                           np.array([h.tilt_rad for h in hypotheses]),
+                                           np.array([h.focal_px for h in hypotheses]), costs, len(hypotheses),
+                                           config.deep_distinct_per_width * W, W) if k not in considered]
+        for k in deeper[:config.deep_fits]:
+            fit(hypotheses[k], False)
+            if best[0] >= config.accept_fit_score:
+                break
     if best is None:
         return ReinitResult(None, None, "", "no hypothesis could be fitted", len(hypotheses))
     _, camera, position, _ = best

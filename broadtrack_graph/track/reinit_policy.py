@@ -22,26 +22,24 @@ What is tried, cheapest first:
    (:class:`~broadtrack_graph.track.search_budget.ModelSchedule`): a shot it cannot place costs little.
 3. **The global search** in stages, when the search budget allows.
 
-   * A shot whose camera is not known yet: the known cameras' positions, the default
-     positions (main, 16 m, behind the goal), the main camera further back, each low gantry,
-     the other camera kinds, and while none of these gives a camera confident by the margin,
-     the main camera at other elevations (:mod:`~broadtrack_graph.track.search_stages`), then the
-     stages' near misses walked (:func:`~broadtrack_graph.reinit.near_miss.walk_wide`). Every stage is
-     searched (a view of one camera can be explained, less well, by a camera elsewhere) until
-     a camera reaches :data:`CERTAIN_CONFIDENCE` or a known camera is found at its own position
-     confident by the margin (a camera returning after a cut): each camera's first appearance
-     costs a full search. A chain's first camera that is not certain nor a refined guess, when searched
-     for or about to be trusted, is also tried nearer and further along its line of sight
+   * A shot whose camera is not known yet: the known cameras' positions, the default positions (main, 16 m,
+     behind the goal), the main camera further back, each low gantry, the other camera kinds, and while none of
+     these gives a camera confident by the margin, the main camera at other elevations (fitted deep,
+     :mod:`~broadtrack_graph.track.search_stages`), then the stages' near misses walked
+     (:func:`~broadtrack_graph.reinit.near_miss.walk_wide`). Every stage is searched (a view of one camera can be
+     explained, less well, by a camera elsewhere) until a camera reaches :data:`CERTAIN_CONFIDENCE` or a known
+     camera is found at its own position confident by the margin (a camera returning after a cut): each camera's
+     first appearance costs a full search. A chain's first camera that is not certain nor a refined guess, when
+     searched for or about to be trusted, is also tried nearer and further along its line of sight
      (:func:`~broadtrack_graph.reinit.near_miss.along_line_of_sight`) and moved there when better by the margin.
    * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
      that camera's position, then its kind's stage (the main camera's: the default positions,
      in case its position came from a provisional tripod); the first confident stage ends it.
 
-Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is
-identified by where it stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along
-and across its line of sight): a known camera's id, or a new id when it is confident and stands
-where no known camera stands; provisional until its chain is trusted (till then judged as a new shot's
-camera; forgotten at the next cut otherwise).
+Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is identified by where it
+stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known
+camera's id, or a new id when it is confident and stands where no known camera stands; provisional until its chain
+is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
 
 **One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
@@ -50,13 +48,11 @@ unconfident one (a later stage's camera must also be better by the margin); the 
 new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
 All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
-**The search budget** (:mod:`~broadtrack_graph.track.search_budget`; in frames, so a run gives the
-same cameras on any machine): a known camera lost mid-shot is searched again after 1, 2, 4, ...
-frames; a shot whose camera is not known at its first frame, then for about ``search_time_share``
-of the time while nothing is found. A search finds something when its camera is trusted from its
-frame (a new shot's camera, a provisional id's included: confident by the margin); else the wait grows.
-A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame (:meth:`ReinitPolicy.confident`)
-restart it.
+**The search budget** (:mod:`~broadtrack_graph.track.search_budget`, in frames; each stage paid, a walk as one, a
+stage fitted deep as :data:`~broadtrack_graph.track.search_stages.DEEP_STAGE_COST`): a search finds something when
+its camera is trusted from its frame (a new shot's camera, a provisional id's included: confident by the margin);
+else the wait grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame
+(:meth:`ReinitPolicy.confident`) restart it.
 """
 
 from __future__ import annotations
@@ -72,11 +68,12 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.search_budget import ModelSchedule, SearchBudget
-from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, KNOWN_CAMERAS, search_plan
+from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
-"""``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
+"""``(observations, detections, pitch, positions or None, curves, sampling[, deep=True]) -> ReinitResult``: one global
+search (``deep``: fit deep, the fallback stages)."""
 Refiner = Callable[[list, object, object], ReinitResult]
 """``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit."""
 Confidence = Callable[..., float | None]
@@ -140,8 +137,8 @@ class ReinitPolicy:
         self._last_confident: dict[str, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
         self.model = model
         self.model_schedule = ModelSchedule()  # when the model tries a frame
-        self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "walks": 0,
-                       "skipped_by_budget": 0}
+        self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "deep_stages": 0,
+                       "walks": 0, "skipped_by_budget": 0}
 
     def close(self) -> None:
         """Stop the search's workers (the end of the run)."""
@@ -242,14 +239,14 @@ class ReinitPolicy:
                 return self._decision(result, confidence, camera_id, continues, False, f"{label} ({why})", held,
                                       held_confidence, chain_trusted, new_camera and not continues)
             return ReinitDecision(None, None, None, False, False, why)
-        paid_before = self.counts["stages"] + self.counts["walks"]  # a walk is paid as a stage (it costs up to one)
+        paid_before = self._paid()
         found, found_confidence, label = self._search(observations, detections, pitch, curves, sampling, score,
                                                       with_map)
         self.counts["global"] += 1
         if with_map:  # found: a camera its chain is trusted from (a new shot's camera: by the margin)
             trusted_from = threshold + (margin if new_camera else 0.0)
             self.budget.spend(i, found is not None and found_confidence >= trusted_from,
-                              self.counts["stages"] + self.counts["walks"] - paid_before, known)
+                              self._paid() - paid_before, known)
         if candidate is not None and (found is None or (found_confidence < threshold
                                                         and found_confidence <= candidate[2] + margin)):
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
@@ -347,6 +344,10 @@ class ReinitPolicy:
         self.model_schedule.tried(frame_index, found is not None and found[1] >= self.config.confidence_threshold)
         return found if found is not None else (None, 0.0)
 
+    def _paid(self) -> int:
+        """Stages paid so far (the budget's unit): a walk costs up to one, a stage fitted deep about DEEP_STAGE_COST."""
+        return self.counts["stages"] + self.counts["walks"] + (DEEP_STAGE_COST - 1) * self.counts["deep_stages"]
+
     def _search(self, observations, detections, pitch, curves, sampling, score,
                 with_map: bool) -> tuple[ReinitResult | None, float, str]:
         """The global search in stages (module docstring): (best result or None, its confidence, one line).
@@ -364,8 +365,9 @@ class ReinitPolicy:
         unsure = lambda: best_confidence < threshold + margin  # noqa: E731
         stage_results = self.stages.labelled_results(plan.stages, plan.fallback, unsure, observations, detections,
                                                      pitch, curves, sampling)
-        for k, (stage_label, result) in enumerate(stage_results):
+        for k, (stage_label, result, deep_stage) in enumerate(stage_results):
             self.counts["stages"] += 1
+            self.counts["deep_stages"] += deep_stage
             if result.camera is None:
                 reasons.append(f"{stage_label}: {result.reason}")
                 continue

@@ -37,7 +37,11 @@ SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_S
 FALLBACK_STAGES: tuple[tuple[str, tuple], ...] = tuple(
     (f"main camera at another elevation {p}", (p,)) for p in OTHER_ELEVATION_MAIN_POSITIONS_W)
 """Stages searched after :data:`SEARCH_STAGES`, each only while no stage before it gave a camera confident by the
-margin."""
+margin; fitted deep (:data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`)."""
+
+DEEP_STAGE_COST = 3
+"""A stage fitted deep costs about this many stages (the search budget pays it so): measured 0.62-0.91 s against
+0.18-0.40 s for the same stage fitted as usual, on a real 360p and a real 720p frame, four positions each."""
 
 
 KNOWN_CAMERAS = "known cameras"

@@ -78,9 +78,15 @@ def _exit_with_parent(parent_pid: int) -> None:
     os._exit(0)
 
 
-def _run_stage(observations, detections, positions):
+def _run_stage(observations, detections, positions, deep: bool):
     search, pitch, curves, sampling = _WORKER_STATE
-    return search(observations, detections, pitch, positions, curves, sampling)
+    return _searched(search, observations, detections, pitch, positions, curves, sampling, deep)
+
+
+def _searched(search: Callable, observations, detections, pitch, positions, curves, sampling, deep: bool):
+    """One stage's search; ``deep`` is passed only when set (a search that never fits deep need not take it)."""
+    options = {"deep": True} if deep else {}
+    return search(observations, detections, pitch, positions, curves, sampling, **options)
 
 
 def _warm() -> None:
@@ -91,8 +97,8 @@ class StageRunner:
     """Runs a global search's stages, yielding their results in order (module docstring).
 
     Args:
-        search: one global search, ``(observations, detections, pitch, positions, curves, sampling) ->
-            ReinitResult``.
+        search: one global search, ``(observations, detections, pitch, positions, curves, sampling[, deep=True]) ->
+            ReinitResult`` (``deep``: fit deep, the fallback stages).
         workers: worker processes computing later stages ahead (0: every stage in this process).
     """
 
@@ -104,13 +110,15 @@ class StageRunner:
         self._disabled = self.workers == 0 or not _picklable(search)
         self.ahead = 0  # stages computed by a worker that the policy read
 
-    def results(self, stages: Sequence, observations, detections, pitch, curves, sampling) -> Iterator:
+    def results(self, stages: Sequence, observations, detections, pitch, curves, sampling,
+                deep: bool = False) -> Iterator:
         """The result of each stage (its candidate positions) in order; stop reading to end the search.
 
         The stages after the one being read run ahead on the workers; whatever is not read is dropped.
+        deep: the search fits deep (the fallback stages).
         """
         def here(positions):
-            return self.search(observations, detections, pitch, positions, curves, sampling)
+            return _searched(self.search, observations, detections, pitch, positions, curves, sampling, deep)
 
         started = self._pool is not None
         pool = self._pool_for(pitch, curves, sampling) if started and len(stages) > 1 else None
@@ -134,7 +142,7 @@ class StageRunner:
             while self._pool is not None and claimed < len(stages) and \
                     sum(not f.done() for f in ahead.values()) < QUEUED_PER_WORKER * self.workers:
                 try:
-                    ahead[claimed] = self._pool.submit(_run_stage, observations, detections, stages[claimed])
+                    ahead[claimed] = self._pool.submit(_run_stage, observations, detections, stages[claimed], deep)
                 except (BrokenProcessPool, RuntimeError) as error:
                     self._lose_pool(error)
                     return
@@ -166,15 +174,17 @@ class StageRunner:
                 future.cancel()  # not started: dropped; running: its result is ignored
 
     def labelled_results(self, stages: Sequence, fallback: Sequence, go_on: Callable[[], bool], *frame) -> Iterator:
-        """(label, result) of the (label, positions) stages in order, then of the fallback stages, each of these only
-        while go_on() (they run ahead on the workers all the same); the stages not read are dropped."""
+        """(label, result, fitted deep) of the (label, positions) stages in order, then of the fallback stages, fitted
+        deep, each of these only while go_on() (they run ahead on the workers all the same); the stages not read are
+        dropped."""
         for is_fallback, group in enumerate((stages, fallback)):
-            results = self.results([positions for _, positions in group], *frame)
+            deep = bool(is_fallback)
+            results = self.results([positions for _, positions in group], *frame, deep=deep)
             try:
                 for label, _ in group:
                     if is_fallback and not go_on():
                         return
-                    yield label, next(results)
+                    yield label, next(results), deep
             finally:
                 results.close()
 

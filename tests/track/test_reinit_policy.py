@@ -14,7 +14,7 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import FALLBACK_STAGES, SEARCH_STAGES
+from broadtrack_graph.track.search_stages import DEEP_STAGE_COST, FALLBACK_STAGES, SEARCH_STAGES
 from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
@@ -31,12 +31,13 @@ class Fakes:
     def __init__(self, stage_answers=None, guess_confidence=0.8):
         self.stage_answers = stage_answers or {}
         self.guess_confidence = guess_confidence
-        self.searched, self.refined = [], []
+        self.searched, self.refined, self.deep = [], [], []
         self.confidences: dict[int, float] = {}
 
-    def search(self, observations, detections, pitch, positions, curves, sampling):
+    def search(self, observations, detections, pitch, positions, curves, sampling, deep=False):
         key = None if positions is None else tuple(map(tuple, positions))
         self.searched.append(key)
+        self.deep.append(deep)
         answer = self.stage_answers.get(key)
         if answer is None:
             return ReinitResult(None, None, "", "nothing found")
@@ -144,12 +145,15 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     first = _decide(policy, 0)
     stages = len(SEARCH_STAGES) + len(FALLBACK_STAGES)  # nothing confident: the fallback stages too
     assert first.camera is None and first.searched and len(fakes.searched) == stages
-    # Every stage is paid: the next search waits len(stages) * 5 * 4 frames (and twice that after a failure).
+    # Every stage is paid, the fallback stages (fitted deep) as DEEP_STAGE_COST each: the next search waits that many
+    # stages * 5 * 4 frames (and twice that after a failure).
+    assert policy.counts["deep_stages"] == len(FALLBACK_STAGES)
+    paid = len(SEARCH_STAGES) + DEEP_STAGE_COST * len(FALLBACK_STAGES)
     blocked = _decide(policy, 1)
     assert not blocked.searched and "next global search at frame" in blocked.reason
-    # A frame refills 1/20 of a search; the bucket owes len(stages) - 1 and the next search costs 2.
+    # A frame refills 1/20 of a search; the bucket owes paid - 1 and the next search costs 2.
     next_frame = policy.budget.next_frame(1)
-    assert next_frame == 20 * (stages + 1)
+    assert next_frame == 20 * (paid + 1)
     assert not _decide(policy, next_frame - 1).searched and _decide(policy, next_frame).searched
     policy.new_stretch()
     assert _decide(policy, next_frame + 1).searched  # a new shot is searched at its first frame
@@ -316,7 +320,7 @@ def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_b
     policy = _policy(fakes := Fakes({None: (near, 0.45), corner_stage: (CORNER, 0.35)}))
     fakes.confidences[id(walked)] = 0.45
     assert _decide(policy, 0, detections=points).camera is near and policy.counts["walks"] == len(walks) == 2
-    stages = len(SEARCH_STAGES) + len(FALLBACK_STAGES)
+    stages = len(SEARCH_STAGES) + DEEP_STAGE_COST * len(FALLBACK_STAGES)  # the fallback stages fitted deep
     # Tokens 1 - (stages + walks), the price doubled to 2 after a search that found nothing confident.
     assert policy.budget.next_frame(0) == pytest.approx((1 + stages + 2) * policy.budget.refill_frames, abs=1)
 
@@ -554,10 +558,11 @@ def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(re
     assert camera.position_m[0] == pytest.approx(0.0, abs=1.0) and camera.position_m[2] < -10.0
 
 
-def test_a_main_camera_found_metres_from_every_candidate_position_is_walked_there_at_its_first_frame(real_video_dir):
+def test_a_main_camera_metres_from_every_candidate_position_is_found_at_its_first_frame(real_video_dir):
     """Frame 300 of the 360p clip: a wide view between the centre circle and the right penalty area, its camera
-    4-5 m from every candidate focal point. The stages' cameras all miss (the best, 0.55, is 77 px off); two near
-    misses, walked by repeated wide fits, reach the camera the clip is tracked with."""
+    4-5 m from every candidate focal point. The stages' usual fits all miss (the best, 0.55, is 77 px off); the
+    fallback stages, fitted deep, or the near misses walked by repeated wide fits reach the camera the clip is
+    tracked with."""
     import cv2
 
     capture = cv2.VideoCapture(str(real_video_dir / "jpn-tjk-360p-with-cut.mp4"))
@@ -567,7 +572,8 @@ def test_a_main_camera_found_metres_from_every_candidate_position_is_walked_ther
     assert ok and image.shape[:2] == (360, 640)
     decision = _a_new_shot_s_decision(image, 300)
     camera = decision.camera
-    assert camera is not None and decision.confidence > 0.7 and "(walked)" in decision.reason, decision.reason
+    assert camera is not None and decision.confidence > 0.7, decision.reason
+    assert "(walked)" in decision.reason or "another elevation" in decision.reason, decision.reason
     # The camera this frame is tracked with from the clip's start (every frame passes `bench real`'s check).
     tracked = Camera(774.8, 0.026, np.radians(22.54), np.radians(67.64), np.radians(0.29), (1.47, 59.57, -16.85),
                      640, 360)
