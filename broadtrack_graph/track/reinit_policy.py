@@ -48,10 +48,12 @@ unconfident one (a later stage's camera must also be better by the margin); the 
 new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
 All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
-**The search budget** (:mod:`~broadtrack_graph.track.search_budget`, in frames; each stage paid, a walk as one, a
-stage fitted deep as :data:`~broadtrack_graph.track.search_stages.DEEP_STAGE_COST`): a search finds something when
-its camera is trusted from its frame (a new shot's camera, a provisional id's included: confident by the margin);
-else the wait grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame
+**The search budget** (:mod:`~broadtrack_graph.track.search_budget`; in frames, so a run gives the same cameras on
+any machine): a known camera lost mid-shot is searched again after 1, 2, 4, ... frames; a shot whose camera is not
+known at its first frame, then for about ``search_time_share`` of the time while nothing is found (each stage paid, a
+walk as one, a stage fitted deep as :data:`~broadtrack_graph.track.search_stages.DEEP_STAGE_COST`). A search finds
+something when its camera is trusted from its frame (a new shot's camera, a provisional id's included: confident by
+the margin); else the wait grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame
 (:meth:`ReinitPolicy.confident`) restart it.
 """
 
@@ -357,8 +359,7 @@ class ReinitPolicy:
         """
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map)
-        # When a search ends and which stages it reads: the module docstring. A wrong camera can reach the threshold
-        # on a shot's first frame: the fallback stages, then the walks, run while none is confident by the margin.
+        # When it ends, which stages it reads: the module docstring (the fallback stages and walks: while unsure).
         enough = CERTAIN_CONFIDENCE if plan.new_shot else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         found = []  # (confidence, result, stage label) of every stage's camera
