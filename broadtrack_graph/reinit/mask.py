@@ -124,9 +124,9 @@ def reinit_from_mask(
         # Nothing explains the map well: the hypotheses were likely made at a wrong focal point.
         hypotheses = polish_locally(hypotheses, scorer, config, W, weights)
     costs = np.array([h.cost for h in hypotheses]) * weights
-    chosen = best_distinct(np.array([h.pan_rad for h in hypotheses]), np.array([h.tilt_rad for h in hypotheses]),
-                           np.array([h.focal_px for h in hypotheses]), costs, config.refine_top_k,
-                           config.distinct_per_width * W, W)
+    angles_and_focals = (np.array([h.pan_rad for h in hypotheses]), np.array([h.tilt_rad for h in hypotheses]),
+                         np.array([h.focal_px for h in hypotheses]))
+    chosen = best_distinct(*angles_and_focals, costs, config.refine_top_k, config.distinct_per_width * W, W)
     log.debug("mask re-init: %d lines, %d ellipses, %d hypotheses", len(lines), len(ellipses), len(hypotheses))
     points = fit_points(points_px, config)
     considered: set[int] = set()  # hypotheses fitted, or whose start a fit already reached
@@ -135,10 +135,13 @@ def reinit_from_mask(
     best = None  # (fit score, camera, focal point, whether from the first fitted hypothesis)
     refined: list[Camera] = []
 
-    def fit(hypothesis: Hypothesis, wide: bool) -> None:
+    def start_of(hypothesis: Hypothesis) -> Camera:
+        return Camera(hypothesis.focal_px, 0.0, hypothesis.pan_rad, hypothesis.tilt_rad, 0.0, hypothesis.position_w,
+                      W, H)
+
+    def fit(start: Camera, wide: bool) -> None:
         nonlocal best
-        C = hypothesis.position_w
-        start = Camera(hypothesis.focal_px, 0.0, hypothesis.pan_rad, hypothesis.tilt_rad, 0.0, C, W, H)
+        C = start.position_m
         camera = refine_on_map(start, points, C, curves, config, config.schedule)
         refined.append(camera)
         score = -fine.camera_cost(camera, config.fit_hit_px, config.fit_point_px)
@@ -160,23 +163,20 @@ def reinit_from_mask(
         hypothesis = hypotheses[k]
         if costs[k] > config.refine_cost_share * costs[chosen[0]] or len(refined) >= config.max_fits:
             break  # no close competitor of the best-scoring hypothesis left, or enough fits
-        start = Camera(hypothesis.focal_px, 0.0, hypothesis.pan_rad, hypothesis.tilt_rad, 0.0, hypothesis.position_w,
-                       W, H)
+        start = start_of(hypothesis)
         considered.add(k)
         if any(_image_distance_px(start, other, check_w) < config.distinct_per_width * W for other in refined):
             continue  # a fit already landed here
-        fit(hypothesis, config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
+        fit(start, config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
             and len(refined) + 1 < config.max_fits)
         if best[0] >= config.accept_fit_score:
             break
     if config.deep_fits and (best is None or best[0] < config.accept_fit_score):
         # Fitted deep (mask_config.DEEP_SEARCH): the right hypothesis of a guess metres off can rank far down.
-        deeper = [k for k in best_distinct(np.array([h.pan_rad for h in hypotheses]),
-                                           np.array([h.tilt_rad for h in hypotheses]),
-                                           np.array([h.focal_px for h in hypotheses]), costs, len(hypotheses),
+        deeper = [k for k in best_distinct(*angles_and_focals, costs, len(hypotheses),
                                            config.deep_distinct_per_width * W, W) if k not in considered]
         for k in deeper[:config.deep_fits]:
-            fit(hypotheses[k], False)
+            fit(start_of(hypotheses[k]), False)
             if best[0] >= config.accept_fit_score:
                 break
     if best is None:
