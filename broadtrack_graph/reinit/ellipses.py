@@ -11,6 +11,7 @@ import numpy as np
 from broadtrack_graph.detect.marking_structures import ImageEllipse
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import Arc, PitchTemplate
+from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer
@@ -79,22 +80,26 @@ def circle_hypotheses(ellipses: list[ImageEllipse], points_px: np.ndarray, posit
     for ellipse in ellipses:
         on = points_px[ellipse.distances_px(points_px) < band]
         on_ellipse.append(on[np.linspace(0, len(on) - 1, min(len(on), config.ellipse_fit_points)).astype(int)])
-    samples = pitch.sample_uniform(1.0)
+    circle_names = [name for name, element in pitch.elements.items() if isinstance(element, Arc)]
+    samples = pitch.sample_uniform(1.0, classes=circle_names)
     closest: dict[tuple, tuple] = {}
     for C in positions:
+        C = np.asarray(C, float)
         pans, tilts, focals, which, names = ellipse_cameras(ellipses, C, frame_size, pitch, config)
-        for k in range(len(pans)):
-            on = on_ellipse[which[k]]
+        names = np.asarray(names, dtype=object)
+        for index, name in dict.fromkeys(zip(which.tolist(), names.tolist())):
+            on = on_ellipse[index]
             if len(on) < 8:
                 continue
-            camera = Camera(focals[k], 0.0, pans[k], tilts[k], 0.0, np.asarray(C, float), W, H)
-            uv, front = camera.project(samples[names[k]])
-            if front.sum() < 3:
+            group = np.flatnonzero((which == index) & (names == name))
+            gaps = _circle_gaps(pans[group], tilts[group], focals[group], samples[name] - C, on, W, H)
+            if not np.isfinite(gaps).any():
                 continue
-            gap = float(np.median(np.min(np.linalg.norm(on[:, None, :] - uv[front][None, :, :], axis=2), axis=1)))
-            key = (tuple(C), int(which[k]), names[k])
+            k = group[int(np.nanargmin(gaps))]
+            key = (tuple(C), index, name)
+            gap = float(np.nanmin(gaps))
             if key not in closest or gap < closest[key][0]:
-                closest[key] = (gap, camera)
+                closest[key] = (gap, Camera(focals[k], 0.0, pans[k], tilts[k], 0.0, C, W, H))
     fit_config = LineFitConfig(polish_power=0.0, iterations=10, cauchy_scale_px=config.structures.ellipse_band_px * W / 960.0)
     out = []
     for (C, which, name), (_, camera) in sorted(closest.items(), key=lambda item: item[1][0])[: config.ellipse_fit_top_k]:
@@ -104,3 +109,29 @@ def circle_hypotheses(ellipses: list[ImageEllipse], points_px: np.ndarray, posit
         if np.isfinite(cost):
             out.append(Hypothesis(np.asarray(C, float), camera.pan_rad, camera.tilt_rad, camera.focal_px, cost))
     return out
+
+
+def _circle_gaps(pans, tilts, focals, relative_w, on_px, width_px, height_px) -> np.ndarray:
+    """(K,) median distance (pixels) from each ellipse point to the nearest projected circle sample, per roll-0,
+    k1-0 camera; NaN for a camera with fewer than 3 samples in front of it.
+
+    Args:
+        pans, tilts, focals: (K,) radians, radians, pixels; relative_w: (S, 3) circle samples minus the focal point
+        (metres); on_px: (P, 2) the ellipse's points (pixels).
+    """
+    cp, sp = np.cos(pans)[:, None], np.sin(pans)[:, None]
+    ct, st = np.cos(tilts)[:, None], np.sin(tilts)[:, None]
+    rx, ry, rz = relative_w[:, 0], relative_w[:, 1], relative_w[:, 2]
+    # Into the camera: Rx(tilt)^T Rz(pan)^T (X - C) (roll 0).
+    x_c = cp * rx + sp * ry
+    y1 = -sp * rx + cp * ry
+    y_c = ct * y1 + st * rz
+    z_c = -st * y1 + ct * rz
+    front = z_c > BEHIND_CAMERA_Z
+    depth = np.where(front, z_c, 1.0)
+    u = focals[:, None] * (x_c / depth) + width_px / 2.0
+    v = focals[:, None] * (y_c / depth) + height_px / 2.0
+    distance2 = (on_px[None, :, 0, None] - u[:, None, :]) ** 2 + (on_px[None, :, 1, None] - v[:, None, :]) ** 2
+    distance2 = np.where(front[:, None, :], distance2, np.inf)
+    gaps = np.median(np.sqrt(distance2.min(axis=2)), axis=1)
+    return np.where(front.sum(axis=1) >= 3, gaps, np.nan)
