@@ -219,7 +219,9 @@ _LAST_STRUCTURES: list = []  # [(key, pitch, MapStructures)] of the last frame s
 
 
 def _map_structures(marking_mask, points_px, frame_size, pitch, config) -> MapStructures:
-    """The :class:`MapStructures` of a map: the last frame's when the map, points, size and settings are the same."""
+    """The :class:`MapStructures` of a map: the last frame's when the map, points, size and settings are the same
+    (the deep fits' settings aside: a stage fitted deep shares the structures of the frame's other stages)."""
+    config = replace(config, deep_fits=0, deep_distinct_per_width=0.0)
     digest = hashlib.blake2b(digest_size=16)
     for array in (np.ascontiguousarray(marking_mask), np.ascontiguousarray(points_px, float)):
         digest.update(str(array.shape).encode())

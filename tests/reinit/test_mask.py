@@ -215,3 +215,19 @@ def test_the_search_fitting_deep_places_a_real_frame_it_otherwise_misses(real_vi
     assert deep.camera is not None and deep.score.jaccard > 0.75
     assert _median_template_error_px(deep.camera, tracked) < 3.0
     assert np.linalg.norm(deep.camera.position_m - np.asarray(tracked.position_m)) < 1.5
+
+
+def test_a_stage_fitted_deep_shares_the_frames_map_structures(hard_frames):
+    """The marking map's structures (scorers, straight markings, ellipses) do not depend on the deep fits' settings:
+    a stage fitted deep reuses those the frame's other stages built, and a new map builds its own."""
+    from broadtrack_graph.reinit.mask import _map_structures
+    from broadtrack_graph.reinit.mask_config import DEEP_SEARCH, MaskSearchConfig
+
+    _, det = hard_frames[0]
+    usual = _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, MaskSearchConfig())
+    deep = _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH)
+    assert deep is usual
+    _, other = hard_frames[1]
+    assert _map_structures(other.marking_mask, other.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH) is not usual
+    wider = MaskSearchConfig(score_hit_px=2 * MaskSearchConfig().score_hit_px)  # a setting the scorers read
+    assert _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, wider) is not usual
