@@ -10,6 +10,7 @@ from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
     config_from_args,
     detector_options,
+    set_opencv_threads,
     tripod_from_args,
 )
 from broadtrack_graph.errors import InputError
@@ -63,6 +64,7 @@ def run(args) -> int:
               + f", {warning_count()} warnings")
         return 0
     config = config_from_args(args)
+    set_opencv_threads(args)
     if config.mode != "online":
         raise InputError(None, "detect names the markings with the online tracker; --mode must be online")
     tripod, position = tripod_from_args(args)

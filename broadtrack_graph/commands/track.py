@@ -10,6 +10,7 @@ from broadtrack_graph.commands.tracking_options import (
     add_tracking_arguments,
     config_from_args,
     detector_options,
+    set_opencv_threads,
     tripod_from_args,
     tripods_from_args,
 )
@@ -42,6 +43,7 @@ def run(args) -> int:
         raise InputError(None, "give an INPUT (video, frame folder or game-state folder) or --detections FILE")
     frames = args.frames or args.input  # with --detections the frames are optional (they turn flow on)
     config = config_from_args(args)
+    set_opencv_threads(args)
     detector = detector_options(args)
     tripod, position = tripod_from_args(args)
     players_options = None

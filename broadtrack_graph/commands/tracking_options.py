@@ -8,6 +8,7 @@ settings as a ``[flow]`` table; flags given on the command line override the fil
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 from broadtrack_graph.actions.track import DetectorOptions
@@ -64,6 +65,9 @@ def add_tracking_arguments(parser) -> None:
                         help="worker processes that run the global search's next stages ahead while the tracker "
                              "runs the one it needs (the cameras are the same with any N; 0: none; default: every "
                              "core but one, at most 3)")
+    parser.add_argument("--threads", type=int_at_least(1), default=None, metavar="N",
+                        help="OpenCV threads of this process (the cameras are the same with any N; default: the cores "
+                             "the tracking and decoding threads leave, at least 1)")
     parser.add_argument("--start", type=frame_index, default=None, help="first frame index (0-based, inclusive)")
     parser.add_argument("--end", type=frame_index, default=None, help="last frame index (exclusive)")
     parser.add_argument("--no-flow", action="store_true", help="switch the optical-flow factor off")
@@ -98,6 +102,26 @@ def config_from_args(args) -> TrackingConfig:
     if getattr(args, "write_960x540", False):
         overrides["write_960x540"] = True
     return read_config_file(getattr(args, "config", None), TrackingConfig, overrides)
+
+
+def default_opencv_threads() -> int:
+    """OpenCV's threads for a run: the cores its tracking and decoding threads leave, at least 1.
+
+    Both threads call OpenCV and keep two cores busy between the searches (whose workers take one thread each); a
+    pool on top of them only oversubscribes the cores. On 2 cores, the splice of docs/BENCHMARKS.md tracked with
+    OpenCV's default pool spent twice the time in the kernel for the same cameras.
+    """
+    return max(1, (os.cpu_count() or 1) - 2)
+
+
+def set_opencv_threads(args) -> int:
+    """Set OpenCV's threads for this process from ``--threads`` (default :func:`default_opencv_threads`); returns
+    the number set."""
+    import cv2
+
+    threads = getattr(args, "threads", None) or default_opencv_threads()
+    cv2.setNumThreads(int(threads))
+    return int(threads)
 
 
 def tripods_from_args(args) -> dict[str, Tripod]:

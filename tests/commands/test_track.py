@@ -66,6 +66,7 @@ def test_config_file_and_flags_given_override_it(calls, tmp_path):
 
 @pytest.mark.parametrize("argv, message", [
     (["--lag", "0"], "argument --lag: 0 is too small; give an integer >= 1"),
+    (["--threads", "0"], "argument --threads: 0 is too small; give an integer >= 1"),
     (["--config", "missing.toml"], "missing.toml: config file not found"),
     (["--detector", "onnx", "--field-model", "f.onnx", "--keypoint-model", "k.onnx"],
      "f.onnx: a field model holds both outputs"),
@@ -107,3 +108,20 @@ def test_onnx_without_a_model_runs_the_shipped_one_and_the_reinit_model_is_an_op
     assert calls[0]["config"].reinit_model == "shipped"
     assert main(["track", "clip.mp4", "--out", "run", "--reinit-model", "none"]) == 0
     assert calls[1]["config"].reinit_model == "none"
+
+
+def test_opencv_threads_default_to_the_cores_the_two_threads_leave(calls, monkeypatch):
+    import cv2
+
+    from broadtrack_graph.commands.tracking_options import default_opencv_threads
+
+    for cores, expected in ((None, 1), (1, 1), (2, 1), (3, 1), (8, 6)):
+        monkeypatch.setattr("os.cpu_count", lambda cores=cores: cores)
+        assert default_opencv_threads() == expected
+    monkeypatch.setattr("os.cpu_count", lambda: 5)
+    assert main(["track", "clip.mp4", "--out", "run", "--no-progress"]) == 0
+    assert cv2.getNumThreads() == 3
+    assert main(["track", "clip.mp4", "--out", "run", "--no-progress", "--threads", "2"]) == 0
+    assert cv2.getNumThreads() == 2
+    assert calls[0]["config"] == calls[1]["config"] == TrackingConfig()  # not a tracking setting: the cameras are the same
+
