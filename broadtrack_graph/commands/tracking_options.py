@@ -107,9 +107,9 @@ def config_from_args(args) -> TrackingConfig:
 def default_opencv_threads() -> int:
     """OpenCV's threads for a run: the cores its tracking and decoding threads leave, at least 1.
 
-    Both threads call OpenCV and keep two cores busy between the searches (whose workers take one thread each); a
-    pool on top of them only oversubscribes the cores. On 2 cores, the splice of docs/BENCHMARKS.md tracked with
-    OpenCV's default pool spent twice the time in the kernel for the same cameras.
+    Both threads call OpenCV, and each of the search's workers runs it on one thread: a pool on top of them only
+    oversubscribes the cores. On 2 cores, the splice of docs/BENCHMARKS.md tracked with OpenCV's default pool (a
+    thread per core) spent twice the time in the kernel for the same cameras.
     """
     return max(1, (os.cpu_count() or 1) - 2)
 
