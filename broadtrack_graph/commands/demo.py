@@ -6,7 +6,7 @@ from pathlib import Path
 
 from broadtrack_graph.actions.demo import DemoSettings, run_demo
 from broadtrack_graph.arguments import image_side, int_at_least
-from broadtrack_graph.commands.tracking_options import default_opencv_threads
+from broadtrack_graph.commands.tracking_options import set_opencv_threads
 
 HELP = "render the embedded synthetic clip, track it online and smoothed, evaluate, draw and compare"
 
@@ -25,9 +25,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    import cv2
-
-    cv2.setNumThreads(default_opencv_threads())  # as `track` (tracking_options.default_opencv_threads)
+    set_opencv_threads(args)  # as `track`: the cores the tracking and decoding threads leave
     settings = DemoSettings(frames=args.frames, width_px=args.width, height_px=args.height, seed=args.seed,
                             overlay=not args.no_overlay)
     result = run_demo(args.out, settings, progress=not args.no_progress)

@@ -124,4 +124,3 @@ def test_opencv_threads_default_to_the_cores_the_two_threads_leave(calls, monkey
     assert main(["track", "clip.mp4", "--out", "run", "--no-progress", "--threads", "2"]) == 0
     assert cv2.getNumThreads() == 2
     assert calls[0]["config"] == calls[1]["config"] == TrackingConfig()  # not a tracking setting: the cameras are the same
-
