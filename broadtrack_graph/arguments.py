@@ -80,6 +80,14 @@ def unit_interval(text: str) -> float:
     return value
 
 
+def positive_share(text: str) -> float:
+    """A number in (0, 1] (e.g. the share of the light a shadow keeps)."""
+    value = _number(text)
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"{value:g} is outside (0, 1]; give a number above 0, at most 1")
+    return value
+
+
 def image_side(text: str) -> int:
     """An image width or height in pixels, 16 .. 16384."""
     value = _number(text, int)

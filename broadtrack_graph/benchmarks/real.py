@@ -15,7 +15,8 @@ report merges them under their names; a section whose data is not given is skipp
 - ``video`` (``--video-dir DIR``): every ``*.mp4`` in DIR tracked online end to end and scored
   by :mod:`broadtrack_graph.benchmarks.real_video` (frames with a camera, alignment with the
   visible lines measured without the tracker's detector, re-initialisations, other-view
-  frames, cuts, fps, stage timings, overlay videos).
+  frames, cuts, fps, stage timings, overlay videos). With ``--shadow KEPT``, each clip under a
+  stand's shadow keeping that share of the light (:mod:`broadtrack_graph.benchmarks.shadow`).
 
 Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
 repository. Wall times are of the whole run on the machine as it was (upper bounds on a
@@ -28,6 +29,7 @@ import logging
 import time
 from pathlib import Path
 
+from broadtrack_graph.arguments import positive_share
 from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers
 from broadtrack_graph.types.modes import MODES
 
@@ -55,6 +57,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--end", type=int, default=None, help="video: track only the first END frames of each clip")
     parser.add_argument("--score-every", type=int, default=1, help="video: score the alignment of every Nth frame")
     parser.add_argument("--no-overlay", action="store_true", help="video: do not write overlay videos")
+    parser.add_argument("--shadow", type=positive_share, default=None, metavar="KEPT",
+                        help="video: track each clip under a stand's shadow laid over the right of its frames, keeping "
+                             "this share of the light (0.45: a sunny afternoon), and score the cameras on the unshaded "
+                             "frames")
 
 
 def tsworldcup_section(args) -> dict | None:

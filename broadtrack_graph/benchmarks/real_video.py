@@ -5,7 +5,9 @@ lines by a check that does not use the tracker's detector
 (:mod:`broadtrack_graph.metrics.line_alignment`), the share of the main-camera frames with
 an aligned camera, re-initialisations (per 100 frames), other-view frames, cuts, cameras
 written on frames known to be another view, fps and stage timings; an overlay video per
-clip is written beside the runs (never inside the repository).
+clip is written beside the runs (never inside the repository). With ``--shadow KEPT`` every
+clip is tracked under a stand's shadow keeping that share of the light
+(:mod:`broadtrack_graph.benchmarks.shadow`) and its cameras are scored on the unshaded frames.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import numpy as np
 
 from broadtrack_graph.actions.track import track_input
 from broadtrack_graph.benchmarks.options import tracker_options
+from broadtrack_graph.benchmarks.shadow import write_shadowed
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
@@ -42,19 +45,26 @@ def run_video_clips(args) -> dict:
     clips = sorted(Path(args.video_dir).glob("*.mp4"))
     if args.clips:
         clips = [c for c in clips if c.stem in set(args.clips)]
+    kept = getattr(args, "shadow", None)
     report = {}
     for video in clips:
-        run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
+        # With --shadow: the clip's copy under a stand's shadow is tracked, its cameras scored on the unshaded frames.
+        name = video.stem if kept is None else f"{video.stem}-shadow-{kept:g}"
+        run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / name
+        tracked = video if kept is None else Path(args.out) / "shadowed" / f"{name}.mp4"
         if args.runs is None:
-            track_input(video, run_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end, progress=not args.no_progress)
-        report[video.stem] = score_clip(video, run_dir, args.score_every, end=args.end)
-        if not args.no_overlay:
+            if kept is not None:
+                write_shadowed(video, tracked, kept)
+            track_input(tracked, run_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
+                        progress=not args.no_progress)
+        report[name] = score_clip(video, run_dir, args.score_every, end=args.end)
+        if not args.no_overlay and tracked.is_file():
             from broadtrack_graph.products.overlay import write_overlay
 
-            overlay = Path(args.out) / f"{video.stem}_overlay.mp4"
-            write_overlay(run_dir, video, overlay, end=args.end, progress=not args.no_progress)
-            report[video.stem]["overlay"] = str(overlay)
-    return {"clips": report}
+            overlay = Path(args.out) / f"{name}_overlay.mp4"
+            write_overlay(run_dir, tracked, overlay, end=args.end, progress=not args.no_progress)
+            report[name]["overlay"] = str(overlay)
+    return {"clips": report} if kept is None else {"clips": report, "shadow_kept": kept}
 
 
 def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),

@@ -327,5 +327,8 @@ def write_overlay(
             if writer is not None:
                 writer.release()
     if counts["frames"] and not counts["with_camera"]:
-        logger.warning("%s: no input frame matched a camera of the run (frame ids differ?)", run_dir)
+        if len(cam_positions):
+            logger.warning("%s: no input frame matched a camera of the run (frame ids differ?)", run_dir)
+        else:
+            logger.warning("%s: the run has no camera: the frames are drawn without one", run_dir)
     return {"out": str(out_path), "cameras_from": str(track.path), **counts}

@@ -166,6 +166,22 @@ def test_write_overlay_video_and_images(tmp_path):
                      str(tmp_path / "x.mp4")]) == 2
 
 
+def test_an_overlay_says_why_no_frame_has_a_camera(tmp_path, caplog):
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    for k in range(2):
+        cv2.imwrite(str(frames / f"{k + 1:06d}.jpg"), np.full((H, W, 3), (40, 110, 40), np.uint8))
+    with TrackWriter(tmp_path / "none", W, H) as writer:  # a run that placed no frame
+        for k in range(2):
+            writer.write(TrackRecord(k, f"{k + 1:06d}", k / 25, None, status=FrameStatus.UNPLACED))
+    with TrackWriter(tmp_path / "other", W, H) as writer:  # cameras, but of other frames
+        writer.write(TrackRecord(0, "other-000001", 0.0, main_camera(), confidence=0.9))
+    for run, why in (("none", "the run has no camera"), ("other", "frame ids differ")):
+        caplog.clear()
+        assert write_overlay(tmp_path / run, frames, tmp_path / f"{run}.mp4", progress=False)["with_camera"] == 0
+        assert why in caplog.text
+
+
 @pytest.mark.parametrize("confidence", [0.2, 0.95])
 def test_overlay_colour_follows_confidence(confidence):
     frame = np.zeros((H, W, 3), np.uint8)
