@@ -2,13 +2,14 @@
 
 Afternoon matches often have the shadow of a stand across part of the pitch. There the markings keep
 only the share of their contrast that the shade keeps of the light: sky light alone against direct sun.
-The real clips have none, so the bench lays one over every frame (:func:`lay_shadow`) and writes
+Where a clip has none, the bench lays one over every frame (:func:`lay_shadow`) and writes
 the shaded copy of each clip (:func:`write_shadowed`) under its work folder, never in the repository
 (the clips are copyrighted); the cameras tracked on the copy are scored against the unshaded frames.
 
 The shadow's edge is a straight line fixed in the image, a little right of the centre and leaning,
 with a soft edge: a stand's shadow lies on the pitch and moves through the image as the camera
 turns, so this tests what the detector sees in shade and across the edge, not the edge's motion.
+Over a clip already in a stand's shadow it darkens the shade further, which no afternoon does.
 """
 
 from __future__ import annotations
