@@ -20,6 +20,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.video import VideoSource
 
 SHADOW_EDGE = (0.55, 0.6)
 """The shadow's edge: it crosses the image's middle row at this share of the width, and moves this many pixels right
@@ -53,31 +54,30 @@ def lay_shadow(image_bgr: np.ndarray, kept: float, shade: np.ndarray | None = No
 
 
 def write_shadowed(video: Path, out_path: Path, kept: float) -> int:
-    """Write ``video`` with the shadow laid over every frame (mp4v, the source's size and rate); returns the frames."""
+    """Write ``video`` with the shadow laid over every frame (mp4v, the source's size and rate), up to its first frame
+    that cannot be decoded; returns the frames written.
+
+    Raises:
+        InputError: ``kept`` outside (0, 1], the video cannot be read (:class:`~broadtrack_graph.io.video.VideoSource`)
+            or has no decodable frame, or the copy cannot be written.
+    """
     if not 0.0 < kept <= 1.0:
         raise InputError(None, f"--shadow {kept}: the share of light kept in the shade must be in (0, 1]")
-    capture = cv2.VideoCapture(str(video))
-    if not capture.isOpened():
-        raise InputError(video, "cannot open the video")
-    fps = float(capture.get(cv2.CAP_PROP_FPS) or 25.0)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    writer, shade, frames = None, None, 0
-    try:
-        while True:
-            ok, image = capture.read()
-            if not ok:
-                break
-            if writer is None:
-                h, w = image.shape[:2]
-                writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), fps, (w, h))
-                if not writer.isOpened():
-                    raise InputError(out_path, "cannot open an mp4v video writer")
-                shade = shadow_map(w, h)
-            writer.write(lay_shadow(image, kept, shade))
-            frames += 1
-    finally:
-        capture.release()
-        if writer is not None:
+    frames = 0
+    with VideoSource(video) as source:
+        shade = shadow_map(source.width_px, source.height_px)
+        out_path.parent.mkdir(parents=True, exist_ok=True)
+        writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), source.fps,
+                                 (source.width_px, source.height_px))
+        if not writer.isOpened():
+            raise InputError(out_path, "cannot open an mp4v video writer")
+        try:
+            for frame in source:
+                if frame.image_bgr is None:
+                    break  # the copy keeps the clip's frame indices: it ends where decoding does
+                writer.write(lay_shadow(frame.image_bgr, kept, shade))
+                frames += 1
+        finally:
             writer.release()
     if frames == 0:
         raise InputError(video, "no frame could be decoded")
