@@ -30,6 +30,7 @@ from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder, read_frame_camera_ids
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
+from broadtrack_graph.io.video import open_video_writer
 from broadtrack_graph.metrics.broadcast import cut_scores
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment, line_pixels
 from broadtrack_graph.types.shot import Shot
@@ -102,10 +103,7 @@ def splice_plan(videos: list[Path], segment_frames: int = 120, segments: int = 6
 
 def write_splice(plan: list[Segment], out_path: Path, width_px: int = 1280, height_px: int = 720) -> list[Segment]:
     """Write the spliced video (mp4v, 25 fps); returns the segments as written (a video may end early)."""
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), TARGET_FPS, (width_px, height_px))
-    if not writer.isOpened():
-        raise InputError(out_path, "cannot open an mp4v video writer")
+    writer = open_video_writer(out_path, TARGET_FPS, (width_px, height_px))
     captures: dict[Path, cv2.VideoCapture] = {}
     written: list[Segment] = []
     index = 0

@@ -20,7 +20,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.video import VideoSource
+from broadtrack_graph.io.video import VideoSource, open_video_writer
 
 SHADOW_EDGE = (0.55, 0.6)
 """The shadow's edge: it crosses the image's middle row at this share of the width, and moves this many pixels right
@@ -66,11 +66,7 @@ def write_shadowed(video: Path, out_path: Path, kept: float) -> int:
     frames = 0
     with VideoSource(video) as source:
         shade = shadow_map(source.width_px, source.height_px)
-        out_path.parent.mkdir(parents=True, exist_ok=True)
-        writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), source.fps,
-                                 (source.width_px, source.height_px))
-        if not writer.isOpened():
-            raise InputError(out_path, "cannot open an mp4v video writer")
+        writer = open_video_writer(out_path, source.fps, (source.width_px, source.height_px))
         try:
             for frame in source:
                 if frame.image_bgr is None:

@@ -100,3 +100,21 @@ class VideoSource(FrameSource):
 
     def close(self) -> None:
         self._capture.release()
+
+
+def open_video_writer(path: str | Path, fps: float, size: tuple[int, int]) -> cv2.VideoWriter:
+    """An mp4v video writer at ``path`` (its folder made), ``fps`` frames per second, ``size`` (W, H) pixels.
+
+    Raises:
+        InputError: the writer cannot be opened (the folder is not writable, or no mp4v encoder).
+    """
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise InputError(path, f"cannot make its folder ({error.strerror or error})") from error
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), float(fps), tuple(int(v) for v in size))
+    if not writer.isOpened():
+        writer.release()
+        raise InputError(path, "cannot open the video writer (mp4v)")
+    return writer

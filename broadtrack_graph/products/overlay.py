@@ -275,6 +275,7 @@ def write_overlay(
     from broadtrack_graph.io.decode_summary import decodable_frames
     from broadtrack_graph.io.frames import open_frames
     from broadtrack_graph.io.run_folder import read_track
+    from broadtrack_graph.io.video import open_video_writer
     from broadtrack_graph.products.birdseye import BirdseyeView
 
     track = read_track(run_dir)
@@ -295,11 +296,7 @@ def write_overlay(
     with open_frames(frames_input, start, end) as source:
         view = BirdseyeView.fitting(480, camera_positions_w=np.median(cam_positions, axis=0)[None] if len(cam_positions) else None)
         if as_video:
-            out_path.parent.mkdir(parents=True, exist_ok=True)
-            writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), source.fps,
-                                     (source.width_px, source.height_px))
-            if not writer.isOpened():
-                raise InputError(out_path, "cannot open the video writer (mp4v)")
+            writer = open_video_writer(out_path, source.fps, (source.width_px, source.height_px))
         else:
             try:
                 out_path.mkdir(parents=True, exist_ok=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from broadtrack_graph.errors import InputError
+from broadtrack_graph.io.video import open_video_writer
 from broadtrack_graph.products.birdseye import BirdseyeView, draw_birdseye
 
 log = logging.getLogger(__name__)
@@ -93,9 +93,7 @@ def write_players_birdseye(track, positions, out_path: str | Path, fps: float = 
     size = (size[0] - size[0] % 2, size[1] - size[1] % 2)
     out_path = Path(out_path)
     out_path.parent.mkdir(parents=True, exist_ok=True)
-    writer = cv2.VideoWriter(str(out_path), cv2.VideoWriter_fourcc(*"mp4v"), fps, size)
-    if not writer.isOpened():
-        raise InputError(out_path, "cannot open the video writer (mp4v)")
+    writer = open_video_writer(out_path, fps, size)
     rows_of = {}
     for i, frame in enumerate(positions.frame):
         rows_of.setdefault(int(frame), []).append(i)

@@ -46,6 +46,7 @@ from broadtrack_graph.io.annotations import GAMESTATE_FILE, write_annotation_fil
 from broadtrack_graph.io.broadcast_truth import write_broadcast_truth
 from broadtrack_graph.io.cameras import camera_file_name, read_camera_file, resolve_camera_folder, write_camera_file
 from broadtrack_graph.io.jsonfile import read_json, write_json_atomic
+from broadtrack_graph.io.video import open_video_writer
 from broadtrack_graph.synth.broadcast import BROADCAST_PRESET, broadcast_scene, broadcast_truth_shots
 from broadtrack_graph.synth.clip import clip_scene, iter_clip_frames
 from broadtrack_graph.synth.clip_folder import prepare_clip_folder
@@ -148,8 +149,9 @@ def write_synthetic_clip(
         write_json_atomic(out / "tripod.json", {"T_w": list(tripod.T_w), "delta_m": tripod.delta_m}, indent=2)
     video = None
     if write_mp4:
-        video = cv2.VideoWriter(str(out / "clip.mp4"), cv2.VideoWriter_fourcc(*"mp4v"), 25.0, (width_px, height_px))
-        if not video.isOpened():
+        try:
+            video = open_video_writer(out / "clip.mp4", 25.0, (width_px, height_px))
+        except InputError:
             logger.warning("cannot open an mp4v video writer; clip.mp4 is not written")
             video = None
     lines_by_frame: dict[str, dict] = {}

@@ -67,3 +67,19 @@ def test_video_with_corrupt_frames_halfway_goes_on(tmp_path, caplog):
 
 def test_video_frame_ids_are_one_based_six_digit_positions():
     assert [VideoSource.frame_id_of(i) for i in (0, 9, 123455)] == ["000001", "000010", "123456"]
+
+
+def test_a_video_writer_is_opened_with_its_folder_or_the_path_is_named(tmp_path):
+    from broadtrack_graph.io.video import open_video_writer
+
+    out = tmp_path / "new" / "folder" / "clip.mp4"
+    writer = open_video_writer(out, 25.0, (64, 48))
+    for k in range(3):
+        writer.write(np.full((48, 64, 3), 60 * k, np.uint8))
+    writer.release()
+    with VideoSource(out) as video:
+        assert (video.width_px, video.height_px, len(video), video.fps) == (64, 48, 3, 25.0)
+    (tmp_path / "a-file").write_text("x")
+    with pytest.raises(InputError) as error:
+        open_video_writer(tmp_path / "a-file" / "clip.mp4", 25.0, (64, 48))
+    assert "a-file" in str(error.value)
