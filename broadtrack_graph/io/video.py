@@ -1,4 +1,5 @@
-"""Video files read with ``cv2.VideoCapture`` as a frame source (seeking, decoder failures)."""
+"""Video files read with ``cv2.VideoCapture`` as a frame source (seeking, decoder failures), and the mp4v writer
+every video the project writes is opened with (:func:`open_video_writer`)."""
 
 from __future__ import annotations
 
