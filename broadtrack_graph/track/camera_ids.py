@@ -5,7 +5,8 @@ known camera whose tripod (or, before its tripod is fitted, its first confident 
 stands where the new camera stands, else a new id named after its kind
 (:func:`broadtrack_graph.reinit.positions.camera_kind`): ``main`` for the first main camera,
 ``high-behind-1``, ``high-corner-1``, ... for the others. A new id is provisional until its camera
-has a trusted frame or a tripod: the tracker forgets it at the next cut otherwise. No I/O.
+has a trusted frame or a tripod: the tracker forgets it at the next cut otherwise. The last trusted camera of each id
+is that id's guess when the tracker is lost or a shot begins (:meth:`CameraRegistry.guesses`). No I/O.
 
 "Where it stands" is judged along and across the new camera's line of sight apart. A camera
 fitted from one frame is uncertain mostly along its optical axis: moving the focal point
@@ -26,7 +27,7 @@ from broadtrack_graph.reinit.positions import MAIN_KIND, camera_kind
 
 
 class CameraRegistry:
-    """The cameras of a run by id, and the focal point that identifies each.
+    """The cameras of a run by id, the focal point that identifies each, and each one's last trusted camera.
 
     Args:
         same_camera_m: without a line of sight, a focal point this close to a known camera's position is
@@ -45,6 +46,7 @@ class CameraRegistry:
         self.across_sight_m = float(across_sight_m)
         self.positions: dict[str, np.ndarray] = {k: np.asarray(v, float).reshape(3) for k, v in (known or {}).items()}
         self.untrusted: set[str] = set()  # new ids whose camera has had no trusted frame (nor a tripod) yet
+        self.last_confident: dict[str, tuple[int, object]] = {}  # camera id -> (frame index, Camera)
         self._counts: dict[str, int] = {}
 
     def identify(self, position_w, sight_w=None) -> str:
@@ -98,9 +100,27 @@ class CameraRegistry:
         self.positions[camera_id] = np.asarray(position_w, float).reshape(3)
         self.untrusted.discard(camera_id)
 
-    def trust(self, camera_id: str) -> None:
-        """The camera had a trusted frame: its id is kept."""
+    def trust(self, camera_id: str, frame_index: int, camera) -> None:
+        """The camera had a trusted frame (its Camera): its id is kept, and it is the id's guess from now on."""
         self.untrusted.discard(camera_id)
+        self.last_confident[camera_id] = (frame_index, camera)
+
+    def guesses(self, frame_index: int, camera_id: str | None, max_age_frames: int) -> list[tuple[str, str, object]]:
+        """(camera id, label, Camera) guesses for a frame: the last confident camera of ``camera_id`` (None: of every
+        camera), seen at most ``max_age_frames`` before, and the same camera moved to its id's known position."""
+        out = []
+        for guess_id in [camera_id] if camera_id is not None else list(self.last_confident):
+            if guess_id not in self.last_confident:
+                continue
+            seen, camera = self.last_confident[guess_id]
+            if not 0 <= frame_index - seen <= max_age_frames:
+                continue
+            out.append((guess_id, f"last confident camera of {guess_id} (frame {seen})", camera))
+            known = self.positions.get(guess_id)
+            if known is not None and np.linalg.norm(known - camera.position_m) > 0.5:
+                out.append((guess_id, f"last confident camera of {guess_id} (frame {seen}) at its tripod",
+                            camera.replace(position_m=known)))
+        return out
 
     def forget_untrusted(self) -> None:
         """Forget the ids whose camera was never trusted (a wrong camera of a shot's first frame may stand there)."""

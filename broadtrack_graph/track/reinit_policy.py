@@ -29,9 +29,10 @@ What is tried, cheapest first:
      (:func:`~broadtrack_graph.reinit.near_miss.walk_wide`). Every stage is searched (a view of one camera can be
      explained, less well, by a camera elsewhere) until a camera reaches :data:`CERTAIN_CONFIDENCE` or a known
      camera is found at its own position confident by the margin (a camera returning after a cut): each camera's
-     first appearance costs a full search. A chain's first camera that is not certain nor a refined guess, when
-     searched for or about to be trusted, is also tried nearer and further along its line of sight
-     (:func:`~broadtrack_graph.reinit.near_miss.along_line_of_sight`) and moved there when better by the margin.
+     first appearance costs a full search (a shot's later searches: the budget's stages). A chain's first camera
+     that is not certain nor a refined guess, when searched for or about to be trusted, is also tried nearer and
+     further along its line of sight (:func:`~broadtrack_graph.reinit.near_miss.along_line_of_sight`) and moved
+     there when better by the margin.
    * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
      that camera's position, then its kind's stage (the main camera's: the default positions,
      in case its position came from a provisional tripod); the first confident stage ends it.
@@ -48,13 +49,12 @@ unconfident one (a later stage's camera must also be better by the margin); the 
 new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
 All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
-**The search budget** (:mod:`~broadtrack_graph.track.search_budget`; in frames, so a run gives the same cameras on
-any machine): a known camera lost mid-shot is searched again after 1, 2, 4, ... frames; a shot whose camera is not
-known at its first frame, then for about ``search_time_share`` of the time while nothing is found (each stage paid, a
-walk as one, a stage fitted deep as :data:`~broadtrack_graph.track.search_stages.DEEP_STAGE_COST`). A search finds
-something when its camera is trusted from its frame (a new shot's camera, a provisional id's included: confident by
-the margin); else the wait grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame
-(:meth:`ReinitPolicy.confident`) restart it.
+**The search budget** (:mod:`~broadtrack_graph.track.search_budget`, in frames: the same cameras on any machine): a
+known camera lost mid-shot is searched again after 1, 2, 4, ... frames; a shot whose camera is not known, at its first
+frame (every stage), then for about ``search_time_share`` of the time while nothing is found, on the likely stages and
+the one that came nearest at its start (:func:`~broadtrack_graph.track.search_stages.retry_plan`). A search finds
+something when its camera is trusted from its frame (confident by the margin for a new shot's camera); else the wait
+grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame restart it.
 """
 
 from __future__ import annotations
@@ -136,7 +136,7 @@ class ReinitPolicy:
         share = min(max(config.search_time_share, 1e-3), 1.0)
         self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
         self.camera_id: str | None = None
-        self._last_confident: dict[str, tuple[int, Camera]] = {}  # camera id -> (frame index, camera)
+        self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
         self.model = model
         self.model_schedule = ModelSchedule()  # when the model tries a frame
         self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "deep_stages": 0,
@@ -151,7 +151,7 @@ class ReinitPolicy:
     def new_stretch(self) -> None:
         """A cut or a view change: the camera is unknown (a never trusted id forgotten); the next search is paid now."""
         self.registry.forget_untrusted()
-        self.camera_id = None
+        self.camera_id, self._shot_start_confidences = None, None
         self.budget.restart()
         self.model_schedule.new_stretch()
 
@@ -162,8 +162,7 @@ class ReinitPolicy:
     def confident(self, frame_index: int, camera: Camera) -> None:
         """A frame whose camera the tracker trusts: its camera id's guess from now on; the budget restarts."""
         if self.camera_id is not None:
-            self._last_confident[self.camera_id] = (frame_index, camera)
-            self.registry.trust(self.camera_id)
+            self.registry.trust(self.camera_id, frame_index, camera)
         self.budget.restart()
         self.model_schedule.confident()
 
@@ -236,32 +235,38 @@ class ReinitPolicy:
             self.counts["skipped_by_budget"] += 1
             why = f"search budget: the next global search at frame {self.budget.next_frame(i, known)}"
             if candidate is not None:
-                result, camera_id, confidence, continues, label = candidate
-                camera_id = camera_id if continues else self._camera_id_of(result, confidence)
-                return self._decision(result, confidence, camera_id, continues, False, f"{label} ({why})", held,
-                                      held_confidence, chain_trusted, new_camera and not continues)
+                return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, chain_trusted,
+                                                new_camera)
             return ReinitDecision(None, None, None, False, False, why)
-        paid_before = self._paid()
-        found, found_confidence, label = self._search(observations, detections, pitch, curves, sampling, score,
-                                                      with_map)
+        plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map,
+                           self._shot_start_confidences)
+        paid_before, shot_start = self._paid(), plan.new_shot and self._shot_start_confidences is None
+        found, found_confidence, label, confidences = self._search(plan, observations, detections, pitch, curves,
+                                                                   sampling, score)
+        self._shot_start_confidences = confidences if shot_start else self._shot_start_confidences
         self.counts["global"] += 1
         if with_map:  # found: a camera its chain is trusted from (a new shot's camera: by the margin)
             trusted_from = threshold + (margin if new_camera else 0.0)
             self.budget.spend(i, found is not None and found_confidence >= trusted_from,
-                              self._paid() - paid_before, known)
+                              self._paid() - paid_before, known, shot_start)
         if candidate is not None and (found is None or (found_confidence < threshold
                                                         and found_confidence <= candidate[2] + margin)):
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
             # model's camera) stays unless the search's camera is clearly better.
-            result, camera_id, confidence, continues, candidate_label = candidate
-            camera_id = camera_id if continues else self._camera_id_of(result, confidence)
-            return self._decision(result, confidence, camera_id, continues, True,
-                                  f"{candidate_label}; the search found nothing better", held, held_confidence,
-                                  chain_trusted, new_camera and not continues)
+            return self._candidate_decision(candidate, True, "; the search found nothing better", held,
+                                            held_confidence, chain_trusted, new_camera)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
         return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
                               label, held, held_confidence, chain_trusted, new_camera)
+
+    def _candidate_decision(self, candidate: tuple, searched: bool, why: str, held, held_confidence, chain_trusted,
+                            new_camera: bool) -> ReinitDecision:
+        """The decision for the best camera so far that is not confident, ``why`` appended to its label."""
+        result, camera_id, confidence, continues, label = candidate
+        camera_id = camera_id if continues else self._camera_id_of(result, confidence)
+        return self._decision(result, confidence, camera_id, continues, searched, label + why, held, held_confidence,
+                              chain_trusted, new_camera and not continues)
 
     def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
         """A found camera's id: the shot's, or by where it stands (a new id is provisional until trusted)."""
@@ -293,29 +298,11 @@ class ReinitPolicy:
 
     # ----------------------------------------------------------------- guesses and the search
 
-    def _guesses(self, frame_index: int) -> list[tuple[str, str, Camera]]:
-        """(camera id, label, camera) guesses, the current camera id's first."""
-        if not self.config.cheap_reinit:
-            return []
-        ids = [self.camera_id] if self.camera_id is not None else list(self._last_confident)
-        out = []
-        for camera_id in ids:
-            if camera_id not in self._last_confident:
-                continue
-            seen, camera = self._last_confident[camera_id]
-            if not 0 <= frame_index - seen <= self.config.max_guess_age_frames:
-                continue
-            out.append((camera_id, f"last confident camera of {camera_id} (frame {seen})", camera))
-            known = self.registry.positions.get(camera_id)
-            if known is not None and np.linalg.norm(known - camera.position_m) > 0.5:
-                out.append((camera_id, f"last confident camera of {camera_id} (frame {seen}) at its tripod",
-                            camera.replace(position_m=known)))
-        return out
-
     def _refined_guess(self, frame_index, detections, curves, score) -> tuple[ReinitResult | None, str | None, float]:
         """The best refined guess (result, its camera id, its confidence), or (None, None, 0)."""
         best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
-        for camera_id, label, camera in self._guesses(frame_index):
+        guesses = self.registry.guesses(frame_index, self.camera_id, self.config.max_guess_age_frames)
+        for camera_id, label, camera in guesses if self.config.cheap_reinit else []:
             refined = self.refine([(label, camera)], detections, curves)
             if refined.camera is None:
                 continue
@@ -350,15 +337,15 @@ class ReinitPolicy:
         """Stages paid so far (the budget's unit): a walk costs up to one, a stage fitted deep about DEEP_STAGE_COST."""
         return self.counts["stages"] + self.counts["walks"] + (DEEP_STAGE_COST - 1) * self.counts["deep_stages"]
 
-    def _search(self, observations, detections, pitch, curves, sampling, score,
-                with_map: bool) -> tuple[ReinitResult | None, float, str]:
-        """The global search in stages (module docstring): (best result or None, its confidence, one line).
+    def _search(self, plan, observations, detections, pitch, curves, sampling,
+                score) -> tuple[ReinitResult | None, float, str, dict[str, float]]:
+        """The global search of a :class:`~broadtrack_graph.track.search_stages.SearchPlan` in stages (module
+        docstring): (best result or None, its confidence, one line, stage label -> the confidence of its camera).
 
-        Without a marking map (keypoints or labelled lines of a detections file) the search is cheap and
+        Without a marking map (keypoints or labelled lines of a detections file) the plan is cheap and
         labelled: the known cameras' positions, then the default positions (mirrored too) only.
         """
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
-        plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map)
         # When it ends, which stages it reads: the module docstring (the fallback stages and walks: while unsure).
         enough = CERTAIN_CONFIDENCE if plan.new_shot else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
@@ -395,6 +382,8 @@ class ReinitPolicy:
             if walked is not None and walked_confidence >= threshold and walked_confidence > best_confidence + margin:
                 best, best_confidence = replace(found[k][1], camera=walked), walked_confidence
                 label = f"global search, {found[k][2]} (walked): {found[k][1].reason}"
+        confidences = {stage_label: confidence for confidence, _, stage_label in found}
         if best is None:
-            return None, 0.0, "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
-        return best, best_confidence, label
+            why = "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
+            return None, 0.0, why, confidences
+        return best, best_confidence, label, confidences

@@ -12,13 +12,16 @@ milliseconds):
   1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each (so is a shot's
   provisional camera, found above the threshold but not yet trusted: until a search finds one
   trusted from its frame, the gaps grow);
-* a shot whose camera is not known is searched at its first frame, then paid from a bucket
-  that fills by one stage every ``search_cost_frames * (1 - s) / s`` frames (s =
-  ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
+* a shot whose camera is not known is searched at its first frame (every stage: the shot's own search, which leaves
+  the bucket empty), then paid from a bucket that fills by one stage every ``search_cost_frames * (1 - s) / s``
+  frames (s = ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
   at most one, each stage paid, and each walk of a near miss (the bucket goes into debt; a walk
-  costs up to about a stage): over any stretch where nothing is
+  costs up to about a stage): over any stretch after the shot's first search where nothing is
   found, searching takes about the share s of the run. Each search that finds nothing
-  confident doubles the price of the next (up to ``max_search_backoff``).
+  confident doubles the price of the next (up to ``max_search_backoff``), so the gaps grow. The later searches
+  of a shot try only the stages that came nearest at its start
+  (:func:`~broadtrack_graph.track.search_stages.retry_plan`): a shot whose first frame could not be placed is
+  searched again a few seconds later, on frames that may show more, for a few stages each time.
 
 A cut or a view change (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.new_stretch`) and a
 confident frame (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.confident`) restart the budget.
@@ -71,14 +74,16 @@ class SearchBudget:
             return max(frame_index, self._next_known if self._next_known is not None else frame_index)
         return frame_index + max(0, int(np.ceil((self.price - self.tokens) * self.refill_frames - 1e-9)))
 
-    def spend(self, frame_index: int, found: bool, searches: int = 1, known_camera: bool = False) -> None:
-        """A search of ``searches`` stages ran at frame_index; found: it gave a confident camera."""
+    def spend(self, frame_index: int, found: bool, searches: int = 1, known_camera: bool = False,
+              shot_start: bool = False) -> None:
+        """A search of ``searches`` stages ran at frame_index; found: it gave a confident camera; shot_start: the search
+        at a shot's start (the shot's own: the bucket is left empty, not in debt)."""
         if known_camera:
             # The camera is still there, only lost: searched again soon, then less and less often.
             self._next_known = None if found else frame_index + self._gap
             self._gap = 1 if found else min(2 * self._gap, self.max_gap_frames * self.max_backoff)
             return
-        self.tokens -= self.price * max(1, searches)
+        self.tokens = 0.0 if shot_start else self.tokens - self.price * max(1, searches)
         self.price = 1.0 if found else min(self.price * 2.0, float(self.max_backoff))
 
     def restart(self) -> None:

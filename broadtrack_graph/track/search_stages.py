@@ -65,7 +65,8 @@ class SearchPlan(NamedTuple):
     new_shot: bool = False
 
 
-def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool) -> SearchPlan:
+def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool,
+                shot_start_confidences: dict[str, float] | None = None) -> SearchPlan:
     """The stages of one search (the policy's module docstring says why).
 
     Args:
@@ -73,6 +74,8 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         camera_id: the shot's camera id, None when the shot's camera is not known.
         search_positions: the run's given candidate positions (searched alone), or None.
         with_map: the frame has a marking map (without one, the labelled search is cheap: the default stage only).
+        shot_start_confidences: for a shot searched before (:func:`retry_plan`), stage label -> the confidence of the
+            camera its first search found there; None: the shot's first search.
     """
     if search_positions is not None:
         return SearchPlan([("the given positions", search_positions)], [], 1)
@@ -87,4 +90,30 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
     first = [(KNOWN_CAMERAS, known)] if known else []
     if not with_map:
         return SearchPlan(first + list(SEARCH_STAGES[:1]), [], len(first) + 1)
-    return SearchPlan(first + list(SEARCH_STAGES), list(FALLBACK_STAGES), len(first) + 1, new_shot=True)
+    plan = SearchPlan(first + list(SEARCH_STAGES), list(FALLBACK_STAGES), len(first) + 1, new_shot=True)
+    return plan if shot_start_confidences is None else retry_plan(plan, shot_start_confidences)
+
+
+def retry_plan(plan: SearchPlan, shot_start_confidences: dict[str, float]) -> SearchPlan:
+    """A new shot's plan cut to a later search of the shot: its likely stages (the known cameras', the default
+    positions) and the one other stage whose camera the shot's first search scored best, if any.
+
+    The search at a shot's start read every stage and found no camera to trust: searching all of them again costs as
+    much (a stage is about a tenth of a second to a second), so the shot's later searches, on frames that may show
+    more, try the stages that were nearest (the shot's budget, :mod:`~broadtrack_graph.track.search_budget`).
+
+    Args:
+        plan: the new shot's full plan (:func:`search_plan`, ``new_shot``).
+        shot_start_confidences: stage label -> the confidence of the camera the shot's first search found there (a
+            stage that found none is missing).
+    """
+    others = [(shot_start_confidences[label], k, label) for k, (label, _) in enumerate(plan.stages + plan.fallback)
+              if k >= plan.likely and label in shot_start_confidences]
+    stages, fallback = list(plan.stages[:plan.likely]), []
+    if others:
+        _, k, _ = max(others, key=lambda other: (other[0], -other[1]))  # a tie: the earlier stage
+        if k < len(plan.stages):
+            stages.append(plan.stages[k])
+        else:
+            fallback.append(plan.fallback[k - len(plan.stages)])
+    return SearchPlan(stages, fallback, plan.likely, new_shot=True)

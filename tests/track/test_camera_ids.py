@@ -58,3 +58,24 @@ def test_along_the_line_of_sight_is_one_camera_across_it_another():
     assert registry.nearest(other, sight) is None
     assert registry.identify(other, sight) == "main-1"
     assert registry.identify(other + 3.0 * sight, sight) == "main-1"
+
+
+def test_the_guesses_are_each_id_s_last_trusted_camera_and_that_camera_at_its_tripod():
+    from broadtrack_graph.geometry.camera import Camera
+
+    registry = CameraRegistry()
+    main = Camera(1500.0, 0.0, 0.2, 1.3, 0.0, (0.0, 55.0, -12.0), 1280, 720)
+    corner = Camera(4400.0, 0.0, -0.1, 1.25, 0.0, (53.0, 70.0, -22.0), 1280, 720)
+    assert registry.identify(main.position_m) == "main"
+    registry.trust("main", 10, main)
+    registry.trust("high-corner-1", 20, corner)
+    assert registry.untrusted == set()
+    assert [g[0] for g in registry.guesses(30, None, 750)] == ["main", "high-corner-1"]  # a new shot: every camera
+    assert [g[0] for g in registry.guesses(30, "main", 750)] == ["main"]
+    assert [g[0] for g in registry.guesses(770, None, 750)] == ["high-corner-1"]  # main's is 760 frames old
+    assert registry.guesses(5, None, 750) == []  # a camera trusted later than the frame is no guess of it
+    registry.update("main", (0.0, 57.0, -13.0))  # its tripod, 2.2 m from the trusted camera's focal point
+    (_, label, camera), (_, moved_label, moved) = registry.guesses(30, "main", 750)
+    assert camera is main and label == "last confident camera of main (frame 10)"
+    assert moved_label.endswith("at its tripod") and np.allclose(moved.position_m, (0.0, 57.0, -13.0))
+    assert moved.pan_rad == main.pan_rad and moved.focal_px == main.focal_px

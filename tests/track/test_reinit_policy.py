@@ -14,7 +14,7 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import DEEP_STAGE_COST, FALLBACK_STAGES, SEARCH_STAGES
+from broadtrack_graph.track.search_stages import DEEP_STAGE_COST, FALLBACK_STAGES, KIND_STAGES, SEARCH_STAGES
 from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
@@ -145,19 +145,31 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     first = _decide(policy, 0)
     stages = len(SEARCH_STAGES) + len(FALLBACK_STAGES)  # nothing confident: the fallback stages too
     assert first.camera is None and first.searched and len(fakes.searched) == stages
-    # Every stage is paid, the fallback stages (fitted deep) as DEEP_STAGE_COST each: the next search waits that many
-    # stages * 5 * 4 frames (and twice that after a failure).
     assert policy.counts["deep_stages"] == len(FALLBACK_STAGES)
-    paid = len(SEARCH_STAGES) + DEEP_STAGE_COST * len(FALLBACK_STAGES)
     blocked = _decide(policy, 1)
     assert not blocked.searched and "next global search at frame" in blocked.reason
-    # A frame refills 1/20 of a search; the bucket owes paid - 1 and the next search costs 2.
-    next_frame = policy.budget.next_frame(1)
-    assert next_frame == 20 * (paid + 1)
-    assert not _decide(policy, next_frame - 1).searched and _decide(policy, next_frame).searched
+    # The shot's own search leaves the bucket empty; a frame refills 1/20 of a stage and, after a failure, the next
+    # stage costs 2: searched again at frame 40, on the likely stage only (no stage found a camera to retry).
+    assert policy.budget.next_frame(1) == 40
+    searched = [i for i in range(1, 700) if _decide(policy, i).searched]
+    # Each retry (one stage) doubles the price, up to 8: gaps of 80, 160, then 160 frames.
+    assert searched == [40, 120, 280, 440, 600]
+    assert fakes.searched[stages:] == [None] * 5 and policy.counts["deep_stages"] == len(FALLBACK_STAGES)
     policy.new_stretch()
-    assert _decide(policy, next_frame + 1).searched  # a new shot is searched at its first frame
-    assert policy.counts["skipped_by_budget"] == 2
+    assert _decide(policy, 700).searched and len(fakes.searched) == 5 + 2 * stages  # a new shot: every stage again
+
+
+def test_a_shot_is_searched_again_on_the_stage_that_came_nearest():
+    high_behind = KIND_STAGES["high-behind"][1]
+    fakes = Fakes({high_behind: (CORNER, 0.3), None: (MAIN, 0.2)})  # near misses, nothing confident
+    policy = _policy(fakes, search_cost_frames=5.0, search_time_share=0.2)
+    assert _decide(policy, 0).searched
+    fakes.searched.clear()
+    assert _decide(policy, 40).searched and fakes.searched == [None, high_behind]  # the likely stage, the nearest
+    fakes.stage_answers[high_behind] = (CORNER, 0.75)  # the frame shows more: the camera is found
+    assert policy.budget.next_frame(41) == 40 + (2 + 2 * 2) * 20  # two stages paid at twice the price, doubled again
+    decision = _decide(policy, 160)
+    assert decision.camera is CORNER and decision.confidence == 0.75
 
 
 def test_search_budget_in_frames():
@@ -321,8 +333,14 @@ def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_b
     fakes.confidences[id(walked)] = 0.45
     assert _decide(policy, 0, detections=points).camera is near and policy.counts["walks"] == len(walks) == 2
     stages = len(SEARCH_STAGES) + DEEP_STAGE_COST * len(FALLBACK_STAGES)  # the fallback stages fitted deep
-    # Tokens 1 - (stages + walks), the price doubled to 2 after a search that found nothing confident.
-    assert policy.budget.next_frame(0) == pytest.approx((1 + stages + 2) * policy.budget.refill_frames, abs=1)
+    assert policy.counts["stages"] + (DEEP_STAGE_COST - 1) * policy.counts["deep_stages"] == stages
+    # The shot's own search leaves the bucket empty; the price doubled to 2: the next search in 2 stages' frames.
+    refill = policy.budget.refill_frames
+    assert policy.budget.next_frame(0) == pytest.approx(2 * refill, abs=1)
+    walks.clear()
+    assert _decide(policy, 80, detections=points).searched and policy.counts["walks"] == 2 + len(walks)
+    # A later search pays its stages (the likely one, the nearest) and its walks at the doubled price.
+    assert policy.budget.next_frame(80) == pytest.approx(80 + (4 - 2 + 2 * (2 + len(walks))) * refill, abs=1)
 
 
 def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
