@@ -13,13 +13,14 @@ What is tried, cheapest first:
    of milliseconds (:func:`broadtrack_graph.reinit.cheap.refine_guesses`). A confident refined
    guess is taken at once and continues its camera's chain (at a shot's start, only when it
    still stands where its camera stands): this is how a camera returning after a close-up or a
-   replay is recognised.
+   replay is recognised. Every known camera's guesses are tried on the frames of
+   :class:`~broadtrack_graph.track.search_budget.TrySchedule`, as the field model is.
 2. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
    map. Taken when confident (a new shot's camera: when certain, :data:`CERTAIN_CONFIDENCE`), with
    the id of where it stands; else a candidate the search must beat. It tries every frame of a shot's first
    frames it cannot place (up to 10), then waits 1, 2, 4, ... frames after each
-   (:class:`~broadtrack_graph.track.search_budget.ModelSchedule`): a shot it cannot place costs little.
+   (:class:`~broadtrack_graph.track.search_budget.TrySchedule`): a shot it cannot place costs little.
 3. **The global search** in stages, when the search budget allows.
 
    * A shot whose camera is not known yet: the known cameras' positions, the default positions (main, 16 m,
@@ -69,7 +70,7 @@ from broadtrack_graph.reinit.near_miss import best_along_line_of_sight, best_wal
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.search_budget import ModelSchedule, SearchBudget
+from broadtrack_graph.track.search_budget import SearchBudget, TrySchedule
 from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
@@ -138,7 +139,7 @@ class ReinitPolicy:
         self.camera_id: str | None = None
         self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
         self.model = model
-        self.model_schedule = ModelSchedule()  # when the model tries a frame
+        self.model_schedule, self.guess_schedule = TrySchedule(), TrySchedule()  # the model's, every camera's guesses
         self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "deep_stages": 0,
                        "walks": 0, "skipped_by_budget": 0}
 
@@ -154,6 +155,7 @@ class ReinitPolicy:
         self.camera_id, self._shot_start_confidences = None, None
         self.budget.restart()
         self.model_schedule.new_stretch()
+        self.guess_schedule.new_stretch()
 
     def switch(self, camera_id: str | None) -> None:
         """The frames from now on are camera ``camera_id``'s."""
@@ -165,6 +167,7 @@ class ReinitPolicy:
             self.registry.trust(self.camera_id, frame_index, camera)
         self.budget.restart()
         self.model_schedule.confident()
+        self.guess_schedule.confident()
 
     def tripod(self, camera_id: str, T_w) -> None:
         """A tripod fitted or given for a camera: its position identifies the camera from now on."""
@@ -299,20 +302,26 @@ class ReinitPolicy:
     # ----------------------------------------------------------------- guesses and the search
 
     def _refined_guess(self, frame_index, detections, curves, score) -> tuple[ReinitResult | None, str | None, float]:
-        """The best refined guess (result, its camera id, its confidence), or (None, None, 0)."""
+        """The best refined guess (result, its camera id, its confidence), or (None, None, 0). The shot's own camera's
+        are tried on every frame, every known camera's (the shot's camera not known) on the guess schedule's."""
         best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
+        every_camera = self.camera_id is None
+        if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
+            return best
         guesses = self.registry.guesses(frame_index, self.camera_id, self.config.max_guess_age_frames)
-        for camera_id, label, camera in guesses if self.config.cheap_reinit else []:
+        for camera_id, label, camera in guesses:
             refined = self.refine([(label, camera)], detections, curves)
             if refined.camera is None:
                 continue
-            if self.camera_id is None and camera_id in self.registry.positions and not self.registry.stands_at(
+            if every_camera and camera_id in self.registry.positions and not self.registry.stands_at(
                     camera_id, refined.camera.position_m, refined.camera.R_cw[2]):
                 continue  # at a shot's start, a known camera's guess that moved elsewhere: another camera's view
             # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
             confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
             if confidence is not None and (best[0] is None or confidence > best[2]):
                 best = (refined, camera_id, float(confidence))
+        if every_camera and guesses:
+            self.guess_schedule.tried(frame_index, best[2] >= self.config.confidence_threshold)
         return best
 
     def _model_camera(self, frame_index: int, image, detections, curves, score) -> tuple[ReinitResult | None, float]:

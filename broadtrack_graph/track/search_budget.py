@@ -1,9 +1,9 @@
-"""The re-initialisation's budgets in frames: how often the global search and the field model run where nothing is
-found.
+"""The re-initialisation's budgets in frames: how often the global search, the field model and the guesses of every
+known camera run where nothing is found.
 
 Counted in frames, not seconds, so a run gives the same cameras on any machine; the re-initialisation
 policy (:mod:`broadtrack_graph.track.reinit_policy`) asks them before each search and each try of the
-field model (:class:`ModelSchedule`).
+field model or of the known cameras' guesses at a shot's start (:class:`TrySchedule`, one each).
 
 The rules (searches of the marking map; keypoints and labelled lines are searched at once, in
 milliseconds):
@@ -91,33 +91,36 @@ class SearchBudget:
         self.tokens, self.price, self._gap, self._next_known = 1.0, 1.0, 1, None
 
 
-MODEL_TRIES_AT_SHOT_START = 10
-"""The field model tries every frame of a shot it cannot place, this many times, before it backs off: a shot is to be
-locked within its first 10 frames, and once the search at a shot's first frame has spent the budget, the model is what
-can still find its camera from nothing on the next frames (a try costs a few tracked frames)."""
+TRIES_AT_SHOT_START = 10
+"""A cheap try (the field model, the known cameras' guesses) runs on every frame of a shot it cannot place, this many
+times, before it backs off: a shot is to be locked within its first 10 frames, and after the search at a shot's first
+frame the budget waits, so these are what can still find its camera on the next frames (a try costs a few tracked
+frames: a shot that cannot be placed costs about what detection costs)."""
 
 
 @dataclass
-class ModelSchedule:
-    """When the learned field model tries a frame (tens of milliseconds, and a refinement on the marking map).
+class TrySchedule:
+    """Which frames a cheap try runs on: the learned field model (tens of milliseconds, and a refinement on the
+    marking map), or the guesses of every known camera at a shot's start (a refinement each on the marking map: with
+    a match's several cameras, a tenth of a second or more a frame).
 
     After a cut or a view change (:meth:`new_stretch`) it tries every frame it cannot place, up to
     ``tries_at_shot_start`` of them; after that, and after a confident frame (:meth:`confident`), a frame it cannot
     place makes it wait 1, 2, 4, ... frames (at most ``max_gap_frames``). A frame it places restarts the wait.
     """
 
-    tries_at_shot_start: int = MODEL_TRIES_AT_SHOT_START
+    tries_at_shot_start: int = TRIES_AT_SHOT_START
     max_gap_frames: int = 8
     _next: int = 0
     _gap: int = 1
     _tries_left: int | None = None  # None: a new stretch (the run's first frames)
 
     def allows(self, frame_index: int) -> bool:
-        """The model may try this frame."""
+        """The try may run on this frame."""
         return frame_index >= self._next
 
     def tried(self, frame_index: int, placed: bool) -> None:
-        """The model tried frame_index; placed: it gave a confident camera."""
+        """The try ran on frame_index; placed: it gave a confident camera."""
         if placed:
             self._next, self._gap = 0, 1
             return

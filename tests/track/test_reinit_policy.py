@@ -128,6 +128,28 @@ def test_a_returning_camera_is_recognised_by_its_guess_after_a_cut():
                                   "last confident camera of main (frame 50)"}
 
 
+def test_a_shot_no_known_camera_explains_tries_their_guesses_on_its_first_frames_then_after_growing_gaps():
+    fakes = Fakes(guess_confidence=0.2)  # the known cameras' guesses explain little: another camera's shot
+    policy = _policy(fakes)
+    for camera_id, camera, frame in (("high-corner-1", CORNER, 5), ("main", MAIN, 50)):
+        policy.switch(camera_id)
+        policy.confident(frame, camera)
+    policy.new_stretch()
+    tried = []
+    for i in range(100, 140):
+        before = len(fakes.refined)
+        _decide(policy, i)
+        tried += [i - 100] if len(fakes.refined) > before else []
+    assert tried == list(range(11)) + [11, 13, 17, 25, 33]  # two refinements each, then 1, 2, 4, 8 frames apart
+    assert len(fakes.refined) == 2 * len(tried)
+    # The shot's own camera, once known, is guessed on every frame (its chain's continuation).
+    policy.switch("main")
+    before = len(fakes.refined)
+    for i in range(140, 145):
+        _decide(policy, i)
+    assert fakes.refined[before:] == ["last confident camera of main (frame 50)"] * 5
+
+
 def test_the_held_camera_stays_unless_the_new_one_is_confident_or_better_by_the_margin():
     fakes = Fakes({None: (MAIN, 0.45)})
     held = MAIN.replace(pan_rad=0.3)
