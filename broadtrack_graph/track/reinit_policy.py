@@ -246,7 +246,8 @@ class ReinitPolicy:
         paid_before, shot_start = self._paid(), plan.new_shot and self._shot_start_confidences is None
         found, found_confidence, label, confidences = self._search(plan, observations, detections, pitch, curves,
                                                                    sampling, score)
-        self._shot_start_confidences = confidences if shot_start else self._shot_start_confidences
+        if shot_start:  # what the shot's later searches try (search_stages.retry_plan)
+            self._shot_start_confidences = confidences
         self.counts["global"] += 1
         if with_map:  # found: a camera its chain is trusted from (a new shot's camera: by the margin)
             trusted_from = threshold + (margin if new_camera else 0.0)
