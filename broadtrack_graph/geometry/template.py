@@ -48,18 +48,24 @@ class TemplateSampling:
     """The template sampled once as the official evaluation does; reused for every frame.
 
     Attributes:
+        pitch: the template sampled.
         class_names: the sampled classes, in the template's order.
         points_w: (N, 3) metres, pitch frame (z down), every class's samples one after the other.
         offsets: (len(class_names) + 1,) class i owns ``points_w[offsets[i]:offsets[i + 1]]``.
     """
 
     def __init__(self, pitch: PitchTemplate | None = None) -> None:
-        pitch = pitch or PitchTemplate()
-        samples = pitch.sample_soccernet(SOCCERNET_LINE_STEP_M, SOCCERNET_CIRCLE_STEP_M)
+        self.pitch = pitch or PitchTemplate()
+        samples = self.pitch.sample_soccernet(SOCCERNET_LINE_STEP_M, SOCCERNET_CIRCLE_STEP_M)
         self.class_names: list[str] = list(samples)
         self.points_w = np.vstack([samples[name] for name in self.class_names])
         sizes = [len(samples[name]) for name in self.class_names]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)])
+
+    def __reduce__(self):
+        """Pickled as its recipe, the pitch (sampled again on loading: the same points, a few kB sent to a worker
+        process instead of tens)."""
+        return TemplateSampling, (self.pitch,)
 
 
 def _project_like_official(camera: Camera, points_w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -201,17 +207,23 @@ class TemplateCurves:
             both ends included: :meth:`PitchTemplate.sample_uniform`).
 
     Attributes:
-        pitch: the template.
+        pitch: the template; line_step_m, circle_step_m: the steps it was sampled with.
         samples_w: class name -> (L, 3) metres, consecutive samples along the marking.
     """
 
     def __init__(self, pitch: PitchTemplate | None = None, line_step_m: float = 2.0, circle_step_m: float = 0.5):
         self.pitch = pitch or PitchTemplate()
+        self.line_step_m, self.circle_step_m = line_step_m, circle_step_m
         self.samples_w: dict[str, np.ndarray] = {}
         for name, element in self.pitch.elements.items():
             step = circle_step_m if isinstance(element, Arc) else line_step_m
             self.samples_w[name] = self.pitch.sample_uniform(step, classes=[name])[name]
         self._stacked: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+
+    def __reduce__(self):
+        """Pickled as its recipe, the pitch and the two steps (sampled again on loading: the same samples; a worker
+        process starting with tens of kB to read blocks the process that starts it until it has imported)."""
+        return TemplateCurves, (self.pitch, self.line_step_m, self.circle_step_m)
 
     def stacked(self, names) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The samples of several classes one after the other (built once per list of names).

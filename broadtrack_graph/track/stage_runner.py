@@ -11,8 +11,9 @@ decodes ahead in a thread, so at a cut, while it searches, the machine's other c
 
 The search function must be a module-level function (it is sent to the workers by name); a search
 that is not (a test's fake) runs in this process. The workers start when a search first reads past
-its first stage, each taking the pitch and template once; a worker that dies leaves the rest of the
-run to this process. The one other place that spreads work over processes is
+its first stage, each taking the pitch and template once (pickled as their recipes: a few kB, so
+starting them does not wait for their imports); a worker that dies leaves the rest of the run to
+this process. The one other place that spreads work over processes is
 :func:`broadtrack_graph.actions.parallel.map_jobs` (whole units of work).
 """
 

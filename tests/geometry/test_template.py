@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -152,6 +154,23 @@ def test_template_curves_sample_every_class_with_both_ends():
     np.testing.assert_allclose(sorted(middle[[0, -1], 1]), [-34.0, 34.0])
     steps = np.linalg.norm(np.diff(middle, axis=0), axis=1)
     assert np.all(steps <= 2.0 + 1e-9) and len(middle) == 35
+
+
+def test_template_curves_and_sampling_are_pickled_as_their_recipes():
+    pitch = PitchTemplate()
+    curves = TemplateCurves(pitch, line_step_m=1.0, circle_step_m=0.25)
+    curves.stacked(list(curves.samples_w))  # a filled cache is not sent
+    sampling = TemplateSampling(pitch)
+    for template in (curves, sampling):
+        assert len(pickle.dumps(template)) < 8000  # a worker process starts without waiting for its imports
+    again = pickle.loads(pickle.dumps(curves))
+    assert (again.line_step_m, again.circle_step_m) == (1.0, 0.25) and list(again.samples_w) == list(curves.samples_w)
+    for name, samples in curves.samples_w.items():
+        np.testing.assert_array_equal(again.samples_w[name], samples)
+    again = pickle.loads(pickle.dumps(sampling))
+    assert again.class_names == sampling.class_names
+    np.testing.assert_array_equal(again.points_w, sampling.points_w)
+    np.testing.assert_array_equal(again.offsets, sampling.offsets)
 
 
 def test_project_template_is_dense_and_inside():
