@@ -34,3 +34,10 @@ def stage_numbered_search(observations, detections, pitch, positions, curves, sa
     SEARCH_STAGES."""
     number = next(k for k, (_, stage) in enumerate(SEARCH_STAGES) if stage == positions)
     return numbered_search(observations, detections, pitch, (number,), curves, sampling)
+
+
+def numbered_call(number, curves=None, offset=0.0):
+    """A call of ``StageRunner.mapped``: (number + offset, the process that computed it, whether it was given a
+    template), after STAGE_SECONDS."""
+    time.sleep(STAGE_SECONDS)
+    return number + offset, os.getpid(), curves is not None

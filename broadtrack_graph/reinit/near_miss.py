@@ -28,9 +28,15 @@ LINE_OF_SIGHT_SCALES = (0.9, 0.95, 1.05, 1.1, 1.2)
 """Distances (shares of the camera's distance to the ground point it looks at) tried by :func:`along_line_of_sight`."""
 
 
+def fits_here(function: Callable, calls: Sequence[tuple], curves: TemplateCurves, **keywords) -> list:
+    """``function(*args, curves=curves, **keywords)`` for each ``args`` of ``calls``, one after the other (the
+    default ``fits`` of :func:`along_line_of_sight`; the tracker's runs them on its search workers too)."""
+    return [function(*args, curves=curves, **keywords) for args in calls]
+
+
 def along_line_of_sight(camera: Camera, marking_points_px: np.ndarray, curves: TemplateCurves,
                         config: MaskSearchConfig = MaskSearchConfig(),
-                        scales=LINE_OF_SIGHT_SCALES) -> list[Camera]:
+                        scales=LINE_OF_SIGHT_SCALES, fits: Callable = fits_here) -> list[Camera]:
     """The camera moved along its optical axis, f scaled with its distance, each refined on the map.
 
     A view seen from a few metres nearer with a shorter lens (or further with a longer one) looks
@@ -44,6 +50,7 @@ def along_line_of_sight(camera: Camera, marking_points_px: np.ndarray, curves: T
         camera: the camera found (any focal point above the pitch, looking down at it).
         marking_points_px: (M, 2) centre-line points of the map, frame pixels.
         scales: the distances tried, as shares of the camera's.
+        fits: runs the independent label-and-fit runs, :func:`fits_here` or alike (the same cameras, in order).
 
     Returns:
         The refined cameras, one per scale (none when the optical axis does not meet the ground).
@@ -54,20 +61,20 @@ def along_line_of_sight(camera: Camera, marking_points_px: np.ndarray, curves: T
         return []
     looked_at = position + (-position[2] / axis[2]) * axis
     points = fit_points(marking_points_px, config)
-    cameras = []
+    calls = []
     for scale in scales:
         moved = looked_at + scale * (position - looked_at)
-        start = camera.replace(focal_px=camera.focal_px * scale, position_m=tuple(moved))
-        cameras.append(refine_on_map(start, points, moved, curves, config, config.schedule))
-    return cameras
+        calls.append((camera.replace(focal_px=camera.focal_px * scale, position_m=tuple(moved)), points, moved))
+    return list(fits(refine_on_map, calls, curves, config=config, schedule=config.schedule))
 
 
 def best_along_line_of_sight(camera: Camera, score, marking_points_px: np.ndarray, curves: TemplateCurves,
-                             ) -> tuple[float, Camera | None]:
-    """(score, camera) of the best of :func:`along_line_of_sight` by ``score`` (camera -> float or None).
+                             fits: Callable = fits_here) -> tuple[float, Camera | None]:
+    """(score, camera) of the best of :func:`along_line_of_sight` (its fits run by ``fits``) by ``score`` (camera ->
+    float or None).
 
     (0, None) when there is none."""
-    scored = [(score(c) or 0.0, c) for c in along_line_of_sight(camera, marking_points_px, curves)]
+    scored = [(score(c) or 0.0, c) for c in along_line_of_sight(camera, marking_points_px, curves, fits=fits)]
     return max(scored, key=lambda item: item[0], default=(0.0, None))
 
 

@@ -188,7 +188,7 @@ class ReinitPolicy:
             return decision
         # A chain's first camera (a refined guess stands where its camera stood): nearer or further along its sight?
         confidence, camera = best_along_line_of_sight(decision.camera, lambda c: self.confidence(
-            c, observations, detections, curves, sampling), points, curves)
+            c, observations, detections, curves, sampling), points, curves, fits=self.stages.mapped)
         if confidence <= decision.confidence + margin:
             return decision
         return replace(decision, camera=camera, confidence=confidence,
@@ -310,8 +310,9 @@ class ReinitPolicy:
         if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
             return best
         guesses = self.registry.guesses(frame_index, self.camera_id, self.config.max_guess_age_frames)
-        for camera_id, label, camera in guesses:
-            refined = self.refine([(label, camera)], detections, curves)
+        calls = [([(label, camera)], detections) for _, label, camera in guesses]
+        refined_guesses = self.stages.mapped(self.refine, calls, curves)  # the next ones on the search's workers
+        for (camera_id, label, camera), refined in zip(guesses, refined_guesses):
             if refined.camera is None:
                 continue
             if every_camera and camera_id in self.registry.positions and not self.registry.stands_at(

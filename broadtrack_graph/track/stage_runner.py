@@ -5,7 +5,9 @@ A shot whose camera is not known is searched through several stages (candidate f
 a second at 720p, and the policy reads their results in order until one ends the search
 (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.decide`). While this process computes the
 stage the policy needs, worker processes compute the stages after it; a stage the policy never reads
-is thrown away. The policy sees the same results in the same order as with no workers, so a run's
+is thrown away. The decision's other independent label-and-fit runs (a shot's guesses, a new camera tried
+along its line of sight) go the same way once a search has started the workers (:meth:`StageRunner.mapped`).
+The policy sees the same results in the same order as with no workers, so a run's
 cameras do not depend on the number of workers, only its speed: the tracker runs in one process and
 decodes ahead in a thread, so at a cut, while it searches, the machine's other cores are idle.
 
@@ -84,6 +86,11 @@ def _run_stage(observations, detections, positions, deep: bool):
     return _searched(search, observations, detections, pitch, positions, curves, sampling, deep)
 
 
+def _run_call(function: Callable, args: tuple, keywords: dict):
+    """One call of :meth:`StageRunner.mapped` in a worker, with the template it holds."""
+    return function(*args, curves=_WORKER_STATE[2], **keywords)
+
+
 def _searched(search: Callable, observations, detections, pitch, positions, curves, sampling, deep: bool):
     """One stage's search; ``deep`` is passed only when set (a search that never fits deep need not take it)."""
     options = {"deep": True} if deep else {}
@@ -109,7 +116,7 @@ class StageRunner:
         self._pool: ProcessPoolExecutor | None = None
         self._bound: tuple | None = None  # the (pitch, curves, sampling) the workers hold
         self._disabled = self.workers == 0 or not _picklable(search)
-        self.ahead = 0  # stages computed by a worker that the policy read
+        self.ahead = 0  # stages (and calls) computed by a worker that were read
 
     def results(self, stages: Sequence, observations, detections, pitch, curves, sampling,
                 deep: bool = False) -> Iterator:
@@ -118,8 +125,11 @@ class StageRunner:
         The stages after the one being read run ahead on the workers; whatever is not read is dropped.
         deep: the search fits deep (the fallback stages).
         """
-        def here(positions):
-            return _searched(self.search, observations, detections, pitch, positions, curves, sampling, deep)
+        def here(k):
+            return _searched(self.search, observations, detections, pitch, stages[k], curves, sampling, deep)
+
+        def ahead(k):
+            return self._pool.submit(_run_stage, observations, detections, stages[k], deep)
 
         started = self._pool is not None
         pool = self._pool_for(pitch, curves, sampling) if started and len(stages) > 1 else None
@@ -127,51 +137,73 @@ class StageRunner:
         if not started and not self._disabled and len(stages) > 2:
             # The workers start when a search first reads past its first stage: a run whose cameras are found
             # at once never pays for starting them.
-            yield here(stages[0])
+            yield here(0)
             first = 1
             pool = self._pool_for(pitch, curves, sampling)
         if pool is None:
-            for positions in stages[first:]:
-                yield here(positions)
+            for k in range(first, len(stages)):
+                yield here(k)
             return
+        yield from self._in_order(len(stages), first, here, ahead)
+
+    def mapped(self, function: Callable, calls: Sequence[tuple], curves, **keywords) -> Iterator:
+        """``function(*args, curves=curves, **keywords)`` for each ``args`` of ``calls``, in order (the label-and-fit
+        runs of a decision, say): the calls after the one being read run ahead on the workers when they are running
+        and hold this template, and the function can be sent to them (module level); else all run here. The workers
+        are started by a search only."""
+        def here(k):
+            return function(*calls[k], curves=curves, **keywords)
+
+        def ahead(k):
+            return self._pool.submit(_run_call, function, calls[k], keywords)
+
+        if self._pool is None or len(calls) < 2 or self._bound[1] is not curves or not _picklable(function):
+            for k in range(len(calls)):
+                yield here(k)
+            return
+        yield from self._in_order(len(calls), 0, here, ahead)
+
+    def _in_order(self, count: int, first: int, here: Callable, ahead: Callable) -> Iterator:
+        """The results of tasks first .. count - 1 in order: the one needed now computed here (``here(k)``), the next
+        ones handed to the workers (``ahead(k)`` -> Future); whatever is not read is dropped."""
         done: dict[int, object] = {}
-        ahead: dict[int, Future] = {}
-        claimed = first  # stages [0, claimed) are done, or running here or on a worker
+        running: dict[int, Future] = {}
+        claimed = first  # tasks [0, claimed) are done, or running here or on a worker
 
         def feed() -> None:
             nonlocal claimed
-            while self._pool is not None and claimed < len(stages) and \
-                    sum(not f.done() for f in ahead.values()) < QUEUED_PER_WORKER * self.workers:
+            while self._pool is not None and claimed < count and \
+                    sum(not f.done() for f in running.values()) < QUEUED_PER_WORKER * self.workers:
                 try:
-                    ahead[claimed] = self._pool.submit(_run_stage, observations, detections, stages[claimed], deep)
+                    running[claimed] = ahead(claimed)
                 except (BrokenProcessPool, RuntimeError) as error:
                     self._lose_pool(error)
                     return
                 claimed += 1
 
         try:
-            for k in range(first, len(stages)):
+            for k in range(first, count):
                 while k not in done:
-                    if k == claimed:  # the stage needed now, not started: here, with the next ones ahead
+                    if k == claimed:  # the task needed now, not started: here, with the next ones ahead
                         claimed += 1
                         feed()
-                        done[k] = here(stages[k])
-                    elif k in ahead and (ahead[k].done() or claimed >= len(stages) or self._pool is None):
-                        future = ahead.pop(k)
+                        done[k] = here(k)
+                    elif k in running and (running[k].done() or claimed >= count or self._pool is None):
+                        future = running.pop(k)
                         try:
                             done[k] = future.result()
                             self.ahead += 1
                         except (BrokenProcessPool, CancelledError) as error:
                             self._lose_pool(error)
-                            done[k] = here(stages[k])
-                    elif k in ahead:  # a worker is on it: this process takes the next stage meanwhile
+                            done[k] = here(k)
+                    elif k in running:  # a worker is on it: this process takes the next task meanwhile
                         j = claimed
                         claimed += 1
                         feed()
-                        done[j] = here(stages[j])
+                        done[j] = here(j)
                 yield done.pop(k)
         finally:
-            for future in ahead.values():
+            for future in running.values():
                 future.cancel()  # not started: dropped; running: its result is ignored
 
     def labelled_results(self, stages: Sequence, fallback: Sequence, go_on: Callable[[], bool], *frame) -> Iterator:

@@ -324,7 +324,7 @@ def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_b
         return walked if camera is near else None
 
     monkeypatch.setattr(near_miss_module, "walk_wide", walk_wide)
-    monkeypatch.setattr(near_miss_module, "along_line_of_sight", lambda camera, points, curves: [])
+    monkeypatch.setattr(near_miss_module, "along_line_of_sight", lambda camera, points, curves, **_: [])
     points = SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((40, 2)))
 
     def decided(stages, walked_confidence, detections=points):
@@ -511,7 +511,7 @@ def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_be
     further = MAIN.replace(focal_px=1600.0, position_m=(0.0, 59.0, -12.8))  # the same view from 4 m further back
     tried = []
 
-    def along_line_of_sight(camera, points, curves):
+    def along_line_of_sight(camera, points, curves, **_):
         tried.append(camera)
         return [MAIN.replace(focal_px=1400.0, position_m=(0.0, 51.0, -11.2)), further]
 

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from stage_searches import dying_search, numbered_search, stage_numbered_search
+from stage_searches import dying_search, numbered_call, numbered_search, stage_numbered_search
 
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
@@ -78,6 +78,22 @@ def test_a_search_with_one_stage_or_another_template_runs_here(runner_with_a_wor
     other = _read(runner, template=(object(), CURVES, SAMPLING))
     assert [r.hypothesis for r in other] == [f"stage {k}" for k in range(6)]
     assert runner.ahead == ahead_before and {r.reason for r in other} == {f"pid {os.getpid()}"}
+
+
+def test_calls_are_mapped_in_order_here_and_on_the_workers_a_search_started(runner_with_a_worker):
+    runner = runner_with_a_worker
+    calls = [(k,) for k in range(5)]
+    here = list(runner.mapped(numbered_call, calls, CURVES, offset=0.5))  # no search has started the worker yet
+    assert [r[0] for r in here] == [k + 0.5 for k in range(5)] and {r[1] for r in here} == {os.getpid()}
+    assert runner._pool is None
+    _read(runner)
+    ahead_before = runner.ahead
+    ahead = list(runner.mapped(numbered_call, calls, CURVES, offset=0.5))
+    assert [r[0] for r in ahead] == [r[0] for r in here] and all(r[2] for r in ahead)  # the worker's template
+    assert len({r[1] for r in ahead}) == 2 and runner.ahead > ahead_before
+    # Another template than the worker's, or a function that cannot be sent to it: here.
+    assert {r[1] for r in runner.mapped(numbered_call, calls, object())} == {os.getpid()}
+    assert list(runner.mapped(lambda k, curves: k, calls, CURVES)) == list(range(5))
 
 
 def test_a_search_that_cannot_be_sent_to_a_worker_runs_here():
