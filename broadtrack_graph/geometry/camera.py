@@ -49,23 +49,10 @@ from broadtrack_graph.geometry.state import (
     ROLL,
     STATE_SIZE,
     TILT,
-    rotation_x,
-    rotation_z,
+    rotation_from_angles,
 )
 
 # --------------------------------------------------------------------------- rotations
-
-
-def rotation_from_angles(pan_rad: float, tilt_rad: float, roll_rad: float) -> np.ndarray:
-    """World-to-camera rotation ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T``.
-
-    Args:
-        pan_rad, tilt_rad, roll_rad: angles in radians (SoccerNet convention).
-
-    Returns:
-        (3, 3) rotation matrix mapping world vectors to camera vectors.
-    """
-    return (rotation_z(pan_rad) @ rotation_x(tilt_rad) @ rotation_z(roll_rad)).T
 
 
 def angles_from_rotation(R_cw: np.ndarray) -> tuple[float, float, float]:

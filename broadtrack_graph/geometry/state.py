@@ -65,6 +65,18 @@ def _rotation_x_derivative(angle_rad: float) -> np.ndarray:
     return np.array([[0.0, 0.0, 0.0], [0.0, -s, -c], [0.0, c, -s]])
 
 
+def rotation_from_angles(pan_rad: float, tilt_rad: float, roll_rad: float) -> np.ndarray:
+    """World-to-camera rotation ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T``.
+
+    Args:
+        pan_rad, tilt_rad, roll_rad: angles in radians (SoccerNet convention).
+
+    Returns:
+        (3, 3) rotation matrix mapping world vectors to camera vectors.
+    """
+    return (rotation_z(pan_rad) @ rotation_x(tilt_rad) @ rotation_z(roll_rad)).T
+
+
 def rotation_and_derivatives(pan_rad: float, tilt_rad: float, roll_rad: float) -> tuple[np.ndarray, np.ndarray]:
     """World-to-camera rotation and its derivatives with respect to pan, tilt, roll.
 
@@ -154,7 +166,10 @@ def project_state(
     """
     s = np.asarray(state, dtype=float)
     focal, k1 = s[FOCAL], s[K1]
-    R, dR = rotation_and_derivatives(s[PAN], s[TILT], s[ROLL])
+    if want_jacobian:
+        R, dR = rotation_and_derivatives(s[PAN], s[TILT], s[ROLL])
+    else:
+        R = rotation_from_angles(s[PAN], s[TILT], s[ROLL])
     d_w = np.asarray(points_w, dtype=float) - s[POSITION]
     points_c = d_w @ R.T
     depth = points_c[:, 2]

@@ -27,7 +27,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
-from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
+from broadtrack_graph.geometry.template import TemplateCurves
 
 
 @dataclass(frozen=True)
@@ -81,37 +81,47 @@ class _Problem:
         sizes = [len(curves.samples_w[n]) for n in self.names]
         self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.point_count = sum(len(p) for p in self.points.values())
+        self._pairs = _PointSegmentPairs([len(self.points[n]) for n in self.names], sizes)
+        self.all_points = np.vstack([self.points[n] for n in self.names]) if self.names else np.zeros((0, 2))
+        self._pair_x, self._pair_y = (self.all_points[self._pairs.point, k] for k in (0, 1))
 
-    def associate(self, state):
-        """Distances and, per point, the 3D point of its class's curve closest in the image and the curve normal."""
+    def associate(self, state) -> "_Association":
+        """Each point's nearest segment of its class's projected polyline (the distances now; the residuals' geometry
+        when asked, :meth:`_Association.geometry`)."""
         uv, _, front = project_state(state, self.all_samples, self.width_px, self.height_px, want_jacobian=False)
-        anchors, normals, targets, dists, missing = [], [], [], {}, []
-        for j, name in enumerate(self.names):
-            s0, s1 = self.offsets[j], self.offsets[j + 1]
-            poly, ok = uv[s0:s1], front[s0:s1]
-            pts = self.points[name]
-            valid = ok[:-1] & ok[1:]
-            if not valid.any():
-                dists[name] = np.full(len(pts), np.nan)
-                missing.append(len(pts))
-                continue
-            seg, t, d = closest_on_polyline(pts, poly, valid)
-            samples = self.curves.samples_w[name]
-            anchors.append(samples[seg] + t[:, None] * (samples[seg + 1] - samples[seg]))
-            direction = poly[seg + 1] - poly[seg]
-            direction /= np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
-            normals.append(np.stack([-direction[:, 1], direction[:, 0]], axis=1))
-            targets.append(pts)
-            dists[name] = d
-        if anchors:
-            return np.vstack(anchors), np.vstack(normals), np.vstack(targets), dists, sum(missing)
-        return np.zeros((0, 3)), np.zeros((0, 2)), np.zeros((0, 2)), dists, sum(missing)
+        pairs = self._pairs
+        usable = front[:-1] & front[1:] & pairs.joins_next  # segments of a class with both ends in front
+        class_seen = np.logical_or.reduceat(usable, pairs.class_segment_start) if len(usable) else usable
+        # Every point against every segment of its class at once (one flat array of pairs, in point then segment
+        # order): the projection of the point on the segment, clipped to it, and the squared distance.
+        s = pairs.segment
+        with np.errstate(invalid="ignore", over="ignore"):
+            seg_d = uv[1:] - uv[:-1]
+            length2 = np.maximum(np.einsum("ij,ij->i", seg_d, seg_d), 1e-12)
+            ax, ay, dx, dy = uv[s, 0], uv[s, 1], seg_d[s, 0], seg_d[s, 1]
+            t = (self._pair_x - ax) * dx
+            t += (self._pair_y - ay) * dy
+            t /= length2[s]
+            np.clip(t, 0.0, 1.0, out=t)
+            dist2 = self._pair_x - (ax + t * dx)
+            dist2 *= dist2
+            ey = self._pair_y - (ay + t * dy)
+            ey *= ey
+            dist2 += ey
+        dist2[~usable[s]] = np.inf
+        nearest = pairs.first_minimum(dist2)
+        distances = np.sqrt(dist2[nearest])
+        missing_points = np.repeat(~class_seen, pairs.class_points)
+        distances[missing_points] = np.nan
+        keep = slice(None) if class_seen.all() else ~missing_points
+        return _Association(self, uv, s[nearest][keep], t[nearest][keep], keep, distances,
+                            int(pairs.class_points[~class_seen].sum()))
 
-    def robust_cost(self, dists: dict, missing_count: int, state) -> float:
+    def robust_cost(self, association: "_Association", state) -> float:
         s = self.config.cauchy_scale_px
-        values = np.concatenate([d[~np.isnan(d)] for d in dists.values()]) if dists else np.zeros(0)
+        values = association.distances[~np.isnan(association.distances)]
         cost = float(np.sum(np.log1p((values / s) ** 2)))
-        cost += missing_count * math.log1p((self.config.missing_class_penalty_px / s) ** 2)
+        cost += association.missing * math.log1p((self.config.missing_class_penalty_px / s) ** 2)
         return cost + 0.5 * float(np.sum(self.prior_residuals(state) ** 2))
 
     def prior_residuals(self, state) -> np.ndarray:
@@ -127,6 +137,79 @@ class _Problem:
         if self.position_prior_w is not None:
             rows.extend(np.eye(STATE_SIZE)[5:8] / c.sigma_position_m)
         return np.asarray(rows)
+
+
+class _Association:
+    """One association of a fit's points (:meth:`_Problem.associate`).
+
+    distances: (points,) pixels to the nearest segment of each point's class, NaN for the points of a class not in
+    front of the camera (class order); missing: how many points those are. The geometry the residuals need is made
+    only when asked (an LM step that is not taken never asks).
+    """
+
+    def __init__(self, problem: _Problem, uv, segment, t, keep, distances, missing: int) -> None:
+        self._problem, self._uv, self._segment, self._t, self._keep = problem, uv, segment, t, keep
+        self.distances, self.missing = distances, missing
+        self._geometry = None
+
+    @property
+    def dists(self) -> dict[str, np.ndarray]:
+        """Class name -> (M,) distances in pixels (NaN for a class not in front)."""
+        return dict(zip(self._problem.names, np.split(self.distances, self._problem._pairs.point_offsets[1:-1])))
+
+    def geometry(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(anchors (P, 3) metres, normals (P, 2), targets (P, 2) pixels) of the P points of the classes in front:
+        the point of the class's curve nearest each point in the image, the curve's image normal there, the point."""
+        if self._geometry is None:
+            samples, uv, seg, t = self._problem.all_samples, self._uv, self._segment, self._t
+            a = samples[seg]
+            anchors = a + t[:, None] * (samples[seg + 1] - a)
+            direction = uv[seg + 1] - uv[seg]
+            direction /= np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
+            normals = np.stack([-direction[:, 1], direction[:, 0]], axis=1)
+            self._geometry = (anchors, normals, self._problem.all_points[self._keep])
+        return self._geometry
+
+
+class _PointSegmentPairs:
+    """Every (point, segment of its class's polyline) pair of a fit, in class, point, segment order: the nearest
+    segment of each point is a minimum over its run of pairs (one pass for all classes, not one per class).
+
+    Args:
+        class_points: (C,) points per class; class_samples: (C,) polyline samples per class (at least 2 each).
+    """
+
+    def __init__(self, class_points, class_samples) -> None:
+        self.class_points = np.asarray(class_points, int)
+        samples = np.asarray(class_samples, int)
+        sample_start = np.concatenate([[0], np.cumsum(samples)])[:-1]
+        segments = samples - 1
+        self.point_offsets = np.concatenate([[0], np.cumsum(self.class_points)])
+        # segment s joins samples s and s + 1 of the stacked polylines: only within a class
+        self.joins_next = np.ones(max(int(samples.sum()) - 1, 0), bool)
+        self.joins_next[(sample_start + samples - 1)[:-1]] = False
+        self.class_segment_start = sample_start
+        point_parts, segment_parts = [], []
+        for c, (m, k) in enumerate(zip(self.class_points, segments)):
+            point_parts.append(np.repeat(np.arange(self.point_offsets[c], self.point_offsets[c + 1]), k))
+            segment_parts.append(np.tile(np.arange(sample_start[c], sample_start[c] + k), m))
+        self.point = np.concatenate(point_parts) if point_parts else np.zeros(0, int)
+        self.segment = np.concatenate(segment_parts) if segment_parts else np.zeros(0, int)
+        self.run_length = np.repeat(segments, self.class_points)
+        self.run_start = np.concatenate([[0], np.cumsum(self.run_length)])[:-1]
+
+    def first_minimum(self, values: np.ndarray) -> np.ndarray:
+        """(points,) the index into the pairs of each point's smallest value, the first one on ties (a NaN counts as
+        the smallest, as in ``np.argmin``)."""
+        if not len(self.run_start):
+            return np.zeros(0, int)
+        smallest = np.repeat(np.minimum.reduceat(values, self.run_start), self.run_length)
+        at_minimum = values == smallest
+        if np.isnan(smallest).any():
+            at_minimum |= np.isnan(smallest) & np.isnan(values)
+        index = np.flatnonzero(at_minimum)
+        owner = self.point[index]
+        return index[np.concatenate([[True], owner[1:] != owner[:-1]])]
 
 
 def _residuals_and_jacobian(problem: _Problem, state, anchors, normals, targets):
@@ -162,8 +245,8 @@ def fit_camera_to_lines(
     W, H = initial.width_px, initial.height_px
     problem = _Problem(lines_px, curves, W, H, config, position_prior_w)
     state = initial.to_vector()
-    anchors, normals, targets, dists, missing = problem.associate(state)
-    cost = problem.robust_cost(dists, missing, state)
+    association = problem.associate(state)
+    cost = problem.robust_cost(association, state)
     free = np.array([i not in fixed for i in range(STATE_SIZE)])
     lam = 1e-3
     f_lo, f_hi = config.min_focal_px_per_width * W, config.max_focal_px_per_width * W
@@ -171,9 +254,10 @@ def fit_camera_to_lines(
 
     def evaluate(candidate):
         associated = problem.associate(candidate)
-        return problem.robust_cost(associated[3], associated[4], candidate), associated
+        return problem.robust_cost(associated, candidate), associated
 
     for iteration in range(1, config.iterations + 1):
+        anchors, normals, targets = association.geometry()
         if len(anchors) == 0:
             break
         r, J = _residuals_and_jacobian(problem, state, anchors, normals, targets)
@@ -188,11 +272,11 @@ def fit_camera_to_lines(
                                                                     cost, 1e-7)
         if improved:
             relative = (cost - c_cost) / max(cost, 1e-12)
-            state, cost = candidate, c_cost
-            anchors, normals, targets, dists, missing = associated
+            state, cost, association = candidate, c_cost, associated
         if not improved or relative < config.min_relative_decrease:
             break
-    if config.polish_power > 2 and len(anchors):
+    dists = association.dists
+    if config.polish_power > 2 and len(association.geometry()[0]):
         state, dists = _polish(problem, state, free, config, (f_lo, f_hi))
     camera = Camera.from_vector(state, W, H)
     return LineFitResult(camera, cost, dists, iteration)
@@ -229,19 +313,20 @@ def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds,
     """Push the worst points in: IRLS on sum min(|d|, cap)^p (p = config.polish_power), distances re-associated."""
     p = config.polish_power
 
-    def objective(dists):
-        values = np.concatenate([d for d in dists.values()]) if dists else np.zeros(0)
+    def objective(association):
+        values = association.distances
         values = np.where(np.isnan(values), cap_px, np.minimum(values, cap_px))
         return float(np.sum(values**p))
 
     def evaluate(candidate):
         associated = problem.associate(candidate)
-        return objective(associated[3]), associated
+        return objective(associated), associated
 
-    anchors, normals, targets, dists, _ = problem.associate(state)
-    best = objective(dists)
+    association = problem.associate(state)
+    best = objective(association)
     lam = 1e-2
     for _ in range(iterations):
+        anchors, normals, targets = association.geometry()
         if len(anchors) == 0:
             break
         r, J = _residuals_and_jacobian(problem, state, anchors, normals, targets)
@@ -257,8 +342,7 @@ def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds,
         accepted, candidate, value, associated, lam = _damped_step(state, free, A, g, lam, 5, focal_bounds, evaluate,
                                                                    best, 1e-6)
         if accepted:
-            best, state = value, candidate
-            anchors, normals, targets, dists = associated[:4]
+            best, state, association = value, candidate, associated
         if not accepted:
             break
-    return state, dists
+    return state, association.dists

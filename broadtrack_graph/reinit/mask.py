@@ -280,11 +280,18 @@ def label_points_by_camera(camera: Camera, points_px: np.ndarray, curves: Templa
     names = [n for n in (classes or curves.samples_w) if curves.pitch.is_on_ground(n)]
     best_d = np.full(len(points_px), np.inf)
     best_c = np.full(len(points_px), -1)
+    if not names:
+        return {}
+    # Every class projected at once (one call, not one per class), then read class by class.
+    uv_all, front = camera.project(curves.stacked(names)[0])
+    ok_all = front & camera.in_image(uv_all)
+    ends = np.cumsum([len(curves.samples_w[name]) for name in names])
+    starts = ends - [len(curves.samples_w[name]) for name in names]
+    shown = np.add.reduceat(ok_all, starts)
     for j, name in enumerate(names):
-        uv, front = camera.project(curves.samples_w[name])
-        ok = front & camera.in_image(uv)
-        if ok.sum() < 2:
+        if shown[j] < 2:
             continue
+        uv, ok = uv_all[starts[j]:ends[j]], ok_all[starts[j]:ends[j]]
         valid = ok[:-1] & ok[1:]
         if not valid.any():
             continue

@@ -72,6 +72,9 @@ def test_project_state_agrees_with_camera_project_on_random_points():
         # Pitch points, raised points, and points behind the camera (beyond the touchline).
         points = np.column_stack([rng.uniform(-60, 60, 200), rng.uniform(-40, 80, 200), rng.uniform(-3, 0, 200)])
         uv, _, in_front = project_state(state, points, W, H, want_jacobian=False)
+        uv_with_jacobian, _, in_front_with_jacobian = project_state(state, points, W, H)
+        np.testing.assert_array_equal(uv, uv_with_jacobian)  # the rotation alone, or with its derivatives
+        np.testing.assert_array_equal(in_front, in_front_with_jacobian)
         expected, front = camera.project(points)
         np.testing.assert_array_equal(in_front, front)
         assert (~in_front).any() and in_front.any()

@@ -8,8 +8,9 @@ from reinit_helpers import labelled_lines as _lines
 from reinit_helpers import reference_camera as _camera
 
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves
-from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
+from broadtrack_graph.geometry.state import project_state
+from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
+from broadtrack_graph.reinit.linefit import LineFitConfig, _Problem, fit_camera_to_lines
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -25,3 +26,48 @@ def test_fit_camera_to_lines_converges_from_a_perturbed_start():
     assert 0.0 < result.max_distance_px < 1.5
     assert result.camera.focal_px == pytest.approx(truth.focal_px, rel=0.03)
     assert result.camera.pan_deg == pytest.approx(truth.pan_deg, abs=0.2)
+
+
+def _association_class_by_class(problem, state):
+    """What :meth:`_Problem.associate` gives (the geometry, the distances, the points missed), class by class with
+    :func:`closest_on_polyline` (the reference)."""
+    uv, _, front = project_state(state, problem.all_samples, W, H, want_jacobian=False)
+    anchors, normals, targets, dists, missing = [], [], [], {}, 0
+    for j, name in enumerate(problem.names):
+        poly, ok = uv[problem.offsets[j]:problem.offsets[j + 1]], front[problem.offsets[j]:problem.offsets[j + 1]]
+        points, valid = problem.points[name], ok[:-1] & ok[1:]
+        if not valid.any():
+            dists[name], missing = np.full(len(points), np.nan), missing + len(points)
+            continue
+        seg, t, d = closest_on_polyline(points, poly, valid)
+        samples = CURVES.samples_w[name]
+        anchors.append(samples[seg] + t[:, None] * (samples[seg + 1] - samples[seg]))
+        direction = poly[seg + 1] - poly[seg]
+        direction /= np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
+        normals.append(np.stack([-direction[:, 1], direction[:, 0]], axis=1))
+        targets.append(points)
+        dists[name] = d
+    return np.vstack(anchors), np.vstack(normals), np.vstack(targets), dists, missing
+
+
+def test_association_of_all_classes_at_once_is_the_nearest_segment_of_each_class_to_the_bit():
+    camera = _camera()
+    lines = _lines(camera, np.random.default_rng(3), noise_px=4.0)
+    lines["Circle central"] = np.vstack([lines["Circle central"], [[900.0, 30.0], [5.0, 500.0]]])  # far from it
+    problem = _Problem(lines, CURVES, W, H, LineFitConfig(), None)
+    inside_the_pitch = camera.to_vector()
+    inside_the_pitch[5:8] = (0.0, 0.0, -13.0)  # the classes on the camera's side of the halfway line are behind it
+    missing = []
+    for state in (camera.to_vector(), camera.replace(pan_rad=camera.pan_rad + 0.05, focal_px=900.0).to_vector(),
+                  inside_the_pitch):
+        association = problem.associate(state)
+        got, want = (*association.geometry(), association.dists, association.missing), \
+            _association_class_by_class(problem, state)
+        for a, b in zip(got[:3], want[:3]):
+            np.testing.assert_array_equal(a, b)
+        assert got[3].keys() == want[3].keys()
+        for name in want[3]:
+            np.testing.assert_array_equal(got[3][name], want[3][name])
+        assert got[4] == want[4]
+        missing.append(got[4])
+    assert missing[0] == 0 and missing[2] > 0

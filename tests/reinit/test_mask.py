@@ -231,3 +231,31 @@ def test_a_stage_fitted_deep_shares_the_frames_map_structures(hard_frames):
     assert _map_structures(other.marking_mask, other.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH) is not usual
     wider = MaskSearchConfig(score_hit_px=2 * MaskSearchConfig().score_hit_px)  # a setting the scorers read
     assert _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, wider) is not usual
+
+
+def test_points_are_named_by_the_nearest_class_projected_in_view():
+    from reinit_helpers import labelled_lines, reference_camera
+
+    from broadtrack_graph.geometry.template import closest_on_polyline
+    from broadtrack_graph.reinit.mask import label_points_by_camera
+
+    camera = reference_camera()
+    lines = labelled_lines(camera, np.random.default_rng(4), noise_px=1.0)
+    points = np.vstack(list(lines.values()) + [[[5.0, 5.0], [950.0, 20.0]]])  # two points near no marking
+    named = label_points_by_camera(camera, points, CURVES, gate_px=6.0)
+    # The reference: each ground class projected on its own, a point named by the nearest one within the gate.
+    distances = np.full((len(points), len(CURVES.samples_w)), np.inf)
+    names = list(CURVES.samples_w)
+    for j, name in enumerate(names):
+        if not PITCH.is_on_ground(name):
+            continue
+        uv, front = camera.project(CURVES.samples_w[name])
+        ok = front & camera.in_image(uv)
+        if (ok[:-1] & ok[1:]).any():
+            distances[:, j] = closest_on_polyline(points, uv, ok[:-1] & ok[1:])[2]
+    nearest, within = np.argmin(distances, axis=1), distances.min(axis=1) < 6.0
+    expected = {name: points[within & (nearest == j)] for j, name in enumerate(names)}
+    assert named.keys() == {name for name, p in expected.items() if len(p) >= 3}
+    for name, named_points in named.items():
+        np.testing.assert_array_equal(named_points, expected[name])
+    assert len(named) >= 4 and sum(map(len, named.values())) <= len(points) - 2
