@@ -67,12 +67,18 @@ class Detections:
             return mask
         return resize_mask(mask, self.width_px, self.height_px)
 
-    def to_observations(self, frame_index: int, flow: FlowMatches | None = None) -> FrameObservations:
-        """The graph's FrameObservations for this frame (flow from :mod:`broadtrack_graph.detect.flow`)."""
+    def to_observations(self, frame_index: int, flow: FlowMatches | None = None,
+                        with_marking_mask: bool = True) -> FrameObservations:
+        """The graph's FrameObservations for this frame (flow from :mod:`broadtrack_graph.detect.flow`).
+
+        with_marking_mask: give the observations the marking map at the frame size; False: none (the tracker reads
+        the map from the detections, at the working size: scaling it up costs about a millisecond a frame).
+        """
         return FrameObservations(
             frame_index=frame_index, width_px=self.width_px, height_px=self.height_px,
             lines_px={name: np.asarray(points, float) for name, points in self.lines_px.items() if len(points)},
-            keypoints=self.keypoints, flow=flow, marking_mask=self.full_size(self.marking_mask),
+            keypoints=self.keypoints, flow=flow,
+            marking_mask=self.full_size(self.marking_mask) if with_marking_mask else None,
             player_boxes_px=np.asarray(self.player_boxes_px, float).reshape(-1, 4),
         )
 

@@ -149,11 +149,15 @@ def mask_graphics(detections: Detections, mask: np.ndarray | None) -> Detections
         y = np.clip(((points_px[:, 1] + 0.5) * mh / H).astype(int), 0, mh - 1)
         return points_px[~mask[y, x]]
 
+    clear: dict = {}  # (h, w) -> where no graphics lie at that size (the masks share one size: resized once)
+
     def cut(image_mask: np.ndarray | None) -> np.ndarray | None:
         if image_mask is None:
             return None
         h, w = image_mask.shape
-        return image_mask & ~resize_mask(mask, w, h)
+        if (h, w) not in clear:
+            clear[h, w] = ~resize_mask(mask, w, h)
+        return image_mask & clear[h, w]
 
     return replace(detections, lines_px={name: outside(p) for name, p in detections.lines_px.items()},
                    marking_points_px=outside(detections.marking_points_px),

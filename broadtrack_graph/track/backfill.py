@@ -17,7 +17,7 @@ so memory stays bounded over a match. No I/O.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -178,7 +178,7 @@ class Backfill:
             if packed is None:
                 break
             detections = self.name(packed.found(), PredictedCamera(camera, NAMING_UNCERTAINTY_PX))
-            observations = detections.to_observations(frame_index, None)
+            observations = detections.to_observations(frame_index, None, with_marking_mask=False)
             if not observations.lines_px:
                 break
             if self._builder is None:
@@ -193,6 +193,5 @@ class Backfill:
                 break
             previous = self.recovered.get(frame_index)
             if previous is None or confidence > previous.confidence:
-                self.recovered[frame_index] = Backfilled(refined, float(confidence), source, camera_id,
-                                                         replace(observations, marking_mask=None))
+                self.recovered[frame_index] = Backfilled(refined, float(confidence), source, camera_id, observations)
             camera = refined

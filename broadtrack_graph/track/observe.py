@@ -97,7 +97,7 @@ class FrameObserver:
                                  self.config.flow, self.half_pitch_m)
             self.timings["flow_s"] += time.perf_counter() - started
         if detections is not None and frame.observations is None:
-            observations = detections.to_observations(frame.frame_index, flow)
+            observations = detections.to_observations(frame.frame_index, flow, with_marking_mask=False)
             self._prev_keep_mask = flow_keep_mask(detections)
         elif flow is not None:
             observations = replace(observations, flow=flow)
@@ -124,7 +124,7 @@ class FrameObserver:
         if (self.detector is not None and frame.image is not None and detections is not None
                 and detections.marking_mask is not None and not observations.lines_px):
             detections = self.detect(frame, PredictedCamera(camera, RENAMING_UNCERTAINTY_PX))
-            observations = detections.to_observations(frame.frame_index, None)
+            observations = detections.to_observations(frame.frame_index, None, with_marking_mask=False)
         return observations, detections
 
     def shows_no_pitch(self, observations: FrameObservations, detections: Detections | None) -> bool:
