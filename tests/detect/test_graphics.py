@@ -38,11 +38,13 @@ def test_a_fixed_logo_is_masked_and_the_scene_is_not():
 def test_mask_graphics_drops_points_and_mask_pixels_under_it():
     field = np.ones((90, 160), bool)
     detections = Detections(320, 180, lines_px={"Middle line": np.array([[30.0, 20.0], [200.0, 100.0]])},
-                            marking_points_px=np.array([[30.0, 20.0], [200.0, 100.0]]), field_mask=field)
+                            marking_points_px=np.array([[30.0, 20.0], [200.0, 100.0]]), field_mask=field,
+                            marking_mask=np.ones((180, 320), bool))  # the masks at two sizes
     mask = np.zeros((45, 80), bool)
     mask[0:12, 0:25] = True  # covers (30, 20) in frame pixels
     out = mask_graphics(detections, mask)
     assert out.marking_points_px.tolist() == [[200.0, 100.0]]
     assert out.lines_px["Middle line"].tolist() == [[200.0, 100.0]]
     assert not out.field_mask[5, 10] and out.field_mask[60, 100]
+    assert not out.marking_mask[:48, :100].any() and out.marking_mask.sum() == 320 * 180 - 48 * 100
     assert mask_graphics(detections, None) is detections

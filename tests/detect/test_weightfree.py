@@ -64,6 +64,8 @@ def test_detector_names_markings_within_a_pixel_and_finds_players():
     # Observations for the graph: full-size marking map, the named points as they are.
     obs = det.to_observations(5)
     assert obs.marking_mask.shape == (H, W) and obs.line_point_count == sum(len(p) for p in det.lines_px.values())
+    without_map = det.to_observations(5, with_marking_mask=False)  # the tracker's: it reads the detections' map
+    assert without_map.marking_mask is None and without_map.lines_px.keys() == obs.lines_px.keys()
     picture = draw_detections(image, det, truth)
     assert picture.shape == image.shape and not np.array_equal(picture, image)
     # Without a prediction nothing is named, the map is still there.
