@@ -210,21 +210,39 @@ def polish_locally(hypotheses: list[Hypothesis], scorer: MapScorer, config: Mask
                            np.array([h.cost for h in hypotheses]) * weights, config.local_polish_top_k,
                            config.distinct_per_width * width_px, width_px)
     grid = np.array(np.meshgrid([-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], indexing="ij")).reshape(3, -1)
+    # Each chosen hypothesis's pattern search: [pan, tilt, f, cost, step]. The searches run side by side, those at
+    # one focal point scored in one call per round (each camera's score is its own: the same moves as one by one).
+    searches = {k: [hypotheses[k].pan_rad, hypotheses[k].tilt_rad, hypotheses[k].focal_px, hypotheses[k].cost,
+                    config.local_polish_step_per_width * width_px] for k in chosen}
+    min_step_px = config.local_polish_min_step_per_width * width_px
+    active = [k for k in chosen if searches[k][4] >= min_step_px]
+    while active:
+        at_position: dict[tuple, list[int]] = {}
+        for k in active:
+            at_position.setdefault(tuple(np.asarray(hypotheses[k].position_w, float)), []).append(k)
+        for ks in at_position.values():
+            pans, tilts, focals = [], [], []
+            for k in ks:
+                pan, tilt, focal, _, step_px = searches[k]
+                angle, factor = step_px / focal, 1.0 + step_px / (width_px / 2.0)
+                pans.append(pan + grid[0] * angle)
+                tilts.append(tilt + grid[1] * angle)
+                focals.append(focal * factor ** grid[2])
+            pans, tilts, focals = np.concatenate(pans), np.concatenate(tilts), np.concatenate(focals)
+            costs = scorer.costs(hypotheses[ks[0]].position_w, pans, tilts, focals, config.score_hit_px,
+                                 config.score_point_px).reshape(len(ks), -1)
+            for row, k in enumerate(ks):
+                j = int(np.argmin(costs[row]))
+                search = searches[k]
+                if costs[row, j] < search[3] - 1e-9:
+                    search[:4] = [float(pans[row * grid.shape[1] + j]), float(tilts[row * grid.shape[1] + j]),
+                                  float(focals[row * grid.shape[1] + j]), float(costs[row, j])]
+                else:
+                    search[4] /= 2.0
+        active = [k for k in active if searches[k][4] >= min_step_px]
     out = list(hypotheses)
-    for k in chosen:
-        h = hypotheses[k]
-        pan, tilt, focal, cost = h.pan_rad, h.tilt_rad, h.focal_px, h.cost
-        step_px = config.local_polish_step_per_width * width_px
-        while step_px >= config.local_polish_min_step_per_width * width_px:
-            angle, factor = step_px / focal, 1.0 + step_px / (width_px / 2.0)
-            pans, tilts, focals = pan + grid[0] * angle, tilt + grid[1] * angle, focal * factor ** grid[2]
-            costs = scorer.costs(h.position_w, pans, tilts, focals, config.score_hit_px, config.score_point_px)
-            j = int(np.argmin(costs))
-            if costs[j] < cost - 1e-9:
-                pan, tilt, focal, cost = float(pans[j]), float(tilts[j]), float(focals[j]), float(costs[j])
-            else:
-                step_px /= 2.0
-        out[k] = Hypothesis(h.position_w, pan, tilt, focal, cost)
+    for k, (pan, tilt, focal, cost, _) in searches.items():
+        out[k] = Hypothesis(hypotheses[k].position_w, pan, tilt, focal, cost)
     return out
 
 

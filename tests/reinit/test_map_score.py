@@ -80,3 +80,41 @@ def test_polish_locally_brings_a_shifted_hypothesis_onto_the_map_and_leaves_the_
     assert abs(math.degrees(moved.tilt_rad - truth.tilt_rad)) < 0.1
     assert moved.focal_px == pytest.approx(truth.focal_px, rel=0.01)
     assert polish_locally([off], scorer, replace(CONFIG, local_polish_top_k=0), W) == [off]
+
+
+def test_polished_side_by_side_as_one_by_one_to_the_bit():
+    truth = Camera.from_degrees(1300.0, 0.0, 9.0, 77.0, 0.0, (0.0, 55.0, -12.0), W, H)
+    mask, points = _drawn_map(truth)
+    scorer = MapScorer(mask, points, (W, H), PITCH, CONFIG)
+    rng = np.random.default_rng(8)
+    hypotheses = []
+    for position in ((0.0, 55.0, -12.0), (0.0, 55.0, -12.0), (3.0, 60.0, -15.0), (0.0, 55.0, -12.0)):
+        pan = truth.pan_rad + math.radians(rng.uniform(-3, 3))
+        tilt, focal = truth.tilt_rad + math.radians(rng.uniform(-2, 2)), truth.focal_px * rng.uniform(0.9, 1.1)
+        cost = float(scorer.costs(position, [pan], [tilt], [focal], CONFIG.score_hit_px, CONFIG.score_point_px)[0])
+        hypotheses.append(Hypothesis(np.array(position), pan, tilt, focal, cost))
+    polished = polish_locally(hypotheses, scorer, CONFIG, W)
+    # The reference: each hypothesis's pattern search on its own, one score call per step.
+    grid = np.array(np.meshgrid([-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], indexing="ij")).reshape(3, -1)
+    chosen = best_distinct(*(np.array([getattr(h, name) for h in hypotheses]) for name in ("pan_rad", "tilt_rad",
+                                                                                         "focal_px", "cost")),
+                           CONFIG.local_polish_top_k, CONFIG.distinct_per_width * W, W)
+    assert len(chosen) >= 3
+    for k, (h, got) in enumerate(zip(hypotheses, polished)):
+        if k not in chosen:
+            assert got is h
+            continue
+        pan, tilt, focal, cost = h.pan_rad, h.tilt_rad, h.focal_px, h.cost
+        step_px = CONFIG.local_polish_step_per_width * W
+        while step_px >= CONFIG.local_polish_min_step_per_width * W:
+            angle, factor = step_px / focal, 1.0 + step_px / (W / 2.0)
+            pans, tilts, focals = pan + grid[0] * angle, tilt + grid[1] * angle, focal * factor ** grid[2]
+            costs = scorer.costs(h.position_w, pans, tilts, focals, CONFIG.score_hit_px, CONFIG.score_point_px)
+            j = int(np.argmin(costs))
+            if costs[j] < cost - 1e-9:
+                pan, tilt, focal, cost = float(pans[j]), float(tilts[j]), float(focals[j]), float(costs[j])
+            else:
+                step_px /= 2.0
+        assert (got.pan_rad, got.tilt_rad, got.focal_px, got.cost) == (pan, tilt, focal, cost)
+        np.testing.assert_array_equal(got.position_w, h.position_w)
+    assert sum(got.cost < h.cost for h, got in zip(hypotheses, polished)) >= 3
