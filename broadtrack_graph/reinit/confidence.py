@@ -28,6 +28,7 @@ tracker re-initialises and ignores flow from the previous camera. No I/O.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -73,20 +74,29 @@ def pixels_within(points_px: np.ndarray, size: tuple[int, int], tolerance_px: fl
         The same pairs as a KD-tree query with ``distance_upper_bound=tolerance_px``, without building a tree.
     """
     w, h = size
-    reach = int(math.ceil(tolerance_px))
-    offsets = np.arange(-reach, reach + 2)
-    ox, oy = (o.ravel() for o in np.meshgrid(offsets, offsets))
-    # Offsets from floor(point) that a point of the unit cell can be within the tolerance of.
-    gap_x, gap_y = np.maximum(np.maximum(ox - 1, -ox), 0), np.maximum(np.maximum(oy - 1, -oy), 0)
-    reachable = gap_x * gap_x + gap_y * gap_y < tolerance_px * tolerance_px
-    ox, oy = ox[reachable], oy[reachable]
-    base = np.floor(points_px).astype(np.int64)
+    ox, oy = _reachable_offsets(float(tolerance_px))
+    base = np.floor(points_px).astype(np.int32)  # grid indices (a frame is far under 2^31 pixels)
     cols, rows = base[:, 0:1] + ox, base[:, 1:2] + oy
     dx, dy = cols - points_px[:, 0:1], rows - points_px[:, 1:2]
     distance2 = dx * dx
     distance2 += dy * dy
     near = (distance2 < tolerance_px * tolerance_px) & (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
     return near, rows * w + cols
+
+
+@functools.lru_cache(maxsize=8)
+def _reachable_offsets(tolerance_px: float) -> tuple[np.ndarray, np.ndarray]:
+    """(K,) int32 column and row offsets from floor(point) that a point of the unit cell can be within the
+    tolerance of (the same for every call with this tolerance: made once)."""
+    reach = int(math.ceil(tolerance_px))
+    offsets = np.arange(-reach, reach + 2)
+    ox, oy = (o.ravel() for o in np.meshgrid(offsets, offsets))
+    gap_x, gap_y = np.maximum(np.maximum(ox - 1, -ox), 0), np.maximum(np.maximum(oy - 1, -oy), 0)
+    reachable = gap_x * gap_x + gap_y * gap_y < tolerance_px * tolerance_px
+    ox, oy = ox[reachable].astype(np.int32), oy[reachable].astype(np.int32)
+    ox.setflags(write=False)
+    oy.setflags(write=False)
+    return ox, oy
 
 
 def _resized(mask: np.ndarray, w: int, h: int) -> np.ndarray:
