@@ -228,15 +228,15 @@ def polish_locally(hypotheses: list[Hypothesis], scorer: MapScorer, config: Mask
                 pans.append(pan + grid[0] * angle)
                 tilts.append(tilt + grid[1] * angle)
                 focals.append(focal * factor ** grid[2])
-            pans, tilts, focals = np.concatenate(pans), np.concatenate(tilts), np.concatenate(focals)
-            costs = scorer.costs(hypotheses[ks[0]].position_w, pans, tilts, focals, config.score_hit_px,
-                                 config.score_point_px).reshape(len(ks), -1)
+            pans, tilts, focals = np.stack(pans), np.stack(tilts), np.stack(focals)  # (searches, 27)
+            costs = scorer.costs(hypotheses[ks[0]].position_w, pans.ravel(), tilts.ravel(), focals.ravel(),
+                                 config.score_hit_px, config.score_point_px).reshape(pans.shape)
             for row, k in enumerate(ks):
                 j = int(np.argmin(costs[row]))
                 search = searches[k]
                 if costs[row, j] < search[3] - 1e-9:
-                    search[:4] = [float(pans[row * grid.shape[1] + j]), float(tilts[row * grid.shape[1] + j]),
-                                  float(focals[row * grid.shape[1] + j]), float(costs[row, j])]
+                    search[:4] = [float(pans[row, j]), float(tilts[row, j]), float(focals[row, j]),
+                                  float(costs[row, j])]
                 else:
                     search[4] /= 2.0
         active = [k for k in active if searches[k][4] >= min_step_px]

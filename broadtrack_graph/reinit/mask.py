@@ -285,8 +285,9 @@ def label_points_by_camera(camera: Camera, points_px: np.ndarray, curves: Templa
     # Every class projected at once (one call, not one per class), then read class by class.
     uv_all, front = camera.project(curves.stacked(names)[0])
     ok_all = front & camera.in_image(uv_all)
-    ends = np.cumsum([len(curves.samples_w[name]) for name in names])
-    starts = ends - [len(curves.samples_w[name]) for name in names]
+    sizes = [len(curves.samples_w[name]) for name in names]
+    ends = np.cumsum(sizes)
+    starts = ends - sizes
     shown = np.add.reduceat(ok_all, starts)
     for j, name in enumerate(names):
         if shown[j] < 2:
