@@ -84,21 +84,28 @@ def ground_points(state_prev: np.ndarray, uv_prev_px: np.ndarray, width_px: int,
     return points_w, dX, hits
 
 
-def flow_residuals(state_prev, state_cur, uv_prev_px, uv_cur_px, width_px, height_px, want_jacobian=True):
+def flow_residuals(state_prev, state_cur, uv_prev_px, uv_cur_px, width_px, height_px, want_jacobian=True,
+                   previous_fixed=False):
     """Transfer errors of flow matches through the ground plane.
+
+    Args:
+        previous_fixed: camera t-1 is held (a prediction of camera t): its Jacobian is not made (None).
 
     Returns:
         :class:`~factors.custom.Residuals`: residual (N, 2) predicted minus observed pixel in
         frame t; jacobians [J_prev, J_cur], (N, 2, 8) each, or None; valid (N,) bool.
     """
-    points_w, dX, hits = ground_points(state_prev, uv_prev_px, width_px, height_px, want_jacobian)
+    points_w, dX, hits = ground_points(state_prev, uv_prev_px, width_px, height_px,
+                                       want_jacobian and not previous_fixed)
     uv_hat, J_cur, in_front = project_state(state_cur, points_w, width_px, height_px, want_jacobian)
     valid = hits & in_front
     residual = np.where(valid[:, None], uv_hat - uv_cur_px, 0.0)
     if not want_jacobian:
         return Residuals(residual, None, valid)
-    J_prev = project_state_dX(state_cur, points_w) @ dX
-    J_prev[~valid] = 0.0
+    J_prev = None
+    if not previous_fixed:
+        J_prev = project_state_dX(state_cur, points_w) @ dX
+        J_prev[~valid] = 0.0
     J_cur[~valid] = 0.0
     return Residuals(residual, [J_prev, J_cur], valid)
 

@@ -145,7 +145,8 @@ class OnlineTracker:
         prior_info = 1.0 / sigmas**2
         x = previous_state.copy()
         for _ in range(iterations):
-            r, (_, J), valid = flow_residuals(previous_state, x, flow.uv_prev_px, flow.uv_cur_px, self.width_px, self.height_px)
+            r, (_, J), valid = flow_residuals(previous_state, x, flow.uv_prev_px, flow.uv_cur_px, self.width_px,
+                                              self.height_px, previous_fixed=True)
             if valid.sum() < 8:
                 return previous_state
             r = r[valid] / m.flow_sigma_px

@@ -130,6 +130,12 @@ def test_flow_transfer_is_exact_and_jacobians_match(ground_points):
     _, (J_prev, J_cur), _ = flow_residuals(s_prev, s_cur, uv_prev, uv_cur_noisy, W, H)
     assert_jacobian_close(J_prev.reshape(-1, 8), numeric_jacobian(fn_prev, s_prev, STEPS))
     assert_jacobian_close(J_cur.reshape(-1, 8), numeric_jacobian(fn_cur, s_cur, STEPS))
+    # Camera t-1 held (the prediction of camera t): the same residuals and J_cur, no J_prev.
+    r_held, (no_prev, J_cur_held), valid_held = flow_residuals(s_prev, s_cur, uv_prev, uv_cur_noisy, W, H,
+                                                               previous_fixed=True)
+    assert no_prev is None and valid_held.all()
+    np.testing.assert_array_equal(r_held, flow_residuals(s_prev, s_cur, uv_prev, uv_cur_noisy, W, H)[0])
+    np.testing.assert_array_equal(J_cur_held, J_cur)
 
 
 def test_tripod_residual_zero_on_tripod_and_jacobians():
