@@ -73,14 +73,11 @@ class _Problem:
     def __init__(self, lines_px, curves: TemplateCurves, width_px, height_px, config: LineFitConfig, position_prior_w):
         self.names = [n for n, p in lines_px.items() if n in curves.samples_w and len(p)]
         self.points = {n: np.asarray(lines_px[n], dtype=float).reshape(-1, 2) for n in self.names}
-        self.curves = curves
         self.width_px, self.height_px = width_px, height_px
         self.config = config
         self.position_prior_w = None if position_prior_w is None else np.asarray(position_prior_w, float)
         self.all_samples = np.vstack([curves.samples_w[n] for n in self.names]) if self.names else np.zeros((0, 3))
         sizes = [len(curves.samples_w[n]) for n in self.names]
-        self.offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
-        self.point_count = sum(len(p) for p in self.points.values())
         self._pairs = _PointSegmentPairs([len(self.points[n]) for n in self.names], sizes)
         self.all_points = np.vstack([self.points[n] for n in self.names]) if self.names else np.zeros((0, 2))
         self._pair_x, self._pair_y = (self.all_points[self._pairs.point, k] for k in (0, 1))

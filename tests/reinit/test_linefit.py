@@ -33,8 +33,9 @@ def _association_class_by_class(problem, state):
     :func:`closest_on_polyline` (the reference)."""
     uv, _, front = project_state(state, problem.all_samples, W, H, want_jacobian=False)
     anchors, normals, targets, dists, missing = [], [], [], {}, 0
+    offsets = np.cumsum([0] + [len(CURVES.samples_w[name]) for name in problem.names])
     for j, name in enumerate(problem.names):
-        poly, ok = uv[problem.offsets[j]:problem.offsets[j + 1]], front[problem.offsets[j]:problem.offsets[j + 1]]
+        poly, ok = uv[offsets[j]:offsets[j + 1]], front[offsets[j]:offsets[j + 1]]
         points, valid = problem.points[name], ok[:-1] & ok[1:]
         if not valid.any():
             dists[name], missing = np.full(len(points), np.nan), missing + len(points)
