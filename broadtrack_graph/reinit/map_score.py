@@ -170,6 +170,61 @@ class MapScorer:
         return out
 
 
+    def plane_costs(self, H_px: np.ndarray, sign: np.ndarray, px_per_m_at_unit: np.ndarray, hit_px: float,
+                    point_px: float, chunk: int = 256) -> np.ndarray:
+        """(K,) costs of ground-plane homographies, any camera (the same score as :meth:`costs`, no distortion).
+
+        Args:
+            H_px: (K, 3, 3) pitch (x, y, 1) metres -> frame pixels.
+            sign: (K,) +-1: a ground point X is in front of the camera when ``sign * (H_px X)_z > 0``.
+            px_per_m_at_unit: (K,) frame pixels per metre of a marking at ``sign * (H_px X)_z = 1`` (f over the
+                depth scale): a sample's image length is this over ``sign * (H_px X)_z``.
+        """
+        dt, scale, config = self.dt, self.scale, self.config
+        h, w = dt.shape
+        ground_h = np.column_stack([self.samples_w[:, :2], np.ones(len(self.samples_w))])  # (S, 3)
+        pts_h = np.column_stack([self.points_c + [self.W / 2.0, self.H / 2.0], np.ones(len(self.points_c))])
+        tol2 = (point_px / scale) ** 2
+        b2 = config.score_beta ** 2
+        out = np.full(len(H_px), np.inf)
+        for s in range(0, len(H_px), chunk):
+            Hk, sg = H_px[s:s + chunk], sign[s:s + chunk, None]
+            uvw = np.einsum("kij,sj->kis", Hk, ground_h)  # (k, 3, S)
+            depth = sg * uvw[:, 2]
+            front = depth > 1e-9
+            inv = np.where(front, 1.0 / np.where(front, uvw[:, 2], 1.0), 0.0)
+            u, v = uvw[:, 0] * inv * scale, uvw[:, 1] * inv * scale
+            inside = front & (u >= 0) & (u < w - 1) & (v >= 0) & (v < h - 1)
+            d = dt[np.where(inside, v, 0).astype(np.int32), np.where(inside, u, 0).astype(np.int32)]
+            length = np.where(inside, px_per_m_at_unit[s:s + chunk, None] * scale * config.score_template_step_m
+                              / np.where(front, depth, 1.0), 0.0)
+            recall = np.sum(length * (d <= hit_px), axis=1) / np.maximum(np.sum(length, axis=1),
+                                                                         config.score_min_template_px)
+            if len(pts_h):
+                # Marking points onto the pitch (H^-1), to their nearest painted marking, and back (H).
+                back = np.einsum("kij,mj->kim", np.linalg.inv(Hk), pts_h)  # (k, 3, M)
+                ahead = sg * back[:, 2] > 1e-12
+                wz = np.where(ahead, back[:, 2], 1.0)
+                col = np.rint((back[:, 0] / wz - self.origin[0]) / self.resolution).astype(np.int64)
+                row = np.rint((back[:, 1] / wz - self.origin[1]) / self.resolution).astype(np.int64)
+                on_grid = ahead & (col >= 0) & (col < self.nearest_xy.shape[1]) & (row >= 0) & (
+                    row < self.nearest_xy.shape[0])
+                near = self.nearest_xy[np.where(on_grid, row, 0), np.where(on_grid, col, 0)]  # (k, M, 2)
+                fwd = np.einsum("kij,kmj->kim", Hk, np.concatenate([near, np.ones(near.shape[:2] + (1,))], axis=2))
+                ok = on_grid & (sg * fwd[:, 2] > 1e-12)
+                fz = np.where(ok, fwd[:, 2], 1.0)
+                du, dv = fwd[:, 0] / fz - pts_h[:, 0], fwd[:, 1] / fz - pts_h[:, 1]
+                precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
+            else:
+                precision = np.ones_like(recall)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                score = np.where(precision + recall > 0, (1 + b2) * precision * recall / (b2 * precision + recall), 0.0)
+            cost = -score
+            cost[inside.sum(axis=1) < 8] = np.inf
+            out[s:s + chunk] = cost
+        return out
+
+
 @dataclass
 class Hypothesis:
     """A roll-0, k1-0 camera proposed from the marking map: focal point position_w (3,) metres, pan_rad and

@@ -92,7 +92,7 @@ def reinit_from_mask(
         return ReinitResult(None, None, "", "too few marking pixels")
     positions = list(DEFAULT_TRIPOD_POSITIONS_W.values()) if positions_w is None else [tuple(p) for p in positions_w]
     ground = [n for n in pitch.elements if pitch.is_on_ground(n)]
-    structures = _map_structures(marking_mask, points_px, (W, H), pitch, config)
+    structures = map_structures(marking_mask, points_px, (W, H), pitch, config)
     scorer, lines = structures.scorer, structures.lines
     lines_w = pitch_lines(pitch)
     ratio = (config.line_focal_range_per_width[1] / config.line_focal_range_per_width[0]) ** (
@@ -190,7 +190,7 @@ def reinit_from_mask(
 class MapStructures:
     """What a search takes from one marking map before any candidate position: the scorers, the straight
     markings and the ellipses (the border ones when asked). The stages of a search (several calls of
-    :func:`reinit_from_mask` on one frame) share them: :func:`_map_structures` keeps the last frame's."""
+    :func:`reinit_from_mask` on one frame) share them: :func:`map_structures` keeps the last frame's."""
 
     def __init__(self, marking_mask: np.ndarray, points_px: np.ndarray, frame_size: tuple[int, int],
                  pitch: PitchTemplate, config: MaskSearchConfig):
@@ -218,7 +218,7 @@ class MapStructures:
 _LAST_STRUCTURES: list = []  # [(key, pitch, MapStructures)] of the last frame searched
 
 
-def _map_structures(marking_mask, points_px, frame_size, pitch, config) -> MapStructures:
+def map_structures(marking_mask, points_px, frame_size, pitch, config) -> MapStructures:
     """The :class:`MapStructures` of a map: the last frame's when the map, points, size and settings are the same
     (the deep fits' settings aside: a stage fitted deep shares the structures of the frame's other stages)."""
     config = replace(config, deep_fits=0, deep_distinct_per_width=0.0)

@@ -68,3 +68,4 @@ class ReinitResult:
     hypothesis: str
     reason: str = ""
     tried: int = 0
+    twin: Camera | None = None  # the camera half a turn round the centre spot, which explains the markings as well

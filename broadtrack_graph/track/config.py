@@ -28,6 +28,9 @@ class TrackingConfig:
     # The learned field model tried after the guesses and before the global search: "shipped" (the package's
     # model), "none", or a field model's .onnx (with its contract)
     reinit_model: str = "shipped"
+    # A camera from the marking map alone, wherever it stands (reinit/court.py), tried after the guesses and before
+    # the field model and the global search; taken when its chain can be trusted from it (False: not tried)
+    court_reinit: bool = True
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each

@@ -40,6 +40,7 @@ from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.cheap import refine_guesses
+from broadtrack_graph.reinit.court import court_reinit
 from broadtrack_graph.reinit.field_model import model_reinit_for
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 from broadtrack_graph.track.backfill import Backfill
@@ -102,7 +103,8 @@ class TrackingRun:
         self.known_tripod = tripod
         known = {camera_id: t.T_w for camera_id, t in (tripods or {}).items()}
         self.policy = ReinitPolicy(config, reinitialise, refine_guesses, confidence, CameraRegistry(known=known),
-                                   reinit_positions, model_reinit_for(config.reinit_model) if detector else None)
+                                   reinit_positions, model_reinit_for(config.reinit_model) if detector else None,
+                                   court_reinit if config.court_reinit and reinit_positions is None else None)
         self.confidence = confidence
         self.on_frame_done = on_frame_done
         use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
@@ -336,7 +338,7 @@ class TrackingRun:
             self.timings["backfill_s"] = self.backfill.seconds
         extra = dict(extra_summary or {})
         tripod, by_camera = self.online_tripod.write(self.solver, RunFolder(self.out_dir), extra)
-        model_s = {"reinit_model_s": self.policy.model.seconds} if self.policy.model is not None else {}
+        model_s = {"reinit_model_s": self.policy.tries.model.seconds} if self.policy.tries.model is not None else {}
         extra["timings_s"] = {k: round(v, 3) for k, v in {**self.timings, **model_s}.items()}
         extra["solver_restarts"] = self.solver.rebuilds
         self.policy.close()

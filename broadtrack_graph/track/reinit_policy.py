@@ -15,13 +15,18 @@ What is tried, cheapest first:
    still stands where its camera stands): this is how a camera returning after a close-up or a
    replay is recognised. Every known camera's guesses are tried on the frames of
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`, as the field model is.
-2. **The learned field model** (image input): its keypoints give a camera wherever it stands
+2. **The court model** (a marking map): a camera from the straight markings alone, wherever it stands
+   (:func:`~broadtrack_graph.reinit.court.court_reinit`, :class:`~broadtrack_graph.track.frame_tries.FrameTries`):
+   taken when its chain can be trusted from it (a new shot's camera: confident by the margin), with the id of where
+   it stands (its twin when a known camera stands there); else a candidate the later tries must beat. On its own
+   :class:`~broadtrack_graph.track.search_budget.TrySchedule`.
+3. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
    map. Taken when confident (a new shot's camera: when certain, :data:`CERTAIN_CONFIDENCE`), with
    the id of where it stands; else a candidate the search must beat. It tries every frame of a shot's first
    frames it cannot place (up to 10), then waits 1, 2, 4, ... frames after each
    (:class:`~broadtrack_graph.track.search_budget.TrySchedule`): a shot it cannot place costs little.
-3. **The global search** in stages, when the search budget allows.
+4. **The global search** in stages, when the search budget allows.
 
    * A shot whose camera is not known yet: the known cameras' positions, the default positions (main, 16 m,
      behind the goal), the main camera further back, each low gantry, the other camera kinds, and while none of
@@ -70,6 +75,7 @@ from broadtrack_graph.reinit.near_miss import best_along_line_of_sight, best_wal
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
 from broadtrack_graph.track.search_budget import SearchBudget, TrySchedule
 from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
@@ -81,8 +87,6 @@ Refiner = Callable[[list, object, object], ReinitResult]
 """``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit."""
 Confidence = Callable[..., float | None]
 """``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
-ModelCamera = Callable[[np.ndarray], ReinitResult]
-"""``image_bgr -> ReinitResult``: a camera from the learned field model alone."""
 
 @dataclass(frozen=True)
 class ReinitDecision:
@@ -121,11 +125,12 @@ class ReinitPolicy:
         search_positions: candidate focal points given to the run (``--reinit-position``): searched
             instead of the default stages.
         model: a camera from the learned field model (:data:`ModelCamera`), or None.
+        court: a camera from the marking map wherever it stands (:data:`CourtCamera`), or None.
     """
 
     def __init__(self, config: TrackingConfig, search: Search, refine: Refiner, confidence: Confidence,
                  registry: CameraRegistry | None = None, search_positions=None,
-                 model: ModelCamera | None = None) -> None:
+                 model: ModelCamera | None = None, court: CourtCamera | None = None) -> None:
         self.config = config
         self.search = search
         self.stages = StageRunner(search, default_search_workers() if config.search_workers is None
@@ -138,10 +143,10 @@ class ReinitPolicy:
         self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
         self.camera_id: str | None = None
         self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
-        self.model = model
-        self.model_schedule, self.guess_schedule = TrySchedule(), TrySchedule()  # the model's, every camera's guesses
-        self.counts = {"guess_used": 0, "model_used": 0, "model_tried": 0, "global": 0, "stages": 0, "deep_stages": 0,
-                       "walks": 0, "skipped_by_budget": 0}
+        self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
+        self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
+                       "global": 0, "stages": 0, "deep_stages": 0, "walks": 0, "skipped_by_budget": 0}
+        self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
 
     def close(self) -> None:
         """Stop the search's workers (the end of the run)."""
@@ -154,7 +159,7 @@ class ReinitPolicy:
         self.registry.forget_untrusted()
         self.camera_id, self._shot_start_confidences = None, None
         self.budget.restart()
-        self.model_schedule.new_stretch()
+        self.tries.new_stretch()
         self.guess_schedule.new_stretch()
 
     def switch(self, camera_id: str | None) -> None:
@@ -166,7 +171,7 @@ class ReinitPolicy:
         if self.camera_id is not None:
             self.registry.trust(self.camera_id, frame_index, camera)
         self.budget.restart()
-        self.model_schedule.confident()
+        self.tries.confident()
         self.guess_schedule.confident()
 
     def tripod(self, camera_id: str, T_w) -> None:
@@ -220,7 +225,18 @@ class ReinitPolicy:
         new_camera = untrusted and self.search_positions is None and with_map
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
         candidate = None if guess is None else (guess, guess_id, guess_confidence, True, "refined " + guess.reason)
-        modelled, modelled_confidence = self._model_camera(i, image, detections, curves, score)
+        court, court_confidence = self.tries.court_camera(observations, detections, curves, score)
+        if court is not None:
+            # The primary route: a camera from the markings alone, taken when its chain can be trusted from it.
+            if court_confidence >= threshold + (margin if new_camera else 0.0):
+                self.counts["court_used"] += 1
+                return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
+                                      False, court.hypothesis, held, held_confidence, chain_trusted, new_camera)
+            if court_confidence >= threshold and (candidate is None or court_confidence > candidate[2]):
+                # Confident, not by the margin: a candidate the later tries must beat (an unconfident one is not
+                # kept: a wrong camera would hold the solver against the search's).
+                candidate = (court, None, court_confidence, False, court.hypothesis)
+        modelled, modelled_confidence = self.tries.model_camera(i, image, detections, curves, score)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
             # distance trade-off of the right view can reach the margin (measured on a real 360p shot: 0.66,
@@ -325,24 +341,6 @@ class ReinitPolicy:
         if every_camera and guesses:
             self.guess_schedule.tried(frame_index, best[2] >= self.config.confidence_threshold)
         return best
-
-    def _model_camera(self, frame_index: int, image, detections, curves, score) -> tuple[ReinitResult | None, float]:
-        """The field model's camera for the frame, refined on the marking map, and its confidence; (None, 0) when
-        there is no model or image, the model is backing off, or it found nothing."""
-        if self.model is None or image is None or not self.model_schedule.allows(frame_index):
-            return None, 0.0
-        self.counts["model_tried"] += 1
-        result = self.model(image)
-        found = None
-        if result.camera is not None:
-            refined = self.refine([(result.hypothesis, result.camera)], detections, curves)
-            camera = refined.camera if refined.camera is not None else result.camera
-            confidence = score(camera)
-            if confidence is None:  # no marking map and no lines: the model's own keypoints
-                confidence = result.score.inlier_share if result.score is not None else 0.0
-            found = (ReinitResult(camera, result.score, result.hypothesis), float(confidence))
-        self.model_schedule.tried(frame_index, found is not None and found[1] >= self.config.confidence_threshold)
-        return found if found is not None else (None, 0.0)
 
     def _paid(self) -> int:
         """Stages paid so far (the budget's unit): a walk costs up to one, a stage fitted deep about DEEP_STAGE_COST."""

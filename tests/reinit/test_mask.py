@@ -220,17 +220,17 @@ def test_the_search_fitting_deep_places_a_real_frame_it_otherwise_misses(real_vi
 def test_a_stage_fitted_deep_shares_the_frames_map_structures(hard_frames):
     """The marking map's structures (scorers, straight markings, ellipses) do not depend on the deep fits' settings:
     a stage fitted deep reuses those the frame's other stages built, and a new map builds its own."""
-    from broadtrack_graph.reinit.mask import _map_structures
+    from broadtrack_graph.reinit.mask import map_structures
     from broadtrack_graph.reinit.mask_config import DEEP_SEARCH, MaskSearchConfig
 
     _, det = hard_frames[0]
-    usual = _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, MaskSearchConfig())
-    deep = _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH)
+    usual = map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, MaskSearchConfig())
+    deep = map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH)
     assert deep is usual
     _, other = hard_frames[1]
-    assert _map_structures(other.marking_mask, other.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH) is not usual
+    assert map_structures(other.marking_mask, other.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH) is not usual
     wider = MaskSearchConfig(score_hit_px=2 * MaskSearchConfig().score_hit_px)  # a setting the scorers read
-    assert _map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, wider) is not usual
+    assert map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, wider) is not usual
 
 
 def test_points_are_named_by_the_nearest_class_projected_in_view():

@@ -195,10 +195,18 @@ def test_a_rerun_clears_what_the_earlier_run_left(tmp_path):
     assert list((out / "cameras").iterdir()) == [] and result.summary["frames_written"] == 0
 
 
+def test_the_court_model_places_the_first_frame_before_the_field_model_and_the_search(clip, tmp_path):
+    run = track_input(clip, tmp_path / "court", TrackingConfig(mode="online"), end=6, progress=False)
+    counts = run.summary["reinit_searches"]
+    assert counts["court_used"] == 1 and counts["model_tried"] == 0 and counts["global"] == 0
+    assert jac5(clip, tmp_path / "court")["accuracy"] >= 0.9
+
+
 def test_the_shipped_field_model_places_the_first_frame_without_the_global_search(clip, tmp_path):
-    with_model = track_input(clip, tmp_path / "model", TrackingConfig(mode="online"), end=6, progress=False)
-    without = track_input(clip, tmp_path / "search", TrackingConfig(mode="online", reinit_model="none"), end=6,
-                          progress=False)
+    with_model = track_input(clip, tmp_path / "model", TrackingConfig(mode="online", court_reinit=False), end=6,
+                             progress=False)
+    without = track_input(clip, tmp_path / "search", TrackingConfig(mode="online", reinit_model="none",
+                                                                    court_reinit=False), end=6, progress=False)
     assert with_model.summary["reinit_searches"]["model_used"] == 1
     assert with_model.summary["reinit_searches"]["global"] == 0 and without.summary["reinit_searches"]["global"] == 1
     assert with_model.summary["timings_s"]["reinit_s"] < without.summary["timings_s"]["reinit_s"]

@@ -1,0 +1,153 @@
+"""A camera from one frame's marking map, wherever the camera stands: court-model hypotheses, scored, then fitted.
+
+:func:`reinit_from_court` assumes no camera position. It takes the straight markings of the map
+(:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two
+directions by vanishing point, and forms every camera that puts two lines of each direction on two
+pitch lines of that direction (:mod:`.court_lines`: one homography each, decomposed with the
+principal point at the image centre and gated on plausibility). All hypotheses are scored at once
+on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
+found in the map and the map explained by the template); the best distinct few are fitted with the
+label-and-fit rounds (:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point
+free) and the best fit is returned with its confidence.
+
+The twin: the markings are unchanged by a half turn about the centre spot, so every hypothesis has
+a twin that explains the map as well (the same view from the other end). The rule that decides
+here: the focal point on the main camera's side (y > 0) wins; a camera on the halfway line's axis
+(|y| under ``twin_tie_m``) is kept at x < 0. A tracker that knows a camera's tripod decides first
+(its guesses are tried before this search). ``ReinitResult.twin`` carries the other camera.
+
+Conventions: pitch frame in metres, origin at the centre spot, z down. No I/O.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.court_lines import (
+    CourtLineConfig,
+    concatenate,
+    line_families,
+    line_hypotheses,
+    pixel_homographies,
+)
+from broadtrack_graph.reinit.map_score import best_distinct
+from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map
+from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
+
+
+@dataclass(frozen=True)
+class CourtConfig:
+    """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
+
+    lines: CourtLineConfig = CourtLineConfig()  # the hypotheses
+    # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
+    # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
+    search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24))
+    min_marking_points: int = 10  # fewer marking points: no camera, said at once
+    max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
+    refine_top_k: int = 4  # the best distinct hypotheses fitted
+    refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
+    distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
+    twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
+
+
+def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size: tuple[int, int],
+                      pitch: PitchTemplate | None = None, curves: TemplateCurves | None = None,
+                      field_mask: np.ndarray | None = None, config: CourtConfig = CourtConfig()) -> ReinitResult:
+    """A camera for a frame from its unlabelled marking map, with no guess of where the camera stands.
+
+    Args:
+        marking_mask: bool marking map (frame size or a reduced size of the same aspect ratio).
+        marking_points_px: (M, 2) centre-line points of the markings, frame pixels.
+        frame_size: (W, H) of the frame (the camera's resolution).
+        field_mask: optional bool map of the playing surface (for the confidence).
+
+    Returns:
+        ReinitResult: the camera at frame_size with its confidence (``score.jaccard``) and its twin
+        (``twin``), ``tried`` hypotheses; or camera None and a one-line reason.
+    """
+    pitch = pitch or PitchTemplate()
+    curves = curves or TemplateCurves(pitch)
+    W, H = frame_size
+    points_px = np.asarray(marking_points_px, float).reshape(-1, 2)
+    if not marking_mask.any() or len(points_px) < config.min_marking_points:
+        return ReinitResult(None, None, "", "too few marking pixels")
+    structures = map_structures(marking_mask, points_px, (W, H), pitch, config.search)
+    lines = structures.lines
+    splits = line_families(lines, (W, H), config.lines)
+    if not splits:
+        return ReinitResult(None, None, "", f"the straight markings do not give two of each direction "
+                                            f"({len(lines)} lines)")
+    support = np.array([line.support_px for line in lines])
+    parts = []  # the likeliest splits first, until the hypotheses' cap (a frame full of lines stays bounded)
+    for families in splits:
+        parts.append(line_hypotheses(families, support, pitch, (W, H), config.lines))
+        if sum(len(part) for part in parts) >= config.max_hypotheses:
+            break
+    hypotheses = concatenate(parts)
+    if not len(hypotheses):
+        return ReinitResult(None, None, "", f"no plausible camera puts {len(lines)} straight markings on pitch lines")
+    H_px = pixel_homographies(hypotheses, (W, H))
+    px_per_m = hypotheses.focal_n * (W / 2.0) * hypotheses.scale_m
+    search = config.search
+    costs = structures.scorer.plane_costs(H_px, hypotheses.sign, px_per_m, search.score_hit_px, search.score_point_px)
+    # A hypothesis and its twin score the same: the twin rule orders them before the distinct choice.
+    C = hypotheses.C_w
+    twin_side = np.where(np.abs(C[:, 1]) >= config.twin_tie_m, C[:, 1] < 0, C[:, 0] > 0)
+    focal_px = hypotheses.focal_n * (W / 2.0)
+    pans, tilts = hypotheses.angles_rad[:, 0], hypotheses.angles_rad[:, 1]
+    # The image of a hypothesis and of its twin are the same: distinct by image, the kept side first.
+    order_costs = costs + 1e-6 * twin_side
+    chosen = best_distinct(np.where(twin_side, pans + math.pi, pans), tilts, focal_px, order_costs,
+                           config.refine_top_k, config.distinct_per_width * W, W)
+    if not chosen:
+        return ReinitResult(None, None, "", "no hypothesis shows the template in the image", tried=len(hypotheses))
+    points = fit_points(points_px, search)
+    best = None  # (fit score, camera)
+    for k in chosen:
+        if costs[k] > config.refine_cost_share * costs[chosen[0]]:
+            break
+        start = _camera_of(hypotheses, k, W, H)
+        camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
+        score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
+        if best is None or score > best[0]:
+            best = (score, camera)
+    camera = _main_side(best[1], config.twin_tie_m)
+    confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
+    position = tuple(round(float(v)) for v in camera.position_m)
+    return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0),
+                                f"court model at {position}", tried=len(hypotheses)), twin=twin_camera(camera))
+
+
+def _camera_of(hypotheses, k: int, W: int, H: int) -> Camera:
+    pan, tilt, roll = (float(v) for v in hypotheses.angles_rad[k])
+    return Camera(float(hypotheses.focal_n[k] * W / 2.0), 0.0, pan, tilt, roll, hypotheses.C_w[k], W, H)
+
+
+def twin_camera(camera: Camera) -> Camera:
+    """The camera turned half round the centre spot: it sees the markings exactly as ``camera`` does."""
+    x, y, z = camera.position_m
+    pan = math.remainder(camera.pan_rad + math.pi, 2 * math.pi)
+    return camera.replace(pan_rad=pan, position_m=np.array([-x, -y, z]))
+
+
+def _main_side(camera: Camera, tie_m: float) -> Camera:
+    """``camera`` or its twin, by the twin rule of the module docstring."""
+    x, y, _ = camera.position_m
+    other_side = y < 0 if abs(y) >= tie_m else x > 0
+    return twin_camera(camera) if other_side else camera
+
+
+def court_reinit(detections, frame_size: tuple[int, int], curves: TemplateCurves) -> ReinitResult:
+    """:func:`reinit_from_court` on a frame's detections (its marking map, marking points and field mask)."""
+    return reinit_from_court(detections.marking_mask, detections.marking_points_px, frame_size, curves.pitch, curves,
+                             detections.field_mask)

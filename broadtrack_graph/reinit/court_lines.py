@@ -1,0 +1,341 @@
+"""Camera hypotheses from straight markings alone, wherever the camera stands (court-model calibration). No I/O.
+
+The pitch's straight markings fall in two families: lines parallel to the touchlines (``y = c``)
+and lines parallel to the goal lines (``x = c``). In the image each family's lines meet at a
+vanishing point, and the ground-plane homography ``H = K [r1 r2 t]`` (pitch ``(x, y, 1)`` metres ->
+pixels) has those vanishing points as its first two columns: ``h1 ~ v_x``, ``h2 ~ v_y``. What the
+line correspondences add is one number per line. Every line of the ``y = c`` family passes through
+``v_x``, so with the pencil coordinate ``tau = (q . l) / (v_y . l)`` (``q`` the image centre; the
+horizon, through both vanishing points, is ``tau = inf``) the pitch offset of the line is affine in
+tau, ``c = a tau + b``, and likewise for the other family. Two lines of a family put on two pitch
+lines fix its ``(a, b)``; one such pair per family fixes H:
+
+    H = [-v_x / a_y, -v_y / a_x, q + (b_x / a_x) v_y + (b_y / a_y) v_x]
+
+(``a_x, b_x`` of the ``y = c`` family, ``a_y, b_y`` of the ``x = c`` family). Every pairing of two
+image lines of each family with two pitch lines of that family is a hypothesis, all formed at once;
+:func:`cameras_from_homographies` turns the homographies into cameras (principal point at the
+image centre, square pixels: ``f`` from the orthogonality and equal norm of ``K^-1 h1`` and
+``K^-1 h2``) and gates them on plausibility. Lens distortion is ignored here (the fit that follows
+frees k1).
+
+Image coordinates inside this module are normalised: ``x_n = (u - W / 2) / s``, ``y_n = (v - H / 2) / s``
+with ``s = W / 2``. Pitch frame: SoccerNet (metres, origin at the centre spot, z down).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from broadtrack_graph.detect.marking_structures import ImageLine
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.state import angles_from_rotations
+
+
+@dataclass(frozen=True)
+class CourtLineConfig:
+    """Settings of the line-family hypotheses (angles in degrees, pixels at the frame size unless stated)."""
+
+    max_lines_per_family: int = 4  # the best supported image lines of each family are paired
+    family_angle_px: float = 2.5  # a line joins a vanishing point when its far end is within this of the ray
+    family_angle_min_deg: float = 0.3  # ... an angle tolerance never tighter than this ...
+    family_angle_max_deg: float = 2.5  # ... nor looser than this
+    min_line_coverage: float = 0.6  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
+    hatch_min_lines: int = 4  # this many parallel lines side by side are a hatch, not markings ...
+    hatch_angle_deg: float = 4.0  # ... (within this angle of each other ...
+    hatch_spacing_per_width: float = 0.03  # ... their centres within this share of the width across)
+    vanishing_candidates: int = 3  # the best distinct vanishing points taken as the first direction ...
+    second_candidates: int = 2  # ... each with this many best distinct ones among the lines it leaves
+    focal_range_per_width: tuple[float, float] = (0.45, 16.0)  # f / W accepted (fields of view about 126 to 3.6 deg)
+    max_axis_mismatch: float = 0.12  # |K^-1 h1| / |K^-1 h2| - 1 and the cosine between them, at most
+    height_range_m: tuple[float, float] = (2.0, 150.0)  # focal point above the grass
+    max_distance_m: float = 250.0  # focal point within this horizontal distance of the centre spot
+    max_roll_deg: float = 10.0  # |roll| of a broadcast camera
+    off_pitch_margin_m: float = 0.5  # the focal point stands off the playing area by at least this
+
+
+@dataclass(frozen=True)
+class LineFamilies:
+    """The image lines split into the pitch's two directions.
+
+    lines_n: (L, 3) every image line, normalised coordinates, ``a^2 + b^2 = 1``.
+    family: (L,) 0 or 1 for the family a line joined, -1 for none.
+    vanishing_n: (2, 3) the families' vanishing points (homogeneous, unit norm); rows of a family with
+        fewer than two lines are NaN.
+    scale_px: s of the normalisation; centre_px: (2,) the image centre.
+    """
+
+    lines_n: np.ndarray
+    family: np.ndarray
+    vanishing_n: np.ndarray
+    scale_px: float
+    centre_px: np.ndarray
+
+    def members(self, k: int, max_lines: int, support_px: np.ndarray) -> np.ndarray:
+        """Indices of family k's lines, the best supported ``max_lines`` of them."""
+        own = np.nonzero(self.family == k)[0]
+        return own[np.argsort(-support_px[own])][:max_lines]
+
+
+def normalised_lines(lines: list[ImageLine], frame_size: tuple[int, int]) -> tuple[np.ndarray, float, np.ndarray]:
+    """(L, 3) the lines ``n . p + o = 0`` (frame pixels) in normalised coordinates, with s and the image centre."""
+    W, H = frame_size
+    s, centre = W / 2.0, np.array([W / 2.0, H / 2.0])
+    if not lines:
+        return np.zeros((0, 3)), s, centre
+    normals = np.array([line.normal for line in lines], float)
+    offsets = np.array([line.offset_px for line in lines], float)
+    out = np.column_stack([normals * s, normals @ centre + offsets])
+    return out / np.linalg.norm(out[:, :2], axis=1, keepdims=True), s, centre
+
+
+def _meets(lines_n: np.ndarray, centres_n: np.ndarray, tolerances: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(P, L) whether each line points at each homogeneous point (P, 3), within its angle tolerance (L,) radians."""
+    to_point = points[:, None, :2] - centres_n[None, :, :] * points[:, None, 2:3]  # (P, L, 2), valid at infinity
+    norm = np.linalg.norm(to_point, axis=2)
+    along = np.stack([-lines_n[:, 1], lines_n[:, 0]], axis=1)  # line directions (L, 2)
+    sine = np.abs(to_point[..., 0] * along[None, :, 1] - to_point[..., 1] * along[None, :, 0]) / np.maximum(norm, 1e-12)
+    return sine < np.sin(tolerances)[None, :]
+
+
+def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
+                  config: CourtLineConfig = CourtLineConfig()) -> list[LineFamilies]:
+    """Ways of splitting the image lines into the pitch's two directions, likeliest first.
+
+    Every intersection of two lines is a candidate vanishing point, voted for by the support (map
+    pixels) of the lines pointing at it. Each of the ``vanishing_candidates`` best distinct points
+    (their line sets overlapping by at most half) is a first direction, paired with the
+    ``second_candidates`` best distinct points of the lines it leaves; a pair is kept when the two
+    directions can be orthogonal for some focal length in range (two finite vanishing points v1, v2 of orthogonal
+    directions satisfy ``v1 . v2 = -f^2`` about the image centre). Each family's vanishing point is the
+    least-squares meeting point of its lines. A goal net's strands or a board's edges make vanishing
+    points of their own: the pairs of the map's few best points are all kept, and the map decides.
+    Lines drawn along less than ``min_line_coverage`` of their extent (a Hough line through scattered
+    specks) and lines of a hatch (:func:`_hatched`: a goal net's strands) join no family.
+    """
+    lines_n, s, centre = normalised_lines(lines, frame_size)
+    L = len(lines_n)
+    if L < 4:
+        return []
+    centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
+    lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
+    support = np.array([line.support_px for line in lines])
+    solid = (support >= config.min_line_coverage * lengths_px) & ~_hatched(lines, frame_size[0], config)
+    tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
+                         math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
+    i, j = np.triu_indices(L, 1)
+    pair_ok = solid[i] & solid[j]
+    i, j = i[pair_ok], j[pair_ok]
+    if not len(i):
+        return []
+    points = np.cross(lines_n[i], lines_n[j])
+    points /= np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
+    meets = _meets(lines_n, centres_n, tolerances, points) & solid[None, :]
+    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)
+    out = []
+    for first in _distinct_sets(meets, meets @ support, config.vanishing_candidates):
+        rest = ~first  # the second direction among the lines the first leaves
+        votes = np.where(rest[i] & rest[j], (meets & rest[None, :]) @ support, -1.0)
+        for second in _distinct_sets(meets & rest[None, :], votes, config.second_candidates):
+            vanishing = np.stack([np.linalg.svd(lines_n[first])[2][-1], np.linalg.svd(lines_n[second])[2][-1]])
+            w1, w2 = vanishing[:, 2]
+            if min(abs(w1), abs(w2)) > 1e-3 * f_hi:  # both finite: the orthogonality gives f
+                f2 = -(vanishing[0, :2] @ vanishing[1, :2]) / (w1 * w2)
+                if not f_lo ** 2 <= f2 <= f_hi ** 2:
+                    continue
+            family = np.full(L, -1)
+            family[first], family[second] = 0, 1
+            out.append(LineFamilies(lines_n, family, vanishing, s, centre))
+    return out
+
+
+def _hatched(lines: list[ImageLine], width_px: int, config: CourtLineConfig) -> np.ndarray:
+    """(L,) the lines of a hatch: with at least ``hatch_min_lines - 1`` others of about the same direction whose
+    centres lie side by side within ``hatch_spacing_per_width`` of the width (a goal net, a striped kit, a board's
+    pattern). The pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
+    directions = np.array([line.direction for line in lines])
+    centres = np.array([line.centre_px for line in lines])
+    halves = np.array([0.5 * (line.extent_px[1] - line.extent_px[0]) for line in lines])
+    parallel = np.abs(directions @ directions.T) > math.cos(math.radians(config.hatch_angle_deg))
+    offset = centres[None, :, :] - centres[:, None, :]
+    across = np.abs(offset[..., 0] * directions[:, None, 1] - offset[..., 1] * directions[:, None, 0])
+    along = np.abs(np.einsum("jki,ji->jk", offset, directions))
+    side_by_side = parallel & (across < config.hatch_spacing_per_width * width_px) & (along < halves[:, None] + halves[None, :])
+    return side_by_side.sum(axis=1) >= config.hatch_min_lines  # itself included
+
+
+def _distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:
+    """Up to ``count`` line sets (rows of meets, (P, L) bool) of at least two lines, best voted first, each sharing
+    at most half its lines with a set taken before it."""
+    taken: list[np.ndarray] = []
+    for k in np.argsort(-votes):
+        members = meets[k]
+        if votes[k] < 0 or members.sum() < 2:
+            break
+        if all(np.sum(members & other) <= 0.5 * min(members.sum(), other.sum()) for other in taken):
+            taken.append(members)
+            if len(taken) >= count:
+                break
+    return taken
+
+
+def pitch_line_offsets(pitch: PitchTemplate) -> tuple[np.ndarray, np.ndarray]:
+    """The offsets (metres) of the straight ground markings: ``y = c`` lines (parallel to the touchlines) and
+    ``x = c`` lines (parallel to the goal lines), each sorted, every painted line counted once."""
+    along_x, along_y = set(), set()
+    for name, element in pitch.elements.items():
+        if not pitch.is_on_ground(name) or not hasattr(element, "start_w"):
+            continue
+        a, b = np.asarray(element.start_w, float), np.asarray(element.end_w, float)
+        if abs(a[1] - b[1]) < 1e-9:
+            along_x.add(round(float(a[1]), 4))
+        elif abs(a[0] - b[0]) < 1e-9:
+            along_y.add(round(float(a[0]), 4))
+    return np.array(sorted(along_x)), np.array(sorted(along_y))
+
+
+def _affine_maps(tau: np.ndarray, offsets_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every ``c = a tau + b`` putting two image lines (pencil coordinates tau, (n,)) on two pitch lines.
+
+    Returns:
+        a, b: (K,) the maps; lines: (K, 2) the image lines used (indices into tau).
+    """
+    n, m = len(tau), len(offsets_m)
+    if n < 2 or m < 2:
+        return np.zeros(0), np.zeros(0), np.zeros((0, 2), int)
+    i, j = np.triu_indices(n, 1)
+    p, q = np.nonzero(~np.eye(m, dtype=bool))  # ordered pitch-line pairs: both directions of the map
+    I, P = np.meshgrid(np.arange(len(i)), np.arange(len(p)), indexing="ij")
+    I, P = I.ravel(), P.ravel()
+    dt = tau[j[I]] - tau[i[I]]
+    ok = np.abs(dt) > 1e-9
+    a = np.where(ok, (offsets_m[q[P]] - offsets_m[p[P]]) / np.where(ok, dt, 1.0), np.nan)
+    b = offsets_m[p[P]] - a * tau[i[I]]
+    return a[ok], b[ok], np.column_stack([i[I], j[I]])[ok]
+
+
+@dataclass(frozen=True)
+class PlaneHypotheses:
+    """Ground-plane homographies (normalised image coordinates) and the cameras they decompose into.
+
+    H_n: (K, 3, 3) pitch (x, y, 1) metres -> normalised image point; focal_n: (K,) f / s; R_cw: (K, 3, 3);
+    C_w: (K, 3) metres; angles_rad: (K, 3) pan, tilt, roll; sign: (K,) +-1, the sign that makes H's image
+    points lie in front of the camera (depth of ground point X = sign * (H_n X)_z / scale_m); scale_m: (K,).
+    """
+
+    H_n: np.ndarray
+    focal_n: np.ndarray
+    R_cw: np.ndarray
+    C_w: np.ndarray
+    angles_rad: np.ndarray
+    sign: np.ndarray
+    scale_m: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.focal_n)
+
+    def take(self, keep) -> "PlaneHypotheses":
+        return PlaneHypotheses(*(getattr(self, name)[keep] for name in self.__dataclass_fields__))
+
+
+def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: PitchTemplate, frame_size,
+                    config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
+    """Every camera putting two lines of each image family on two pitch lines of one direction each
+    (either family as either direction), gated by :func:`cameras_from_homographies`."""
+    along_x, along_y = pitch_line_offsets(pitch)
+    q = np.array([0.0, 0.0, 1.0])
+    homographies = []
+    for first in (0, 1):  # family `first` is the y = c direction (through v_x), the other x = c
+        second = 1 - first
+        v_x, v_y = families.vanishing_n[first], families.vanishing_n[second]
+        lines_a = families.lines_n[families.members(first, config.max_lines_per_family, support_px)]
+        lines_b = families.lines_n[families.members(second, config.max_lines_per_family, support_px)]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tau_a = (lines_a @ q) / (lines_a @ v_y)
+            tau_b = (lines_b @ q) / (lines_b @ v_x)
+        a_x, b_x, _ = _affine_maps(tau_a[np.isfinite(tau_a)], along_x)
+        a_y, b_y, _ = _affine_maps(tau_b[np.isfinite(tau_b)], along_y)
+        if not len(a_x) or not len(a_y):
+            continue
+        A_x, A_y = np.meshgrid(np.arange(len(a_x)), np.arange(len(a_y)), indexing="ij")
+        ax, bx, ay, by = a_x[A_x.ravel()], b_x[A_x.ravel()], a_y[A_y.ravel()], b_y[A_y.ravel()]
+        h1 = -v_x[None, :] / ay[:, None]
+        h2 = -v_y[None, :] / ax[:, None]
+        h3 = q[None, :] + (bx / ax)[:, None] * v_y[None, :] + (by / ay)[:, None] * v_x[None, :]
+        homographies.append(np.stack([h1, h2, h3], axis=2))
+    stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
+    return cameras_from_homographies(stacked, frame_size, pitch, config)
+
+
+def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
+                              config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
+    """The plausible broadcast cameras of ground-plane homographies (normalised image coordinates).
+
+    With ``K_n = diag(f_n, f_n, 1)``, ``a_i = K_n^-1 h_i``: ``a1 . a2 = 0`` and ``|a1| = |a2|`` each give
+    ``1 / f_n^2`` linearly; the least-squares value of both is used (either alone can be degenerate,
+    e.g. the orthogonality when a vanishing point is at infinity). Kept: f in range, the two axes
+    orthogonal and of equal norm within ``max_axis_mismatch``, the focal point above the grass, off
+    the playing area, within reach, and a roll a broadcast camera has.
+
+    Args:
+        H_n: (K, 3, 3) homographies, pitch (x, y, 1) metres -> normalised image points.
+    """
+    W = frame_size[0]
+    H_n = np.asarray(H_n, float).reshape(-1, 3, 3)
+    h1, h2, h3 = H_n[:, :, 0], H_n[:, :, 1], H_n[:, :, 2]
+    A1 = h1[:, 0] * h2[:, 0] + h1[:, 1] * h2[:, 1]
+    B1 = h1[:, 2] * h2[:, 2]
+    A2 = (h1[:, 0] ** 2 + h1[:, 1] ** 2) - (h2[:, 0] ** 2 + h2[:, 1] ** 2)
+    B2 = h1[:, 2] ** 2 - h2[:, 2] ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = -(A1 * B1 + A2 * B2) / (A1 ** 2 + A2 ** 2)
+        focal_n = 1.0 / np.sqrt(g)
+    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
+    keep = np.isfinite(focal_n) & (g > 0) & (focal_n >= f_lo) & (focal_n <= f_hi)
+    H_n, focal_n = H_n[keep], focal_n[keep]
+    scale_k = np.stack([1.0 / focal_n, 1.0 / focal_n, np.ones_like(focal_n)], axis=1)[:, :, None]
+    a = H_n * scale_k  # columns a1, a2, a3
+    n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
+    cosine = np.einsum("ki,ki->k", a[:, :, 0], a[:, :, 1]) / (n1 * n2)
+    keep = (np.abs(n1 / n2 - 1.0) <= config.max_axis_mismatch) & (np.abs(cosine) <= config.max_axis_mismatch)
+    H_n, focal_n, a, n1, n2 = H_n[keep], focal_n[keep], a[keep], n1[keep], n2[keep]
+    # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det).
+    det = np.linalg.det(H_n)
+    w0 = np.cross(H_n[:, :, 0], H_n[:, :, 1])[:, 2] / det
+    sign = np.sign(w0)
+    scale = np.sqrt(n1 * n2)
+    r1 = sign[:, None] * a[:, :, 0] / n1[:, None]
+    r2 = sign[:, None] * a[:, :, 1] / n2[:, None]
+    R = np.stack([r1, r2, np.cross(r1, r2)], axis=2)
+    u, _, vt = np.linalg.svd(R)
+    R = u @ vt  # the nearest rotation
+    t = sign[:, None] * a[:, :, 2] / scale[:, None]
+    C = -np.einsum("kji,kj->ki", R, t)
+    half_l, half_w = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2
+    margin = config.off_pitch_margin_m
+    height = -C[:, 2]
+    angles = angles_from_rotations(R) if len(R) else np.zeros((0, 3))
+    keep = ((sign != 0) & (height >= config.height_range_m[0]) & (height <= config.height_range_m[1])
+            & (np.hypot(C[:, 0], C[:, 1]) <= config.max_distance_m)
+            & ((np.abs(C[:, 0]) >= half_l + margin) | (np.abs(C[:, 1]) >= half_w + margin))
+            & (np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)) & (np.linalg.det(R) > 0))
+    return PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[keep], sign[keep], scale[keep])
+
+
+def concatenate(parts: list[PlaneHypotheses]) -> PlaneHypotheses:
+    """The hypotheses of several parts as one set (an empty set when there are none)."""
+    if not parts:
+        return PlaneHypotheses(np.zeros((0, 3, 3)), np.zeros(0), np.zeros((0, 3, 3)), np.zeros((0, 3)),
+                               np.zeros((0, 3)), np.zeros(0), np.zeros(0))
+    return PlaneHypotheses(*(np.concatenate([getattr(p, name) for p in parts])
+                             for name in PlaneHypotheses.__dataclass_fields__))
+
+
+def pixel_homographies(hypotheses: PlaneHypotheses, frame_size) -> np.ndarray:
+    """(K, 3, 3) the hypotheses' homographies to frame pixels (the normalisation undone)."""
+    W, H = frame_size
+    to_px = np.array([[W / 2.0, 0.0, W / 2.0], [0.0, W / 2.0, H / 2.0], [0.0, 0.0, 1.0]])
+    return to_px[None] @ hypotheses.H_n

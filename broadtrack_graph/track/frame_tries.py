@@ -1,0 +1,89 @@
+"""The single-frame tries of a re-initialisation: the court model and the learned field model, each on its own
+:class:`~broadtrack_graph.track.search_budget.TrySchedule` (a frame neither places makes them wait 1, 2, 4, ...
+frames). Each returns its camera, refined or twinned as the run's cameras decide, with the tracker's confidence.
+The decision that takes or passes them is :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`'s. No I/O.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Callable
+
+import numpy as np
+
+from broadtrack_graph.reinit.scoring import ReinitResult
+from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.search_budget import TrySchedule
+
+ModelCamera = Callable[[np.ndarray], ReinitResult]
+"""``image_bgr -> ReinitResult``: a camera from the learned field model alone."""
+CourtCamera = Callable[..., ReinitResult]
+"""``(detections, frame_size, curves) -> ReinitResult``: a camera from the marking map alone, wherever it stands
+(:func:`broadtrack_graph.reinit.court.court_reinit`), with its twin."""
+
+
+class FrameTries:
+    """The court model's and the field model's tries (module docstring).
+
+    Args:
+        config: the run's thresholds (``confidence_threshold``).
+        registry: the run's cameras by id (the twin of a court camera is taken where a known camera stands).
+        refine: refines a camera on the frame's marking map (the field model's cameras).
+        model, court: the two single-frame calibrators, each None when not used.
+        counts: the policy's counters (``model_tried``, ``court_tried``), updated here.
+    """
+
+    def __init__(self, config: TrackingConfig, registry: CameraRegistry, refine, model: ModelCamera | None,
+                 court: CourtCamera | None, counts: dict) -> None:
+        self.config, self.registry, self.refine = config, registry, refine
+        self.model, self.court, self.counts = model, court, counts
+        self.model_schedule, self.court_schedule = TrySchedule(), TrySchedule()
+
+    def new_stretch(self) -> None:
+        """A cut or a view change: the shot's first frames are tried one by one."""
+        self.model_schedule.new_stretch()
+        self.court_schedule.new_stretch()
+
+    def confident(self) -> None:
+        """A confident frame: a later loss is tried after 1, 2, 4, ... frames."""
+        self.model_schedule.confident()
+        self.court_schedule.confident()
+
+    def model_camera(self, frame_index: int, image, detections, curves, score) -> tuple[ReinitResult | None, float]:
+        """The field model's camera for the frame, refined on the marking map, and its confidence; (None, 0) when
+        there is no model or image, the model is backing off, or it found nothing."""
+        if self.model is None or image is None or not self.model_schedule.allows(frame_index):
+            return None, 0.0
+        self.counts["model_tried"] += 1
+        result = self.model(image)
+        found = None
+        if result.camera is not None:
+            refined = self.refine([(result.hypothesis, result.camera)], detections, curves)
+            camera = refined.camera if refined.camera is not None else result.camera
+            confidence = score(camera)
+            if confidence is None:  # no marking map and no lines: the model's own keypoints
+                confidence = result.score.inlier_share if result.score is not None else 0.0
+            found = (ReinitResult(camera, result.score, result.hypothesis), float(confidence))
+        self.model_schedule.tried(frame_index, found is not None and found[1] >= self.config.confidence_threshold)
+        return found if found is not None else (None, 0.0)
+
+    def court_camera(self, observations, detections, curves, score) -> tuple[ReinitResult | None, float]:
+        """The court model's camera for the frame (or its twin, when a known camera stands where the twin does) and
+        its confidence; (None, 0) without a court model or a marking map, while it backs off, or when it found
+        nothing."""
+        i = observations.frame_index
+        if self.court is None or getattr(detections, "marking_mask", None) is None or not self.court_schedule.allows(i):
+            return None, 0.0
+        self.counts["court_tried"] += 1
+        result = self.court(detections, (observations.width_px, observations.height_px), curves)
+        if result.camera is None:
+            self.court_schedule.tried(i, False)
+            return None, 0.0
+        camera, twin = result.camera, result.twin
+        if twin is not None and self.registry.nearest(camera.position_m, camera.R_cw[2]) is None \
+                and self.registry.nearest(twin.position_m, twin.R_cw[2]) is not None:
+            camera, twin = twin, camera  # a known camera's tripod decides the twin
+        confidence = float(score(camera) or 0.0)
+        self.court_schedule.tried(i, confidence >= self.config.confidence_threshold)
+        return replace(result, camera=camera, twin=twin), confidence

@@ -1,0 +1,82 @@
+"""The court model on rendered frames: cameras wherever they stand, the twin rule, frames it cannot place."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+from reinit_helpers import median_template_error_px
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.court import reinit_from_court, twin_camera
+
+PITCH = PitchTemplate()
+CURVES = TemplateCurves(PITCH)
+W, H = 960, 540
+
+
+def _aimed(position, target, hfov_deg: float, k1: float = 0.02) -> Camera:
+    from broadtrack_graph.synth.field_cameras import aim_angles
+
+    pan, tilt = aim_angles(np.asarray(position, float), np.asarray(target, float))
+    return Camera(W / 2 / math.tan(math.radians(hfov_deg) / 2), k1, pan, tilt, 0.004, position, W, H)
+
+
+def _detect(camera: Camera):
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.synth.clip import render_clip
+
+    image = render_clip("main", 1, W, H, seed=3, cameras=[camera]).frames[0].image
+    return WeightFreeDetector(PITCH).detect(image)
+
+
+@pytest.mark.parametrize("position, target, hfov_deg", [
+    ((0.0, 80.0, -30.0), (-30.0, 0.0, 0.0), 20.0),  # a main camera far back, the left penalty area
+    ((0.0, 55.0, -15.0), (38.0, 0.0, 0.0), 30.0),  # the main camera, the right penalty area
+])
+def test_the_court_model_finds_a_camera_it_was_not_told_where_to_look_for(position, target, hfov_deg):
+    truth = _aimed(position, target, hfov_deg)
+    det = _detect(truth)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (W, H), PITCH, CURVES, det.field_mask)
+    assert result.camera is not None, result.reason
+    assert median_template_error_px(result.camera, truth) < 2.0
+    assert np.linalg.norm(result.camera.position_m - truth.position_m) < 3.0
+    assert result.score.jaccard >= 0.7 and result.tried > 0
+
+
+def test_the_twin_rule_keeps_the_main_cameras_side():
+    truth = _aimed((10.0, -50.0, -12.0), (30.0, -10.0, 0.0), 35.0)  # the far side: the twin stands at y > 0
+    det = _detect(truth)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (W, H), PITCH, CURVES, det.field_mask)
+    assert result.camera is not None and result.camera.position_m[1] > 0
+    assert median_template_error_px(result.twin, truth) < 2.0
+    assert np.allclose(twin_camera(result.twin).position_m, result.camera.position_m)
+
+
+def test_a_frame_without_markings_gets_no_camera_at_once():
+    empty = np.zeros((H, W), bool)
+    result = reinit_from_court(empty, np.zeros((0, 2)), (W, H), PITCH, CURVES)
+    assert result.camera is None and result.reason == "too few marking pixels"
+    one_line = np.zeros((H, W), bool)
+    one_line[300, 100:800] = True
+    points = np.column_stack([np.arange(100, 800, 10), np.full(70, 300)]).astype(float)
+    result = reinit_from_court(one_line, points, (W, H), PITCH, CURVES)
+    assert result.camera is None and "two of each direction" in result.reason
+
+
+def test_a_frame_full_of_lines_is_bounded_in_time():
+    rng = np.random.default_rng(4)
+    mask = np.zeros((H, W), np.uint8)
+    import cv2
+
+    for _ in range(80):  # a crowd of straight edges in every direction
+        a, b = rng.uniform([0, 0], [W, H], (2, 2))
+        cv2.line(mask, (int(a[0]), int(a[1])), (int(b[0]), int(b[1])), 1, 1)
+    points = np.column_stack(np.nonzero(mask)[::-1]).astype(float)[::7]
+    started = time.perf_counter()
+    reinit_from_court(mask > 0, points, (W, H), PITCH, CURVES)
+    assert time.perf_counter() - started < 10.0  # a loose bound: the hypotheses are capped, not the clock

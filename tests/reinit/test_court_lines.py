@@ -1,0 +1,113 @@
+"""Court-model hypotheses: line families, the homographies they make, and their decomposition into cameras."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from broadtrack_graph.detect.marking_structures import ImageLine
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.court_lines import (
+    cameras_from_homographies,
+    line_families,
+    line_hypotheses,
+    pitch_line_offsets,
+)
+
+PITCH = PitchTemplate()
+W, H = 1280, 720
+
+
+def _image_lines(camera: Camera, segments_w) -> list[ImageLine]:
+    """The exact image lines (no distortion) of pitch segments ((2, 3) metres each), as the Hough step returns them."""
+    out = []
+    for a, b in segments_w:
+        (ua, ub), front = camera.project(np.array([a, b], float))
+        assert front.all()
+        direction = (ub - ua) / np.linalg.norm(ub - ua)
+        normal = np.array([-direction[1], direction[0]])
+        centre = 0.5 * (ua + ub)
+        half = 0.5 * np.linalg.norm(ub - ua)
+        out.append(ImageLine(normal, float(-normal @ centre), centre, direction, (-0.8 * half, 0.8 * half), 1.6 * half))
+    return out
+
+
+def _box_view() -> Camera:
+    """A camera behind and beside the right goal, seeing the penalty area (both line directions)."""
+    return Camera.from_degrees(1100.0, 0.0, -46.0, 63.0, 0.4, (75.0, 30.0, -22.0), W, H)
+
+
+BOX_SEGMENTS = [  # pieces of the right penalty area's lines that _box_view sees
+    ((52.5, -15.0, 0.0), (52.5, 15.0, 0.0)),  # goal line (x = 52.5)
+    ((36.0, -15.0, 0.0), (36.0, 15.0, 0.0)),  # 16.5 m line (x = 36)
+    ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),  # goal area line (x = 47)
+    ((36.5, 20.16, 0.0), (52.0, 20.16, 0.0)),  # penalty area side (y = 20.16)
+    ((36.5, -20.16, 0.0), (52.0, -20.16, 0.0)),  # the other side (y = -20.16)
+    ((47.5, 9.16, 0.0), (52.0, 9.16, 0.0)),  # goal area side (y = 9.16)
+]
+
+
+def test_pitch_line_offsets_are_the_painted_lines_of_each_direction():
+    along_x, along_y = pitch_line_offsets(PITCH)
+    assert np.allclose(along_x, [-34.0, -20.16, -9.16, 9.16, 20.16, 34.0], atol=0.01)
+    assert np.allclose(along_y, [-52.5, -47.0, -36.0, 0.0, 36.0, 47.0, 52.5], atol=0.01)
+
+
+def test_line_families_split_the_lines_by_direction():
+    lines = _image_lines(_box_view(), BOX_SEGMENTS)
+    splits = line_families(lines, (W, H))
+    assert splits
+    family = splits[0].family
+    assert len(set(family[:3])) == 1 and len(set(family[3:])) == 1 and family[0] != family[3] and -1 not in family
+
+
+def test_a_hypothesis_is_the_true_camera():
+    truth = _box_view()
+    lines = _image_lines(truth, BOX_SEGMENTS)
+    support = np.array([line.support_px for line in lines])
+    hypotheses = line_hypotheses(line_families(lines, (W, H))[0], support, PITCH, (W, H))
+    assert len(hypotheses) > 1
+    gap = np.linalg.norm(hypotheses.C_w - truth.position_m, axis=1)
+    k = int(np.argmin(gap))
+    assert gap[k] < 1e-6 * 100
+    assert hypotheses.focal_n[k] * W / 2 == pytest.approx(truth.focal_px, rel=1e-6)
+    assert np.allclose(hypotheses.angles_rad[k], [truth.pan_rad, truth.tilt_rad, truth.roll_rad], atol=1e-7)
+    # Every hypothesis is a plausible broadcast camera: above the grass, off the playing area.
+    C = hypotheses.C_w
+    assert np.all(C[:, 2] <= -2.0) and np.all((np.abs(C[:, 0]) > 52.5) | (np.abs(C[:, 1]) > 34.0))
+
+
+def _normalised_homography(camera: Camera) -> np.ndarray:
+    """The camera's ground-plane homography in the normalised image coordinates of the module."""
+    K_n = np.diag([2 * camera.focal_px / W, 2 * camera.focal_px / W, 1.0])
+    R, t = camera.R_cw, -camera.R_cw @ camera.position_m
+    return K_n @ np.column_stack([R[:, 0], R[:, 1], t])
+
+
+@pytest.mark.parametrize("scale", [1.0, -3.5])
+def test_a_homography_decomposes_into_its_camera_whatever_its_scale(scale):
+    truth = _box_view()
+    cameras = cameras_from_homographies(scale * _normalised_homography(truth)[None], (W, H), PITCH)
+    assert len(cameras) == 1
+    assert np.allclose(cameras.C_w[0], truth.position_m, atol=1e-6)
+    assert cameras.focal_n[0] * W / 2 == pytest.approx(truth.focal_px, rel=1e-9)
+
+
+def test_implausible_cameras_are_gated():
+    main = Camera.from_degrees(1500.0, 0.0, 0.0, 75.0, 0.0, (0.0, 55.0, -15.0), W, H)
+    on_pitch = main.replace(position_m=np.array([0.0, 20.0, -15.0]))
+    rolled = main.replace(roll_rad=math.radians(25.0))
+    mirrored = _normalised_homography(main) @ np.diag([1.0, -1.0, 1.0])  # the pitch seen in a mirror
+    stacked = np.stack([_normalised_homography(main), _normalised_homography(on_pitch),
+                        _normalised_homography(rolled), mirrored])
+    kept = cameras_from_homographies(stacked, (W, H), PITCH)
+    assert len(kept) == 1 and np.allclose(kept.C_w[0], main.position_m, atol=1e-6)
+
+
+def test_too_few_lines_give_no_split():
+    lines = _image_lines(_box_view(), BOX_SEGMENTS[:3])  # one direction only
+    assert all(min(np.sum(s.family == 0), np.sum(s.family == 1)) >= 2 for s in line_families(lines, (W, H)))
+    assert line_families(lines[:1], (W, H)) == []
