@@ -9,6 +9,9 @@ the re-initialisation policy for the frame's camera as the tracker does at a new
 field model first, then the search in stages, on one process). Found: a camera at least
 ``confidence_threshold + reinit_switch_margin`` confident (what a new shot's chain needs to be
 trusted) whose projected ground template lies within ``--success-px`` (median) of the truth's.
+
+``--random N`` draws N cameras anywhere around the pitch instead, under random looks, and asks every
+single-frame route for each: :mod:`broadtrack_graph.benchmarks.random_placements`.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import time
 import numpy as np
 
 from broadtrack_graph.arguments import float_between
+from broadtrack_graph.benchmarks import random_placements
 from broadtrack_graph.benchmarks.options import add_reinit_model
 
 HELP = "a new shot's first frame from main cameras at several distances and elevations: is the camera found?"
@@ -38,13 +42,18 @@ def add_arguments(parser) -> None:
                         help="angles below the horizon at which the camera sees the centre spot, degrees")
     parser.add_argument("--width", type=int, default=1280)
     parser.add_argument("--height", type=int, default=720)
-    parser.add_argument("--seed", type=int, default=3, help="the rendered look (grass, lighting, players)")
-    parser.add_argument("--success-px", type=float, default=3.0, help="found: median template error below this")
+    parser.add_argument("--seed", type=int, default=3,
+                        help="the rendered look (grass, lighting, players); with --random the cameras and looks too")
+    parser.add_argument("--success-px", type=float, default=3.0,
+                        help="found: median template error below this (with --random: at most this)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     add_reinit_model(parser)
+    random_placements.add_arguments(parser)
 
 
 def run(args) -> dict:
+    if args.random is not None:
+        return random_placements.run(args)
     from tqdm import tqdm
 
     from broadtrack_graph.benchmarks.detections import template_errors_px

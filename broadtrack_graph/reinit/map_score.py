@@ -162,9 +162,7 @@ class MapScorer:
                 precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
             else:
                 precision = np.ones_like(recall)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                score = np.where(precision + recall > 0, (1 + b2) * precision * recall / (b2 * precision + recall), 0.0)
-            cost = -score
+            cost = -_f_beta(precision, recall, b2)
             cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
             out[s:s + chunk] = cost
         return out
@@ -217,12 +215,16 @@ class MapScorer:
                 precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
             else:
                 precision = np.ones_like(recall)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                score = np.where(precision + recall > 0, (1 + b2) * precision * recall / (b2 * precision + recall), 0.0)
-            cost = -score
+            cost = -_f_beta(precision, recall, b2)
             cost[inside.sum(axis=1) < 8] = np.inf
             out[s:s + chunk] = cost
         return out
+
+
+def _f_beta(precision: np.ndarray, recall: np.ndarray, beta2: float) -> np.ndarray:
+    """F_beta of precision and recall (arrays of one shape), 0 where both are 0; beta2 is beta squared."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(precision + recall > 0, (1 + beta2) * precision * recall / (beta2 * precision + recall), 0.0)
 
 
 @dataclass

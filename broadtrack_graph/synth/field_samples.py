@@ -138,9 +138,53 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int,
     camera, players, centre_w, info = _scene(kind, rng, width_px, height_px, config)
     look_rng = np.random.default_rng([int(seed), int(index), SAMPLE_STREAM, 1])
     look = draw_look(look_rng, config, centre_w, camera is not None)
-    render_w, render_h = render_size(width_px, height_px, look.render_height_px)
     shown = camera if camera is not None else info.pop("negative_camera")
-    render_camera = render_camera_for(shown, render_w, render_h)
+    rendered = render_look(shown, players, look, config)
+    image, labels, hidden, render_camera = rendered.image, rendered.labels, rendered.hidden, rendered.render_camera
+    info.update(render_size_px=(render_camera.width_px, render_camera.height_px), look=look.info(),
+                player_count=_player_count(players))
+    if camera is None:
+        no_masks = np.zeros((len(LINE_CLASSES), height_px // stride, width_px // stride), bool)
+        return FieldSample(image, None, kind, np.full((FIELD_KEYPOINT_COUNT, 2), np.nan),
+                           np.zeros(FIELD_KEYPOINT_COUNT, bool), no_masks, stride, players, info)
+    keypoints_px, visible = keypoint_labels(camera, render_camera, labels, hidden)
+    masks = line_masks(camera, labels, hidden, stride)
+    return FieldSample(image, camera, kind, keypoints_px, visible, masks, stride, players, info)
+
+
+@dataclass
+class LookRender:
+    """A camera's frame under a look (:func:`render_look`).
+
+    image: (H, W, 3) BGR uint8 at the camera's size.
+    labels: (h, w) uint8 surface labels (drawing.SURFACE_*) at the render size.
+    hidden: (h, w) bool pixels under opaque broadcast graphics at the render size, or None (no graphics).
+    render_camera: the camera at the render size (:func:`render_camera_for`), whose image resized is ``image``.
+    """
+
+    image: np.ndarray
+    labels: np.ndarray
+    hidden: np.ndarray | None
+    render_camera: Camera
+
+
+def render_look(camera: Camera, players: PlayerTrack | None, look: Look,
+                config: SampleConfig = SampleConfig()) -> LookRender:
+    """One frame of a camera under a drawn look: the samples' rendering, reusable for any camera.
+
+    The frame is rendered at the look's render size (the camera's size when the look has none), with the
+    ground shaded per pixel when a ground switch of ``config`` is on, then toned, noised, overlaid with
+    broadcast graphics, JPEG round-tripped and resized to the camera's size as the look says.
+
+    Args:
+        camera: the camera (any size: the image is returned at its size).
+        players: the players to draw (frame 0 of the track), or None.
+        look: the appearance (:func:`broadtrack_graph.synth.field_look.draw_look` with the same config).
+        config: the switches the look was drawn with (which ground shading, which renderer effects).
+    """
+    width_px, height_px = camera.width_px, camera.height_px
+    render_w, render_h = render_size(width_px, height_px, look.render_height_px)
+    render_camera = render_camera_for(camera, render_w, render_h)
     textures, shader = None, None
     if config.shades_ground:
         textures = field_textures(look.texture_seed)
@@ -160,14 +204,7 @@ def sample_field(seed: int, index: int, width_px: int, height_px: int,
     if (render_w, render_h) != (width_px, height_px):
         shrink = render_w > width_px
         image = cv2.resize(image, (width_px, height_px), interpolation=cv2.INTER_AREA if shrink else cv2.INTER_LINEAR)
-    info.update(render_size_px=(render_w, render_h), look=look.info(), player_count=_player_count(players))
-    if camera is None:
-        no_masks = np.zeros((len(LINE_CLASSES), height_px // stride, width_px // stride), bool)
-        return FieldSample(image, None, kind, np.full((FIELD_KEYPOINT_COUNT, 2), np.nan),
-                           np.zeros(FIELD_KEYPOINT_COUNT, bool), no_masks, stride, players, info)
-    keypoints_px, visible = keypoint_labels(camera, render_camera, labels, hidden)
-    masks = line_masks(camera, labels, hidden, stride)
-    return FieldSample(image, camera, kind, keypoints_px, visible, masks, stride, players, info)
+    return LookRender(image, labels, hidden, render_camera)
 
 
 def sample_kind(seed: int, index: int, config: SampleConfig = SampleConfig()) -> str:

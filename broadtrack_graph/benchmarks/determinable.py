@@ -1,0 +1,111 @@
+"""Does a frame's visible markings determine its camera? The rule of ``bench placements --random``.
+
+A camera is fixed by the ground-plane homography, which four line correspondences fix: two lines of each of
+the pitch's two directions, or a conic (a circle's image) and a line (DESIGN.md, "A camera from one frame").
+So a frame **counts** (is determinable) when, from its true camera and the pitch template:
+
+* at least two distinct straight ground markings parallel to the touchlines (the x direction: the
+  touchlines and the long sides of the boxes) **and** at least two parallel to the goal lines (the y
+  direction: the goal lines, the halfway line, the boxes' front lines) each show at least
+  :data:`MIN_LINE_PX` pixels of their projected length inside the image and in front of the camera; or
+* a pitch circle or arc (the centre circle, a penalty arc) shows at least :data:`MIN_CURVE_SHARE` of its
+  length, and at least one straight ground marking (either direction) shows :data:`MIN_LINE_PX` pixels.
+
+"Distinct" counts lines, not classes: the two boxes' long sides on one side of the pitch lie on one line
+(``y = 20.16``), which counts once. Only geometry decides: players and broadcast graphics hiding a marking
+do not change the rule. The markings are sampled every :data:`STEP_M` metres, projected in one call with
+the full distortion; a visible length is the sum of the image steps between consecutive samples that are
+both visible. No I/O here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import CIRCLE_CLASSES, LINE_CLASSES, PitchDimensions, PitchTemplate, Segment
+
+MIN_LINE_PX = 60.0
+"""Least visible projected length of a straight marking that counts, pixels."""
+
+MIN_CURVE_SHARE = 0.4
+"""Least visible share of a circle's or an arc's length that counts."""
+
+STEP_M = 0.25
+"""Spacing of the marking samples, metres."""
+
+
+@dataclass(frozen=True)
+class Determinability:
+    """What a camera sees of the markings (module docstring).
+
+    determinable: the frame counts.
+    x_lines, y_lines: distinct straight markings parallel to the touchlines / to the goal lines seen over
+        MIN_LINE_PX pixels.
+    curves: the circle classes seen over MIN_CURVE_SHARE of their length.
+    visible_px: class name -> visible projected length (pixels) of every ground class; a circle's is its length.
+    curve_shares: circle class -> visible share of its length.
+    """
+
+    determinable: bool
+    x_lines: int
+    y_lines: int
+    curves: tuple[str, ...]
+    visible_px: dict[str, float] = field(default_factory=dict)
+    curve_shares: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class _Samples:
+    points_w: np.ndarray  # (N, 3) every ground class's samples, class after class
+    class_index: np.ndarray  # (N,) index into names
+    names: tuple[str, ...]
+    family: np.ndarray  # (C,) 0: parallel to x, 1: parallel to y, 2: a circle
+    offset: np.ndarray  # (C,) a straight line's offset (y of an x line, x of a y line), cm
+
+
+@lru_cache(maxsize=4)
+def _samples(dimensions: PitchDimensions) -> _Samples:
+    pitch = PitchTemplate(dimensions)
+    names = tuple(n for n in LINE_CLASSES if pitch.is_on_ground(n))
+    samples = pitch.sample_uniform(STEP_M, names)
+    family, offset = [], []
+    for name in names:
+        element = pitch.elements[name]
+        if name in CIRCLE_CLASSES:
+            family.append(2)
+            offset.append(0)
+            continue
+        assert isinstance(element, Segment)
+        start, end = np.asarray(element.start_w), np.asarray(element.end_w)
+        along_x = abs(end[0] - start[0]) > abs(end[1] - start[1])
+        family.append(0 if along_x else 1)
+        offset.append(int(round(100 * (start[1] if along_x else start[0]))))
+    index = np.concatenate([np.full(len(samples[n]), i) for i, n in enumerate(names)])
+    return _Samples(np.vstack([samples[n] for n in names]), index, names, np.array(family), np.array(offset))
+
+
+def determinability(camera: Camera, pitch: PitchTemplate | None = None) -> Determinability:
+    """The rule of the module docstring for a true camera (any size: its own image is meant)."""
+    s = _samples((pitch or PitchTemplate()).dimensions)
+    uv, front = camera.project(s.points_w)
+    visible = front & camera.in_image(uv)
+    same_class = s.class_index[1:] == s.class_index[:-1]
+    pair_seen = same_class & visible[1:] & visible[:-1]
+    step_px = np.linalg.norm(np.where(pair_seen[:, None], uv[1:] - uv[:-1], 0.0), axis=1)
+    count = len(s.names)
+    length_px = np.bincount(s.class_index[:-1], weights=step_px, minlength=count)
+    pairs = np.bincount(s.class_index[:-1], weights=same_class, minlength=count)
+    share = np.bincount(s.class_index[:-1], weights=pair_seen, minlength=count) / np.maximum(pairs, 1)
+    lines = (s.family < 2) & (length_px >= MIN_LINE_PX)
+    x_lines = len(set(s.offset[lines & (s.family == 0)].tolist()))
+    y_lines = len(set(s.offset[lines & (s.family == 1)].tolist()))
+    curves = tuple(n for n, f, v in zip(s.names, s.family, share) if f == 2 and v >= MIN_CURVE_SHARE)
+    determinable = (x_lines >= 2 and y_lines >= 2) or (bool(curves) and x_lines + y_lines >= 1)
+    return Determinability(
+        determinable, x_lines, y_lines, curves,
+        visible_px={n: round(float(v), 1) for n, v in zip(s.names, length_px)},
+        curve_shares={n: round(float(v), 3) for n, f, v in zip(s.names, s.family, share) if f == 2})

@@ -1,0 +1,276 @@
+"""``broadtrack-graph bench placements --random N``: a new shot's first frame from cameras anywhere around the pitch.
+
+N cameras are drawn at random (``--seed``) wherever broadcast cameras stand
+(:mod:`broadtrack_graph.benchmarks.random_cameras`: the focal point outside the playing area within 110 m
+of the centre spot, 5-60 m up, looking at a random point of the pitch, 8-70 deg wide, roll within 2 deg,
+a broadcast lens's k1; a view with under a quarter of the image on the pitch is redrawn), and each frame is
+rendered with players under a look drawn from ``--looks`` (:mod:`broadtrack_graph.synth.named_looks`:
+clean, lower-league, graphics, shadows, blur). A frame **counts** when its visible markings determine a
+camera (:mod:`broadtrack_graph.benchmarks.determinable`: two lines of each of the pitch's directions over
+60 px each, or a circle or arc 40 % visible and one line); frames that do not count are reported apart.
+
+Each route (``--routes``) is asked for the frame's camera on one core (``search_workers=0``, OpenCV on one
+thread), from the weight-free detector's markings (detection is timed apart):
+
+* ``search``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the
+  field model of ``--reinit-model`` first, then the global search in stages), as ``bench placements`` does;
+* ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``), its
+  camera judged by the tracker's confidence (``frame_confidence``, not timed); skipped with a note when it
+  cannot be imported.
+
+Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin``
+confident (what a new shot's chain needs to be written); **found** = written and its ground template
+within ``--success-px`` (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off
+(``twin``: of those, the truth's half turn about the centre spot, the view the markings cannot tell
+apart); **near-written** = written, between the two; **none** = not written. Shares are of the counted
+frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by height
+(low: under 12 m); seconds per frame as median and 95th percentile.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+import numpy as np
+
+ROUTES = ("search", "court")
+WRONG_PX = 10.0
+"""Written cameras further off than this (median template error, pixels) are wrong."""
+RANDOM_STREAM = 7311
+"""Random stream of the frames (numpy SeedSequence entropy [seed, frame, RANDOM_STREAM, part])."""
+OUTCOMES = ("found", "near", "wrong", "none")
+
+
+def add_arguments(parser) -> None:
+    from broadtrack_graph.arguments import int_at_least
+    from broadtrack_graph.synth.named_looks import LOOK_NAMES
+
+    parser.add_argument("--random", type=int_at_least(1), default=None, metavar="N",
+                        help="instead of the halfway-line grid: N cameras drawn anywhere around the pitch under random "
+                             "looks, each asked of every route (see docs/BENCHMARKS.md)")
+    parser.add_argument("--routes", nargs="+", choices=ROUTES, default=list(ROUTES),
+                        help="with --random: the single-frame routes asked (default: search court)")
+    parser.add_argument("--looks", nargs="+", choices=LOOK_NAMES, default=list(LOOK_NAMES),
+                        help="with --random: the looks drawn from (default: all)")
+    parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
+                        help="with --random: start at frame K of the seed's frames (frame i is the same in every run of "
+                             "the seed and looks: --random 1 --first i runs one frame of a report again)")
+
+
+def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> dict:
+    """Frame ``index`` of a seed: its random camera, look, players and image (the same for the same arguments).
+
+    Returns {"drawn": RandomCamera, "look_name", "look": Look, "players": PlayerTrack, "image": (H, W, 3) BGR,
+    "render_s": seconds}.
+    """
+    from broadtrack_graph.benchmarks.random_cameras import draw_random_camera
+    from broadtrack_graph.synth.field_samples import render_look
+    from broadtrack_graph.synth.named_looks import draw_named_look, named_look
+    from broadtrack_graph.synth.scene import simulate_players
+
+    drawn = draw_random_camera(np.random.default_rng([seed, index, RANDOM_STREAM, 0]), width_px, height_px)
+    look_rng = np.random.default_rng([seed, index, RANDOM_STREAM, 1])
+    look_name = str(looks[int(look_rng.integers(len(looks)))])
+    look = draw_named_look(look_name, look_rng, drawn.aim_w)
+    people = np.random.default_rng([seed, index, RANDOM_STREAM, 2])
+    count, spread = int(people.integers(12, 23)), float(people.uniform(8.0, 24.0))
+    players = simulate_players(drawn.aim_w[None], count, spread, int(people.integers(1 << 31)))
+    started = time.perf_counter()
+    image = render_look(drawn.camera, players, look, named_look(look_name)).image
+    return {"drawn": drawn, "look_name": look_name, "look": look, "players": players, "image": image,
+            "render_s": time.perf_counter() - started}
+
+
+def twin_camera(camera):
+    """The camera turned half round the centre spot: it sees every marking where ``camera`` sees its mirror image."""
+    position = np.asarray(camera.position_m, float) * np.array([-1.0, -1.0, 1.0])
+    return camera.replace(pan_rad=camera.pan_rad + math.pi, position_m=position)
+
+
+def outcome(confidence: float | None, error_px: float | None, written_at: float, success_px: float) -> str:
+    """found / near / wrong / none for a route's camera (module docstring); error None: no camera."""
+    if confidence is None or error_px is None or confidence < written_at:
+        return "none"
+    if error_px <= success_px:
+        return "found"
+    return "wrong" if error_px > WRONG_PX else "near"
+
+
+def _camera_info(drawn) -> dict:
+    camera = drawn.camera
+    return {"position_m": [round(float(v), 2) for v in camera.position_m], "pan_deg": round(camera.pan_deg, 2),
+            "tilt_deg": round(camera.tilt_deg, 2), "roll_deg": round(camera.roll_deg, 2),
+            "hfov_deg": round(drawn.hfov_deg, 2), "focal_px": round(camera.focal_px, 1), "k1": round(camera.k1, 4),
+            "aim_w": [round(float(v), 2) for v in drawn.aim_w[:2]], "pitch_share": round(drawn.pitch_share, 3)}
+
+
+def _median_error(estimate, truth, ground) -> float | None:
+    from broadtrack_graph.benchmarks.detections import template_errors_px
+
+    if estimate is None:
+        return None
+    errors = template_errors_px(estimate, truth, ground)
+    return float(np.median(errors)) if len(errors) else None
+
+
+def _court_route():
+    """(reinit_from_court, None), or (None, a one-line note) when it cannot be imported."""
+    try:
+        from broadtrack_graph.reinit.court import reinit_from_court
+    except ImportError as error:
+        return None, f"route court skipped: broadtrack_graph.reinit.court.reinit_from_court not importable ({error})"
+    return reinit_from_court, None
+
+
+def run(args) -> dict:
+    """The suite's report (module docstring); a short table goes to stderr."""
+    import cv2
+    from tqdm import tqdm
+
+    from broadtrack_graph.benchmarks.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
+    from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.field_model import model_reinit_for
+    from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.track.reinit_policy import ReinitPolicy
+    from broadtrack_graph.types.observations import FrameObservations
+
+    W, H = args.width, args.height
+    pitch = PitchTemplate()
+    curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
+    config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
+    written_at = config.confidence_threshold + config.reinit_switch_margin
+    ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
+    routes, skipped = list(dict.fromkeys(args.routes)), {}
+    model = model_reinit_for(config.reinit_model) if "search" in routes else None
+    court = None
+    if "court" in routes:
+        court, note = _court_route()
+        if court is None:
+            routes.remove("court")
+            skipped["court"] = note
+            print(note, file=sys.stderr)
+    threads = cv2.getNumThreads()
+    cv2.setNumThreads(1)
+    rows = []
+    try:
+        for index in tqdm(range(args.first, args.first + args.random), desc="placements --random", unit="frame", disable=args.no_progress):
+            frame = draw_frame(args.seed, index, W, H, args.looks)
+            drawn, image, truth = frame["drawn"], frame["image"], frame["drawn"].camera
+            started = time.perf_counter()
+            detections = detector.detect(image)
+            detect_s = time.perf_counter() - started
+            seen = determinability(truth, pitch)
+
+            def confidence_of(camera):
+                return frame_confidence(camera, FrameObservations(0, W, H), detections, curves, sampling)
+
+            row = {"frame": index, "camera": _camera_info(drawn), "look": frame["look_name"], "class": drawn.stand,
+                   "height_m": round(drawn.height_m, 1), "low": drawn.low, "determinable": seen.determinable,
+                   "markings": {"x_lines": seen.x_lines, "y_lines": seen.y_lines, "curves": list(seen.curves)},
+                   "truth_confidence": _round(confidence_of(truth), 3), "render_s": round(frame["render_s"], 3),
+                   "detect_s": round(detect_s, 3), "routes": {}}
+            row["truth_written"] = (row["truth_confidence"] or 0.0) >= written_at
+            for route in routes:
+                started = time.perf_counter()
+                if route == "search":
+                    policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model)
+                    decision = policy.decide(FrameObservations(0, W, H), detections, pitch, curves, sampling,
+                                             image=image)
+                    seconds = time.perf_counter() - started
+                    camera, confidence, reason = decision.camera, decision.confidence, decision.reason
+                else:
+                    result = court(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
+                                   curves=curves, field_mask=detections.field_mask)
+                    seconds = time.perf_counter() - started
+                    camera, reason = result.camera, result.reason
+                    confidence = None if camera is None else confidence_of(camera)
+                error = _median_error(camera, truth, ground)
+                result_row = {"outcome": outcome(confidence, error, written_at, args.success_px),
+                              "confidence": _round(confidence, 3), "error_px": _round(error, 2),
+                              "seconds": round(seconds, 3), "reason": reason}
+                if result_row["outcome"] == "wrong":
+                    twin_error = _median_error(camera, twin_camera(truth), ground)
+                    result_row["twin"] = twin_error is not None and twin_error <= args.success_px
+                row["routes"][route] = result_row
+            rows.append(row)
+    finally:
+        cv2.setNumThreads(threads)
+    report = {"mode": "random", "frames": len(rows), "frame_size": [W, H], "seed": args.seed, "looks": list(args.looks),
+              "routes": routes, "skipped_routes": skipped, "reinit_model": args.reinit_model,
+              "written_confidence": round(written_at, 3), "success_px": args.success_px, "wrong_px": WRONG_PX,
+              "rule": {"min_line_px": MIN_LINE_PX, "min_curve_share": MIN_CURVE_SHARE},
+              **summarise(rows, routes), "frames_by_index": rows}
+    print(summary_table(report), file=sys.stderr)
+    return report
+
+
+def _round(value, digits: int):
+    return None if value is None else round(float(value), digits)
+
+
+def _seconds(values) -> dict:
+    values = np.asarray(values, float)
+    if not len(values):
+        return {"median": None, "p95": None}
+    return {"median": round(float(np.median(values)), 3), "p95": round(float(np.percentile(values, 95)), 3)}
+
+
+def route_figures(rows: list[dict], route: str) -> dict:
+    """Counts and shares (% of the rows) of each outcome of a route, wrong twins, frames whose true camera is
+    confident enough to be written (what a route can reach at most), and the route's seconds per frame."""
+    results = [row["routes"][route] for row in rows]
+    n = len(results)
+    out: dict = {"frames": n}
+    for name in OUTCOMES:
+        k = sum(r["outcome"] == name for r in results)
+        out[name], out[f"{name}_pct"] = k, round(100.0 * k / n, 1) if n else None
+    out["wrong_twin"] = sum(bool(r.get("twin")) for r in results)
+    out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
+    out["seconds"] = _seconds([r["seconds"] for r in results])
+    return out
+
+
+def summarise(rows: list[dict], routes: list[str]) -> dict:
+    """The report's figures: counted frames per route overall, by stand and by height; uncounted frames apart."""
+    from broadtrack_graph.benchmarks.random_cameras import LOW_HEIGHT_M, STANDS
+
+    counted = [row for row in rows if row["determinable"]]
+    apart = [row for row in rows if not row["determinable"]]
+    groups = {"by_stand": {stand: [r for r in counted if r["class"] == stand] for stand in STANDS},
+              "by_height": {f"low (< {LOW_HEIGHT_M:g} m)": [r for r in counted if r["low"]],
+                            f"{LOW_HEIGHT_M:g} m and up": [r for r in counted if not r["low"]]}}
+    by_route = {}
+    for route in routes:
+        by_route[route] = {"determinable": route_figures(counted, route),
+                           **{name: {key: route_figures(members, route) for key, members in group.items()}
+                              for name, group in groups.items()},
+                           "not_determinable": route_figures(apart, route)}
+    return {"determinable": len(counted), "not_determinable": len(apart),
+            "not_determinable_by_stand": {stand: sum(r["class"] == stand for r in apart) for stand in STANDS},
+            "render_s": _seconds([row["render_s"] for row in rows]),
+            "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route}
+
+
+def summary_table(report: dict) -> str:
+    """A few lines for a human (stderr): per route and group, the shares of the counted frames and the seconds."""
+    lines = [f"{report['frames']} frames, {report['determinable']} determinable ({report['not_determinable']} apart); "
+             f"render {report['render_s']['median']} s, detect {report['detect_s']['median']} s median"]
+    lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'near%':>6} {'none%':>6} "
+                 f"{'s med':>6} {'s p95':>6} {'truth ok':>8}")
+    for route, figures in report["by_route"].items():
+        groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
+                  "not determinable": figures["not_determinable"]}
+        for name, f in groups.items():
+            pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}") for o in ("found", "wrong", "near", "none")]
+            seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
+            lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
+                         f"{seconds[0]:>6} {seconds[1]:>6} {f['truth_written']:>8}")
+    for note in report["skipped_routes"].values():
+        lines.append(note)
+    return "\n".join(lines)

@@ -1,0 +1,99 @@
+"""``bench placements --random N`` end to end on two frames, the court route's wiring, and the outcome rule."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+import numpy as np
+
+from broadtrack_graph.benchmarks import random_placements
+from broadtrack_graph.benchmarks.random_cameras import STANDS, draw_random_camera
+from broadtrack_graph.benchmarks.random_placements import RANDOM_STREAM, outcome, twin_camera
+from broadtrack_graph.cli import main
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.scoring import ReinitResult
+
+# Frames 3 and 4 of seed 36 at 960x540: a main-stand camera the field model finds (under a tenth of a second), and
+# one whose markings do not determine a camera (each under a second of search).
+SEED, FIRST, WIDTH, HEIGHT = 36, 3, 960, 540
+
+
+def run_bench(tmp_path, *extra) -> dict:
+    out = tmp_path / "report.json"
+    code = main(["bench", "placements", "--random", "2", "--first", str(FIRST), "--seed", str(SEED),
+                 "--width", str(WIDTH), "--height", str(HEIGHT), "--no-progress", "--json", str(out), *extra])
+    assert code == 0
+    return json.loads(out.read_text(encoding="utf-8"))
+
+
+def test_two_frames_end_to_end_with_the_search(tmp_path, capsys):
+    report = run_bench(tmp_path, "--routes", "search")
+    assert report["suite"] == "placements" and report["mode"] == "random" and report["frames"] == 2
+    assert report["routes"] == ["search"] and report["frame_size"] == [WIDTH, HEIGHT]
+    rows = report["frames_by_index"]
+    assert [row["frame"] for row in rows] == [FIRST, FIRST + 1]
+    for row in rows:
+        assert {"camera", "look", "class", "determinable", "markings", "truth_confidence", "render_s"} <= set(row)
+        assert row["class"] in STANDS and set(row["routes"]) == {"search"}
+        assert {"outcome", "confidence", "error_px", "seconds", "reason"} <= set(row["routes"]["search"])
+    assert report["determinable"] + report["not_determinable"] == 2
+    figures = report["by_route"]["search"]
+    assert set(figures) == {"determinable", "by_stand", "by_height", "not_determinable"}
+    assert set(figures["by_stand"]) == set(STANDS)
+    assert figures["determinable"]["frames"] == report["determinable"]
+    assert sum(figures["determinable"][o] for o in ("found", "near", "wrong", "none")) == report["determinable"]
+    found = [row for row in rows if row["routes"]["search"]["outcome"] == "found"]
+    assert found, [(row["class"], row["routes"]["search"]) for row in rows]
+    assert all(row["determinable"] and row["routes"]["search"]["error_px"] < 1.0 for row in found)
+    assert all(row["routes"]["search"]["confidence"] >= report["written_confidence"] for row in found)
+    # The JSON on stdout is the report; the table goes to stderr.
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["frames_by_index"] == rows
+    assert "search  all" in captured.err
+
+
+def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path, monkeypatch):
+    truths = [draw_random_camera(np.random.default_rng([SEED, i, RANDOM_STREAM, 0]), WIDTH, HEIGHT).camera
+              for i in (FIRST, FIRST + 1)]
+    calls = []
+
+    def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None):
+        calls.append((marking_mask.dtype, marking_points_px.shape[1], frame_size, isinstance(pitch, PitchTemplate)))
+        return ReinitResult(truths[len(calls) - 1], None, "stand-in", reason="the true camera")
+
+    monkeypatch.setattr(random_placements, "_court_route", lambda: (stand_in, None))
+    report = run_bench(tmp_path, "--routes", "court")
+    assert calls == [(np.dtype(bool), 2, (WIDTH, HEIGHT), True)] * 2
+    for row in report["frames_by_index"]:
+        court = row["routes"]["court"]
+        assert court["error_px"] == 0.0 and court["confidence"] == row["truth_confidence"]
+        assert court["outcome"] == ("found" if row["truth_written"] else "none")
+
+
+def test_a_court_route_that_cannot_be_imported_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "broadtrack_graph.reinit.court", None)  # importing it raises ImportError
+    report = run_bench(tmp_path, "--routes", "court")
+    assert report["routes"] == [] and set(report["skipped_routes"]) == {"court"}
+    assert report["by_route"] == {} and all(row["routes"] == {} for row in report["frames_by_index"])
+    assert "route court skipped" in capsys.readouterr().err
+
+
+def test_outcomes():
+    assert outcome(0.9, 0.5, 0.6, 3.0) == "found"
+    assert outcome(0.9, 3.0, 0.6, 3.0) == "found"
+    assert outcome(0.9, 5.0, 0.6, 3.0) == "near"
+    assert outcome(0.9, 10.5, 0.6, 3.0) == "wrong"
+    assert outcome(0.59, 0.5, 0.6, 3.0) == "none"
+    assert outcome(None, None, 0.6, 3.0) == "none"
+
+
+def test_the_twin_sees_every_marking_where_the_camera_sees_its_mirror_image():
+    camera = draw_random_camera(np.random.default_rng(2), 640, 360).camera
+    points = np.vstack(list(PitchTemplate().sample_uniform(2.0).values()))
+    uv, front = camera.project(points)
+    uv_twin, front_twin = twin_camera(camera).project(points * np.array([-1.0, -1.0, 1.0]))
+    assert np.array_equal(front, front_twin) and front.any()
+    assert np.allclose(uv[front], uv_twin[front], atol=1e-6)
+    assert math.isclose(twin_camera(twin_camera(camera)).position_m[0], camera.position_m[0])
