@@ -38,6 +38,7 @@ from broadtrack_graph.reinit.court_lines import (
     line_hypotheses,
     pixel_homographies,
 )
+from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import best_distinct
 from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
@@ -51,7 +52,9 @@ class CourtConfig:
     lines: CourtLineConfig = CourtLineConfig()  # the hypotheses
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
-    search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24))
+    # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of
+    # sight, so the fit holds it loosely.
+    search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24), position_sigma_m=25.0)
     min_marking_points: int = 10  # fewer marking points: no camera, said at once
     max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
     refine_top_k: int = 4  # the best distinct hypotheses fitted
@@ -116,7 +119,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     for k in chosen:
         if costs[k] > config.refine_cost_share * costs[chosen[0]]:
             break
-        start = _camera_of(hypotheses, k, W, H)
+        start = camera_through(H_px[k], hypotheses.sign[k], _camera_of(hypotheses, k, W, H), curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
         if best is None or score > best[0]:
@@ -131,6 +134,33 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
 def _camera_of(hypotheses, k: int, W: int, H: int) -> Camera:
     pan, tilt, roll = (float(v) for v in hypotheses.angles_rad[k])
     return Camera(float(hypotheses.focal_n[k] * W / 2.0), 0.0, pan, tilt, roll, hypotheses.C_w[k], W, H)
+
+
+def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: TemplateCurves, per_class: int = 24) -> Camera:
+    """The camera (k1 held at 0) that draws the ground template where the homography H_px (pitch (x, y, 1) metres ->
+    pixels; a ground point X is in front when ``sign * (H_px X)_z > 0``) draws it, fitted from ``start`` (its
+    decomposition).
+
+    At a tight zoom the homography is nearly affine: the focal length and the distance along the line of sight
+    that its decomposition gives can be far off (10-20 m, the template hundreds of pixels off) while H itself is
+    right. Fitted to H's own image of every marking it shows, with each point's marking known, the camera lands
+    on it from there.
+    """
+    W, H = start.width_px, start.height_px
+    lines = {}
+    for name, samples_w in curves.samples_w.items():
+        if not curves.pitch.is_on_ground(name):
+            continue
+        uvw = np.column_stack([samples_w[:, :2], np.ones(len(samples_w))]) @ H_px.T
+        ahead = sign * uvw[:, 2] > 1e-9
+        uv = uvw[:, :2] / np.where(ahead, uvw[:, 2], 1.0)[:, None]
+        shown = ahead & start.in_image(uv) & np.all(np.isfinite(uv), axis=1)
+        if shown.sum() >= 3:
+            lines[name] = uv[shown][np.linspace(0, shown.sum() - 1, min(per_class, int(shown.sum()))).astype(int)]
+    if sum(len(p) for p in lines.values()) < 8:
+        return start
+    config = LineFitConfig(cauchy_scale_px=0.05 * W, polish_power=0.0, iterations=30, sigma_k1=1e-3)
+    return fit_camera_to_lines(start, lines, curves, config, fixed=(1,)).camera
 
 
 def twin_camera(camera: Camera) -> Camera:

@@ -43,14 +43,17 @@ class CourtLineConfig:
     family_angle_px: float = 2.5  # a line joins a vanishing point when its far end is within this of the ray
     family_angle_min_deg: float = 0.3  # ... an angle tolerance never tighter than this ...
     family_angle_max_deg: float = 2.5  # ... nor looser than this
-    min_line_coverage: float = 0.6  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
+    min_line_coverage: float = 0.45  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
     hatch_min_lines: int = 4  # this many parallel lines side by side are a hatch, not markings ...
     hatch_angle_deg: float = 4.0  # ... (within this angle of each other ...
     hatch_spacing_per_width: float = 0.03  # ... their centres within this share of the width across)
+    # Two vanishing points both this near the image (|w| of the unit homogeneous point: within about 1 / w half
+    # widths of the centre) must fit a focal length in range (within a factor 2: a far one is poorly placed)
+    near_vanishing_w: float = 0.15
     vanishing_candidates: int = 4  # the best distinct vanishing points taken as the first direction ...
     second_candidates: int = 4  # ... each with this many best distinct ones among the lines it leaves
     focal_range_per_width: tuple[float, float] = (0.45, 16.0)  # f / W accepted (fields of view about 126 to 3.6 deg)
-    max_axis_mismatch: float = 0.12  # |K^-1 h1| / |K^-1 h2| - 1 and the cosine between them, at most
+    max_axis_mismatch: float = 0.3  # |K^-1 h1| / |K^-1 h2| - 1 and the cosine between them, at most
     height_range_m: tuple[float, float] = (2.0, 150.0)  # focal point above the grass
     max_distance_m: float = 250.0  # focal point within this horizontal distance of the centre spot
     max_roll_deg: float = 10.0  # |roll| of a broadcast camera
@@ -142,9 +145,9 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
         for second in _distinct_sets(meets & rest[None, :], votes, config.second_candidates):
             vanishing = np.stack([np.linalg.svd(lines_n[first])[2][-1], np.linalg.svd(lines_n[second])[2][-1]])
             w1, w2 = vanishing[:, 2]
-            if min(abs(w1), abs(w2)) > 1e-3 * f_hi:  # both finite: the orthogonality gives f
+            if min(abs(w1), abs(w2)) > config.near_vanishing_w:  # both near the image: the orthogonality gives f
                 f2 = -(vanishing[0, :2] @ vanishing[1, :2]) / (w1 * w2)
-                if not f_lo ** 2 <= f2 <= f_hi ** 2:
+                if not (f_lo / 2) ** 2 <= f2 <= (2 * f_hi) ** 2:
                     continue
             family = np.full(L, -1)
             family[first], family[second] = 0, 1
@@ -155,7 +158,8 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
 def _hatched(lines: list[ImageLine], width_px: int, config: CourtLineConfig) -> np.ndarray:
     """(L,) the lines of a hatch: with at least ``hatch_min_lines - 1`` others of about the same direction whose
     centres lie side by side within ``hatch_spacing_per_width`` of the width (a goal net, a striped kit, a board's
-    pattern). The pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
+    pattern), unless twice as long as the hatch's typical line (a marking beside a net, the goal line under it). The
+    pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
     directions = np.array([line.direction for line in lines])
     centres = np.array([line.centre_px for line in lines])
     halves = np.array([0.5 * (line.extent_px[1] - line.extent_px[0]) for line in lines])
@@ -164,7 +168,10 @@ def _hatched(lines: list[ImageLine], width_px: int, config: CourtLineConfig) -> 
     across = np.abs(offset[..., 0] * directions[:, None, 1] - offset[..., 1] * directions[:, None, 0])
     along = np.abs(np.einsum("jki,ji->jk", offset, directions))
     side_by_side = parallel & (across < config.hatch_spacing_per_width * width_px) & (along < halves[:, None] + halves[None, :])
-    return side_by_side.sum(axis=1) >= config.hatch_min_lines  # itself included
+    support = np.array([line.support_px for line in lines])
+    typical = np.array([np.median(support[row]) for row in side_by_side])
+    # A long marking beside a net (the goal line under it) stands out of the hatch by its length.
+    return (side_by_side.sum(axis=1) >= config.hatch_min_lines) & (support < 2.0 * typical)  # itself included
 
 
 def _distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:
