@@ -31,11 +31,14 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.court_circle import CourtCircleConfig, circle_line_homographies
 from broadtrack_graph.reinit.court_lines import (
     CourtLineConfig,
+    cameras_from_homographies,
     concatenate,
     line_families,
     line_hypotheses,
+    normalised_lines,
     pixel_homographies,
 )
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
@@ -49,7 +52,8 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 class CourtConfig:
     """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
 
-    lines: CourtLineConfig = CourtLineConfig()  # the hypotheses
+    lines: CourtLineConfig = CourtLineConfig()  # the hypotheses of the straight markings (and their gates)
+    circle: CourtCircleConfig = CourtCircleConfig()  # the hypotheses of the centre circle with the halfway line
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
     # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of
@@ -86,19 +90,22 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return ReinitResult(None, None, "", "too few marking pixels")
     structures = map_structures(marking_mask, points_px, (W, H), pitch, config.search)
     lines = structures.lines
-    splits = line_families(lines, (W, H), config.lines)
-    if not splits:
-        return ReinitResult(None, None, "", f"the straight markings do not give two of each direction "
-                                            f"({len(lines)} lines)")
     support = np.array([line.support_px for line in lines])
     parts = []  # the likeliest splits first, until the hypotheses' cap (a frame full of lines stays bounded)
-    for families in splits:
+    for families in line_families(lines, (W, H), config.lines):
         parts.append(line_hypotheses(families, support, pitch, (W, H), config.lines))
         if sum(len(part) for part in parts) >= config.max_hypotheses:
             break
+    ellipses = structures.ellipses() + structures.border_ellipses() if lines else []
+    if ellipses:  # the centre circle and the halfway line
+        lines_n, _, _ = normalised_lines(lines, (W, H))
+        radius = pitch.dimensions.centre_circle_radius_m
+        circle_H = [circle_line_homographies(e, lines_n, (W, H), radius, config.circle) for e in ellipses]
+        parts.append(cameras_from_homographies(np.concatenate(circle_H), (W, H), pitch, config.lines))
     hypotheses = concatenate(parts)
     if not len(hypotheses):
-        return ReinitResult(None, None, "", f"no plausible camera puts {len(lines)} straight markings on pitch lines")
+        return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
+                                            f"straight, {len(ellipses)} ellipses)")
     H_px = pixel_homographies(hypotheses, (W, H))
     px_per_m = hypotheses.focal_n * (W / 2.0) * hypotheses.scale_m
     search = config.search

@@ -277,38 +277,49 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
     return cameras_from_homographies(stacked, frame_size, pitch, config)
 
 
-def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
-                              config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
-    """The plausible broadcast cameras of ground-plane homographies (normalised image coordinates).
+def focal_and_mismatch(H_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """f / s of homographies (K, 3, 3) (normalised image coordinates) with the principal point at the image centre,
+    and how far they are from a camera's: max(| |a1| / |a2| - 1 |, |cos(a1, a2)|) for ``a_i = K^-1 h_i`` (0 for the
+    homography of a camera). f is NaN where the two conditions give no positive 1 / f^2.
 
-    With ``K_n = diag(f_n, f_n, 1)``, ``a_i = K_n^-1 h_i``: ``a1 . a2 = 0`` and ``|a1| = |a2|`` each give
-    ``1 / f_n^2`` linearly; the least-squares value of both is used (either alone can be degenerate,
-    e.g. the orthogonality when a vanishing point is at infinity). Kept: f in range, the two axes
-    orthogonal and of equal norm within ``max_axis_mismatch``, the focal point above the grass, off
-    the playing area, within reach, and a roll a broadcast camera has.
-
-    Args:
-        H_n: (K, 3, 3) homographies, pitch (x, y, 1) metres -> normalised image points.
+    With ``K_n = diag(f_n, f_n, 1)``: ``a1 . a2 = 0`` and ``|a1| = |a2|`` each give ``1 / f_n^2`` linearly; the
+    least-squares value of both is used (either alone can be degenerate, e.g. the orthogonality when a vanishing
+    point is at infinity).
     """
-    W = frame_size[0]
-    H_n = np.asarray(H_n, float).reshape(-1, 3, 3)
-    h1, h2, h3 = H_n[:, :, 0], H_n[:, :, 1], H_n[:, :, 2]
+    h1, h2 = H_n[:, :, 0], H_n[:, :, 1]
     A1 = h1[:, 0] * h2[:, 0] + h1[:, 1] * h2[:, 1]
     B1 = h1[:, 2] * h2[:, 2]
     A2 = (h1[:, 0] ** 2 + h1[:, 1] ** 2) - (h2[:, 0] ** 2 + h2[:, 1] ** 2)
     B2 = h1[:, 2] ** 2 - h2[:, 2] ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
         g = -(A1 * B1 + A2 * B2) / (A1 ** 2 + A2 ** 2)
-        focal_n = 1.0 / np.sqrt(g)
+        focal_n = np.where(g > 0, 1.0 / np.sqrt(np.where(g > 0, g, 1.0)), np.nan)
+        a1 = np.column_stack([h1[:, :2] / focal_n[:, None], h1[:, 2]])
+        a2 = np.column_stack([h2[:, :2] / focal_n[:, None], h2[:, 2]])
+        n1, n2 = np.linalg.norm(a1, axis=1), np.linalg.norm(a2, axis=1)
+        mismatch = np.maximum(np.abs(n1 / n2 - 1.0), np.abs(np.einsum("ki,ki->k", a1, a2)) / (n1 * n2))
+    return focal_n, np.where(np.isfinite(mismatch), mismatch, np.inf)
+
+
+def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
+                              config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
+    """The plausible broadcast cameras of ground-plane homographies (normalised image coordinates).
+
+    f and the axes' mismatch: :func:`focal_and_mismatch`. Kept: f in range, the two axes
+    orthogonal and of equal norm within ``max_axis_mismatch``, the focal point above the grass, off
+    the playing area, within reach, and a roll a broadcast camera has.
+
+    Args:
+        H_n: (K, 3, 3) homographies, pitch (x, y, 1) metres -> normalised image points.
+    """
+    H_n = np.asarray(H_n, float).reshape(-1, 3, 3)
+    focal_n, mismatch = focal_and_mismatch(H_n)
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
-    keep = np.isfinite(focal_n) & (g > 0) & (focal_n >= f_lo) & (focal_n <= f_hi)
+    keep = np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi) & (mismatch <= config.max_axis_mismatch)
     H_n, focal_n = H_n[keep], focal_n[keep]
     scale_k = np.stack([1.0 / focal_n, 1.0 / focal_n, np.ones_like(focal_n)], axis=1)[:, :, None]
     a = H_n * scale_k  # columns a1, a2, a3
     n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
-    cosine = np.einsum("ki,ki->k", a[:, :, 0], a[:, :, 1]) / (n1 * n2)
-    keep = (np.abs(n1 / n2 - 1.0) <= config.max_axis_mismatch) & (np.abs(cosine) <= config.max_axis_mismatch)
-    H_n, focal_n, a, n1, n2 = H_n[keep], focal_n[keep], a[keep], n1[keep], n2[keep]
     # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det).
     det = np.linalg.det(H_n)
     w0 = np.cross(H_n[:, :, 0], H_n[:, :, 1])[:, 2] / det
