@@ -65,6 +65,8 @@ class CourtConfig:
     refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
     twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
+    rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
+    circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
 
 
 def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size: tuple[int, int],
@@ -90,26 +92,19 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return ReinitResult(None, None, "", "too few marking pixels")
     structures = map_structures(marking_mask, points_px, (W, H), pitch, config.search)
     lines = structures.lines
-    support = np.array([line.support_px for line in lines])
-    parts = []  # the likeliest splits first, until the hypotheses' cap (a frame full of lines stays bounded)
-    for families in line_families(lines, (W, H), config.lines):
-        parts.append(line_hypotheses(families, support, pitch, (W, H), config.lines))
-        if sum(len(part) for part in parts) >= config.max_hypotheses:
-            break
-    ellipses = structures.ellipses() + structures.border_ellipses() if lines else []
-    if ellipses:  # the centre circle and the halfway line
-        lines_n, _, _ = normalised_lines(lines, (W, H))
-        radius = pitch.dimensions.centre_circle_radius_m
-        circle_H = [circle_line_homographies(e, lines_n, (W, H), radius, config.circle) for e in ellipses]
-        parts.append(cameras_from_homographies(np.concatenate(circle_H), (W, H), pitch, config.lines))
-    hypotheses = concatenate(parts)
+    hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config)
+    search = config.search
+    ellipses = []
+    if lines and (not len(costs) or -costs.min() < config.circles_below_score):
+        # The straight markings explain the map poorly: the centre circle with the halfway line as well.
+        ellipses = structures.ellipses() + structures.border_ellipses()
+        circles = _circle_hypotheses(ellipses, lines, (W, H), pitch, config)
+        hypotheses = concatenate([hypotheses, circles])
+        costs = np.concatenate([costs, _scores(circles, structures.scorer, (W, H), search, config.rescore_top)])
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             f"straight, {len(ellipses)} ellipses)")
     H_px = pixel_homographies(hypotheses, (W, H))
-    px_per_m = hypotheses.focal_n * (W / 2.0) * hypotheses.scale_m
-    search = config.search
-    costs = structures.scorer.plane_costs(H_px, hypotheses.sign, px_per_m, search.score_hit_px, search.score_point_px)
     # A hypothesis and its twin score the same: the twin rule orders them before the distinct choice.
     C = hypotheses.C_w
     twin_side = np.where(np.abs(C[:, 1]) >= config.twin_tie_m, C[:, 1] < 0, C[:, 0] > 0)
@@ -131,11 +126,55 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
         if best is None or score > best[0]:
             best = (score, camera)
+        if best[0] >= search.accept_fit_score:
+            break  # a fit this good is not beaten by a worse-scoring hypothesis
     camera = _main_side(best[1], config.twin_tie_m)
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
     position = tuple(round(float(v)) for v in camera.position_m)
     return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0),
                                 f"court model at {position}", tried=len(hypotheses)), twin=twin_camera(camera))
+
+
+def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: CourtConfig):
+    """The straight markings' hypotheses (the likeliest splits of the lines first, until ``max_hypotheses``: a
+    frame full of lines stays bounded) and their map costs."""
+    lines = structures.lines
+    support = np.array([line.support_px for line in lines])
+    parts = []
+    for families in line_families(lines, frame_size, config.lines):
+        parts.append(line_hypotheses(families, support, pitch, frame_size, config.lines))
+        if sum(len(part) for part in parts) >= config.max_hypotheses:
+            break
+    hypotheses = concatenate(parts)
+    return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top)
+
+
+def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig):
+    """The centre circle's hypotheses: each ellipse of the map with each straight marking as the halfway line."""
+    if not ellipses:
+        return concatenate([])
+    lines_n, _, _ = normalised_lines(lines, frame_size)
+    radius = pitch.dimensions.centre_circle_radius_m
+    found = [circle_line_homographies(e, lines_n, frame_size, radius, config.circle) for e in ellipses]
+    return cameras_from_homographies(np.concatenate(found), frame_size, pitch, config.lines)
+
+
+def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int) -> np.ndarray:
+    """(K,) map costs of the hypotheses: all on every second template sample and marking point, the
+    ``rescore_top`` best again in full (the others inf: they are not fitted)."""
+    if not len(hypotheses):
+        return np.zeros(0)
+    H_px = pixel_homographies(hypotheses, frame_size)
+    px_per_m = hypotheses.focal_n * (frame_size[0] / 2.0) * hypotheses.scale_m
+    costs = scorer.plane_costs(H_px, hypotheses.sign, px_per_m, search.coarse_hit_px, search.coarse_point_px,
+                               thin=search.coarse_thin)
+    top = np.argsort(costs)[:rescore_top]
+    top = top[np.isfinite(costs[top])]
+    fine = scorer.plane_costs(H_px[top], hypotheses.sign[top], px_per_m[top], search.score_hit_px,
+                              search.score_point_px)
+    out = np.full(len(costs), np.inf)
+    out[top] = fine
+    return out
 
 
 def _camera_of(hypotheses, k: int, W: int, H: int) -> Camera:

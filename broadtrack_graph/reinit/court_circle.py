@@ -31,8 +31,8 @@ from broadtrack_graph.reinit.court_lines import focal_and_mismatch
 class CourtCircleConfig:
     """Settings of :func:`circle_line_homographies`."""
 
-    centre_steps: int = 96  # places of the centre spot's image tried along the chord (its ends excluded) ...
-    refine_iterations: int = 30  # ... each local minimum of the axes' mismatch narrowed by golden-section steps
+    centre_steps: int = 64  # places of the centre spot's image tried along the chord (its ends excluded) ...
+    refine_iterations: int = 16  # ... each local minimum of the axes' mismatch narrowed by golden-section steps
     max_line_offset: float = 0.6  # the halfway line passes within this share of the minor semi-axis of the
     #                               ellipse's centre (the image of the circle's centre is near it)
 
@@ -82,12 +82,10 @@ def circle_line_homographies(ellipse: ImageEllipse, lines_n: np.ndarray, frame_s
     out = []
     steps = np.linspace(0.0, 1.0, config.centre_steps + 2)[1:-1]
     r = radius_m
-    labellings = [  # P1, P2, Q1, Q2 -> pitch points, for each order of the two pairs (mirrors are gated later)
-        np.array([[0.0, r], [0.0, -r], [r, 0.0], [-r, 0.0]]),
-        np.array([[0.0, r], [0.0, -r], [-r, 0.0], [r, 0.0]]),
-        np.array([[0.0, -r], [0.0, r], [r, 0.0], [-r, 0.0]]),
-        np.array([[0.0, -r], [0.0, r], [-r, 0.0], [r, 0.0]]),
-    ]
+    world = np.array([[0.0, r], [0.0, -r], [r, 0.0], [-r, 0.0]])  # P1, P2, Q1, Q2
+    # The other labellings of the four points are the world's reflections about the axes (the mirror images are
+    # gated later); the axes' mismatch is the same for all four, so the places are searched once.
+    reflections = [np.diag([sx, sy, 1.0]) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
     E_inv = np.linalg.inv(E)
     for line in np.asarray(lines_n, float).reshape(-1, 3):
         if abs(line[:2] @ centre_n + line[2]) > config.max_line_offset * minor_n:
@@ -95,9 +93,8 @@ def circle_line_homographies(ellipse: ImageEllipse, lines_n: np.ndarray, frame_s
         cuts = _line_cuts(E, line)
         if cuts is None:
             continue
-        chord = _Chord(E, cuts[0], cuts[1], E_inv @ line)
-        for world in labellings:
-            out.append(chord.best_homographies(world, steps, config.refine_iterations))
+        found = _Chord(E, cuts[0], cuts[1], E_inv @ line).best_homographies(world, steps, config.refine_iterations)
+        out += [found @ reflection for reflection in reflections]
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 
 

@@ -169,7 +169,7 @@ class MapScorer:
 
 
     def plane_costs(self, H_px: np.ndarray, sign: np.ndarray, px_per_m_at_unit: np.ndarray, hit_px: float,
-                    point_px: float, chunk: int = 256) -> np.ndarray:
+                    point_px: float, chunk: int = 256, thin: int = 1) -> np.ndarray:
         """(K,) costs of ground-plane homographies, any camera (the same score as :meth:`costs`, no distortion).
 
         Args:
@@ -177,11 +177,14 @@ class MapScorer:
             sign: (K,) +-1: a ground point X is in front of the camera when ``sign * (H_px X)_z > 0``.
             px_per_m_at_unit: (K,) frame pixels per metre of a marking at ``sign * (H_px X)_z = 1`` (f over the
                 depth scale): a sample's image length is this over ``sign * (H_px X)_z``.
+            thin: use every thin-th template sample and marking point (a quicker, coarser score).
         """
         dt, scale, config = self.dt, self.scale, self.config
         h, w = dt.shape
-        ground_h = np.column_stack([self.samples_w[:, :2], np.ones(len(self.samples_w))])  # (S, 3)
-        pts_h = np.column_stack([self.points_c + [self.W / 2.0, self.H / 2.0], np.ones(len(self.points_c))])
+        samples = self.samples_w[::thin]
+        ground_h = np.column_stack([samples[:, :2], np.ones(len(samples))])  # (S, 3)
+        points = self.points_c[::thin] + [self.W / 2.0, self.H / 2.0]
+        pts_h = np.column_stack([points, np.ones(len(points))])
         tol2 = (point_px / scale) ** 2
         b2 = config.score_beta ** 2
         out = np.full(len(H_px), np.inf)
@@ -195,7 +198,7 @@ class MapScorer:
             inside = front & (u >= 0) & (u < w - 1) & (v >= 0) & (v < h - 1)
             d = dt[np.where(inside, v, 0).astype(np.int32), np.where(inside, u, 0).astype(np.int32)]
             length = np.where(inside, px_per_m_at_unit[s:s + chunk, None] * scale * config.score_template_step_m
-                              / np.where(front, depth, 1.0), 0.0)
+                              * thin / np.where(front, depth, 1.0), 0.0)
             recall = np.sum(length * (d <= hit_px), axis=1) / np.maximum(np.sum(length, axis=1),
                                                                          config.score_min_template_px)
             if len(pts_h):
@@ -216,7 +219,7 @@ class MapScorer:
             else:
                 precision = np.ones_like(recall)
             cost = -_f_beta(precision, recall, b2)
-            cost[inside.sum(axis=1) < 8] = np.inf
+            cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
             out[s:s + chunk] = cost
         return out
 
