@@ -24,7 +24,9 @@ within ``--success-px`` (median) of the truth's; **wrong-written** = written and
 (``twin``: of those, the truth's half turn about the centre spot, the view the markings cannot tell
 apart); **near-written** = written, between the two; **none** = not written. Shares are of the counted
 frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by height
-(low: under 12 m); seconds per frame as median and 95th percentile.
+(low: under 12 m); seconds per frame as median and 95th percentile. ``truth_written`` counts the frames
+whose true camera is itself confident enough to be written (no route can write more). Frame i of a seed
+is the same in every run (``--first K`` starts at frame K).
 """
 
 from __future__ import annotations
@@ -55,8 +57,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--looks", nargs="+", choices=LOOK_NAMES, default=list(LOOK_NAMES),
                         help="with --random: the looks drawn from (default: all)")
     parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
-                        help="with --random: start at frame K of the seed's frames (frame i is the same in every run of "
-                             "the seed and looks: --random 1 --first i runs one frame of a report again)")
+                        help="with --random: start at frame K of the seed's frames (frame i is the same in every run "
+                             "of the seed, size and looks: --random 1 --first i runs one frame of a report again)")
 
 
 def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> dict:
@@ -159,7 +161,8 @@ def run(args) -> dict:
     cv2.setNumThreads(1)
     rows = []
     try:
-        for index in tqdm(range(args.first, args.first + args.random), desc="placements --random", unit="frame", disable=args.no_progress):
+        frames = range(args.first, args.first + args.random)
+        for index in tqdm(frames, desc="placements --random", unit="frame", disable=args.no_progress):
             frame = draw_frame(args.seed, index, W, H, args.looks)
             drawn, image, truth = frame["drawn"], frame["image"], frame["drawn"].camera
             started = time.perf_counter()
@@ -170,21 +173,23 @@ def run(args) -> dict:
             def confidence_of(camera):
                 return frame_confidence(camera, FrameObservations(0, W, H), detections, curves, sampling)
 
+            truth_confidence = confidence_of(truth)
             row = {"frame": index, "camera": _camera_info(drawn), "look": frame["look_name"], "class": drawn.stand,
                    "height_m": round(drawn.height_m, 1), "low": drawn.low, "determinable": seen.determinable,
                    "markings": {"x_lines": seen.x_lines, "y_lines": seen.y_lines, "curves": list(seen.curves)},
-                   "truth_confidence": _round(confidence_of(truth), 3), "render_s": round(frame["render_s"], 3),
-                   "detect_s": round(detect_s, 3), "routes": {}}
-            row["truth_written"] = (row["truth_confidence"] or 0.0) >= written_at
+                   "truth_confidence": _round(truth_confidence, 3),
+                   "truth_written": (truth_confidence or 0.0) >= written_at,
+                   "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             for route in routes:
-                started = time.perf_counter()
                 if route == "search":
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model)
+                    started = time.perf_counter()
                     decision = policy.decide(FrameObservations(0, W, H), detections, pitch, curves, sampling,
                                              image=image)
                     seconds = time.perf_counter() - started
                     camera, confidence, reason = decision.camera, decision.confidence, decision.reason
                 else:
+                    started = time.perf_counter()
                     result = court(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
                                    curves=curves, field_mask=detections.field_mask)
                     seconds = time.perf_counter() - started
@@ -267,7 +272,8 @@ def summary_table(report: dict) -> str:
         groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
                   "not determinable": figures["not_determinable"]}
         for name, f in groups.items():
-            pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}") for o in ("found", "wrong", "near", "none")]
+            pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}")
+                   for o in ("found", "wrong", "near", "none")]
             seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
             lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
                          f"{seconds[0]:>6} {seconds[1]:>6} {f['truth_written']:>8}")

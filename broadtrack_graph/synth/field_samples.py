@@ -14,7 +14,8 @@ every kind in proportion to its share (negatives ``negative_share``, the pitch k
 in a random order per seed and block. With resolution randomisation the frame is rendered at a
 random size of the requested aspect ratio (between the configured heights) and resized to the
 requested size; the render camera's principal point is placed so that the resize maps it exactly
-onto the returned camera. No I/O here (writing datasets is a separate step).
+onto the returned camera. :func:`render_look` is that rendering for any camera and look (benchmarks render
+their own cameras with it). No I/O here (writing datasets is a separate step).
 """
 
 from __future__ import annotations

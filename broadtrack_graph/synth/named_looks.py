@@ -1,4 +1,4 @@
-"""Named broadcast looks: a :class:`~broadtrack_graph.synth.field_config.SampleConfig` per look, for rendering any camera.
+"""Named broadcast looks: a :class:`~broadtrack_graph.synth.field_config.SampleConfig` per look, for any camera.
 
 The field-model samples draw their appearance from one wide config; a benchmark wants a few recognisable
 kinds of broadcast instead, each still varied within its kind. Every look here shades the ground per

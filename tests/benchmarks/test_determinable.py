@@ -43,8 +43,9 @@ def test_collinear_markings_count_as_one_line():
     # The whole pitch from high up: six classes along x show over 60 px, on four distinct lines (the two
     # penalty areas' long sides on each side lie on one line y = +-20.16).
     seen = determinability(camera((0.0, 110.0, -60.0), (0.0, 0.0, 0.0), 70.0))
-    along_x = [n for n in ("Big rect. left bottom", "Big rect. right bottom", "Big rect. left top",
-                           "Big rect. right top", "Side line bottom", "Side line top") if seen.visible_px[n] >= MIN_LINE_PX]
+    names = ("Big rect. left bottom", "Big rect. right bottom", "Big rect. left top", "Big rect. right top",
+             "Side line bottom", "Side line top")
+    along_x = [n for n in names if seen.visible_px[n] >= MIN_LINE_PX]
     assert len(along_x) == 6 and seen.x_lines == 4
     assert seen.y_lines == 7 and seen.determinable
 
