@@ -31,7 +31,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.court_circle import CourtCircleConfig, circle_line_homographies
+from broadtrack_graph.reinit.court_circle import CourtCircleConfig, circle_line_homographies, pitch_circle_chords
 from broadtrack_graph.reinit.court_lines import (
     CourtLineConfig,
     cameras_from_homographies,
@@ -150,12 +150,13 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
 
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig):
-    """The centre circle's hypotheses: each ellipse of the map with each straight marking as the halfway line."""
+    """The circles' hypotheses: each ellipse of the map as each pitch circle, with each straight marking as the line
+    across it (the halfway line, a 16.5 m line)."""
     if not ellipses:
         return concatenate([])
     lines_n, _, _ = normalised_lines(lines, frame_size)
-    radius = pitch.dimensions.centre_circle_radius_m
-    found = [circle_line_homographies(e, lines_n, frame_size, radius, config.circle) for e in ellipses]
+    found = [circle_line_homographies(e, lines_n, frame_size, circle, config.circle)
+             for e in ellipses for circle in pitch_circle_chords(pitch)]
     return cameras_from_homographies(np.concatenate(found), frame_size, pitch, config.lines)
 
 

@@ -1,4 +1,5 @@
-"""Court-model hypotheses from the centre circle and the halfway line: the view a main camera shows most. No I/O.
+"""Court-model hypotheses from a pitch circle and the line across it: the centre circle with the halfway line (the
+view a main camera shows most), a penalty arc with its 16.5 m line. No I/O.
 
 A frame that shows the centre circle and the halfway line but not two straight markings of each
 direction still fixes the ground homography. In normalised image coordinates (as in
@@ -70,10 +71,41 @@ def _homographies_from_points(image_h: np.ndarray, world_xy: np.ndarray) -> np.n
     return vt[:, -1].reshape(K, 3, 3)
 
 
-def circle_line_homographies(ellipse: ImageEllipse, lines_n: np.ndarray, frame_size, radius_m: float,
+@dataclass(frozen=True)
+class CircleChord:
+    """A pitch circle with a straight marking across it: centre (centre_x_m, 0), radius_m, the line x = chord_x_m."""
+
+    name: str
+    centre_x_m: float
+    radius_m: float
+    chord_x_m: float
+
+    def world_points(self) -> np.ndarray:
+        """(4, 2) the line's two cuts (y > 0 first) and the long axis's two cuts (x larger first), metres."""
+        d = self.chord_x_m - self.centre_x_m
+        h = math.sqrt(self.radius_m**2 - d**2)
+        return np.array([[self.chord_x_m, h], [self.chord_x_m, -h], [self.centre_x_m + self.radius_m, 0.0],
+                         [self.centre_x_m - self.radius_m, 0.0]])
+
+
+def pitch_circle_chords(pitch) -> list[CircleChord]:
+    """The centre circle with the halfway line, and each penalty arc's circle with its penalty area's 16.5 m line."""
+    d = pitch.dimensions
+    half_l, r = d.length_m / 2, d.centre_circle_radius_m
+    mark_x, box_x = half_l - d.penalty_mark_distance_m, half_l - d.penalty_area_depth_m
+    return [CircleChord("centre circle", 0.0, r, 0.0), CircleChord("right penalty arc", mark_x, r, box_x),
+            CircleChord("left penalty arc", -mark_x, r, -box_x)]
+
+
+def circle_line_homographies(ellipse: ImageEllipse, lines_n: np.ndarray, frame_size, circle: CircleChord,
                              config: CourtCircleConfig = CourtCircleConfig()) -> np.ndarray:
-    """(K, 3, 3) ground homographies (normalised image coordinates) putting the centre circle (radius_m, about the
-    centre spot) on the ellipse and the halfway line on each image line (L, 3) that cuts it near its centre."""
+    """(K, 3, 3) ground homographies (normalised image coordinates) putting a pitch circle on the ellipse and its
+    chord's line on each image line (L, 3) that cuts it (the halfway line: near the ellipse's centre).
+
+    The module docstring's construction with the chord anywhere: the pole of the chord's line is the image of
+    the pole of ``x = c`` (on the long axis, at infinity for a diameter), and the image M of (c, 0), tried
+    along the chord, with the pole gives the long axis, which cuts the conic at the images of (cx +- r, 0).
+    """
     W = frame_size[0]
     E = ellipse_conic_n(ellipse, frame_size)
     s = W / 2.0
@@ -81,20 +113,26 @@ def circle_line_homographies(ellipse: ImageEllipse, lines_n: np.ndarray, frame_s
     minor_n = ellipse.semi_axes_px[1] / s
     out = []
     steps = np.linspace(0.0, 1.0, config.centre_steps + 2)[1:-1]
-    r = radius_m
-    world = np.array([[0.0, r], [0.0, -r], [r, 0.0], [-r, 0.0]])  # P1, P2, Q1, Q2
-    # The other labellings of the four points are the world's reflections about the axes (the mirror images are
-    # gated later); the axes' mismatch is the same for all four, so the places are searched once.
-    reflections = [np.diag([sx, sy, 1.0]) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
+    world = circle.world_points()  # P1, P2, Q1, Q2
+    diameter = abs(circle.chord_x_m - circle.centre_x_m) < 1e-9
+    # The other order of P1, P2 is the world's reflection y -> -y (the axes' mismatch is the same, so the places are
+    # searched once; mirror images are gated later); the other order of Q1, Q2 is searched on its own, but for a
+    # diameter, where it is the reflection x -> -x.
+    reflections = [np.diag([1.0, sy, 1.0]) for sy in (1.0, -1.0)]
+    orders = [world] if diameter else [world, world[[0, 1, 3, 2]]]
+    if diameter:
+        reflections += [np.diag([-1.0, sy, 1.0]) for sy in (1.0, -1.0)]
     E_inv = np.linalg.inv(E)
     for line in np.asarray(lines_n, float).reshape(-1, 3):
-        if abs(line[:2] @ centre_n + line[2]) > config.max_line_offset * minor_n:
+        if diameter and abs(line[:2] @ centre_n + line[2]) > config.max_line_offset * minor_n:
             continue
         cuts = _line_cuts(E, line)
         if cuts is None:
             continue
-        found = _Chord(E, cuts[0], cuts[1], E_inv @ line).best_homographies(world, steps, config.refine_iterations)
-        out += [found @ reflection for reflection in reflections]
+        chord = _Chord(E, cuts[0], cuts[1], E_inv @ line)
+        for points in orders:
+            found = chord.best_homographies(points, steps, config.refine_iterations)
+            out += [found @ reflection for reflection in reflections]
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 
 
