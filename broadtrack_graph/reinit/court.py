@@ -155,9 +155,8 @@ def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config
     if not ellipses:
         return concatenate([])
     lines_n, _, _ = normalised_lines(lines, frame_size)
-    found = [circle_line_homographies(e, lines_n, frame_size, circle, config.circle)
-             for e in ellipses for circle in pitch_circle_chords(pitch)]
-    return cameras_from_homographies(np.concatenate(found), frame_size, pitch, config.lines)
+    found = circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle)
+    return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
 
 def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int) -> np.ndarray:

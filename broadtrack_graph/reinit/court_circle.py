@@ -34,8 +34,8 @@ class CourtCircleConfig:
 
     centre_steps: int = 64  # places of the centre spot's image tried along the chord (its ends excluded) ...
     refine_iterations: int = 16  # ... each local minimum of the axes' mismatch narrowed by golden-section steps
-    max_line_offset: float = 0.6  # the halfway line passes within this share of the minor semi-axis of the
-    #                               ellipse's centre (the image of the circle's centre is near it)
+    chord_offset_slack: float = 0.35  # a line's offset from the ellipse's centre (a share of its half width across
+    #                                   the line) within this of the chord's offset from the circle's (0 for a diameter)
 
 
 def ellipse_conic_n(ellipse: ImageEllipse, frame_size) -> np.ndarray:
@@ -57,16 +57,16 @@ def ellipse_conic_n(ellipse: ImageEllipse, frame_size) -> np.ndarray:
 
 def _homographies_from_points(image_h: np.ndarray, world_xy: np.ndarray) -> np.ndarray:
     """(K, 3, 3) H with ``H (x, y, 1) ~ image point`` from four correspondences each: image_h (K, 4, 3)
-    homogeneous, world_xy (4, 2) metres; the direct linear transform, every K at once."""
+    homogeneous, world_xy (K, 4, 2) metres; the direct linear transform, every K at once."""
     K = len(image_h)
-    X = np.column_stack([world_xy, np.ones(4)])  # (4, 3)
+    X = np.concatenate([world_xy, np.ones((K, 4, 1))], axis=2)  # (K, 4, 3)
     rows = np.zeros((K, 8, 9))
     u, v, w = image_h[..., 0], image_h[..., 1], image_h[..., 2]
     for k in range(4):
-        rows[:, 2 * k, 3:6] = -w[:, k, None] * X[k]
-        rows[:, 2 * k, 6:9] = v[:, k, None] * X[k]
-        rows[:, 2 * k + 1, 0:3] = w[:, k, None] * X[k]
-        rows[:, 2 * k + 1, 6:9] = -u[:, k, None] * X[k]
+        rows[:, 2 * k, 3:6] = -w[:, k, None] * X[:, k]
+        rows[:, 2 * k, 6:9] = v[:, k, None] * X[:, k]
+        rows[:, 2 * k + 1, 0:3] = w[:, k, None] * X[:, k]
+        rows[:, 2 * k + 1, 6:9] = -u[:, k, None] * X[:, k]
     _, _, vt = np.linalg.svd(rows)
     return vt[:, -1].reshape(K, 3, 3)
 
@@ -97,88 +97,96 @@ def pitch_circle_chords(pitch) -> list[CircleChord]:
             CircleChord("left penalty arc", -mark_x, r, -box_x)]
 
 
-def circle_line_homographies(ellipse: ImageEllipse, lines_n: np.ndarray, frame_size, circle: CircleChord,
-                             config: CourtCircleConfig = CourtCircleConfig()) -> np.ndarray:
-    """(K, 3, 3) ground homographies (normalised image coordinates) putting a pitch circle on the ellipse and its
-    chord's line on each image line (L, 3) that cuts it (the halfway line: near the ellipse's centre).
+def circle_line_homographies(ellipses: list[ImageEllipse], lines_n: np.ndarray, frame_size,
+                             circles: list[CircleChord], config: CourtCircleConfig = CourtCircleConfig()) -> np.ndarray:
+    """(K, 3, 3) ground homographies (normalised image coordinates) putting a pitch circle on an ellipse and its
+    chord's line on an image line (L, 3) that cuts it, for every ellipse, circle and line at once.
 
     The module docstring's construction with the chord anywhere: the pole of the chord's line is the image of
     the pole of ``x = c`` (on the long axis, at infinity for a diameter), and the image M of (c, 0), tried
-    along the chord, with the pole gives the long axis, which cuts the conic at the images of (cx +- r, 0).
+    along the chord, with the pole gives the long axis, which cuts the conic at the images of (cx +- r, 0). A
+    line is taken as a circle's chord only where it cuts the ellipse about as far from its centre as the chord
+    cuts the circle (``chord_offset_slack``).
     """
-    W = frame_size[0]
-    E = ellipse_conic_n(ellipse, frame_size)
-    s = W / 2.0
-    centre_n = (np.asarray(ellipse.centre_px, float) - [W / 2.0, frame_size[1] / 2.0]) / s
-    minor_n = ellipse.semi_axes_px[1] / s
-    out = []
-    steps = np.linspace(0.0, 1.0, config.centre_steps + 2)[1:-1]
-    world = circle.world_points()  # P1, P2, Q1, Q2
-    diameter = abs(circle.chord_x_m - circle.centre_x_m) < 1e-9
-    # The other order of P1, P2 is the world's reflection y -> -y (the axes' mismatch is the same, so the places are
-    # searched once; mirror images are gated later); the other order of Q1, Q2 is searched on its own, but for a
-    # diameter, where it is the reflection x -> -x.
-    reflections = [np.diag([1.0, sy, 1.0]) for sy in (1.0, -1.0)]
-    orders = [world] if diameter else [world, world[[0, 1, 3, 2]]]
-    if diameter:
-        reflections += [np.diag([-1.0, sy, 1.0]) for sy in (1.0, -1.0)]
-    E_inv = np.linalg.inv(E)
-    for line in np.asarray(lines_n, float).reshape(-1, 3):
-        if diameter and abs(line[:2] @ centre_n + line[2]) > config.max_line_offset * minor_n:
-            continue
-        cuts = _line_cuts(E, line)
-        if cuts is None:
-            continue
-        chord = _Chord(E, cuts[0], cuts[1], E_inv @ line)
-        for points in orders:
-            found = chord.best_homographies(points, steps, config.refine_iterations)
-            out += [found @ reflection for reflection in reflections]
-    return np.concatenate(out) if out else np.zeros((0, 3, 3))
+    chords = []  # (E, P1, P2, pole, world points (4, 2), the world's reflections to add)
+    lines_n = np.asarray(lines_n, float).reshape(-1, 3)
+    for ellipse in ellipses:
+        E = ellipse_conic_n(ellipse, frame_size)
+        E_inv = np.linalg.inv(E)
+        # How far each line is from the ellipse's centre, as a share of the ellipse's half width across the line.
+        centre = E_inv[:, 2] / E_inv[2, 2]
+        spread = np.sqrt(np.maximum(-np.einsum("li,ij,lj->l", lines_n[:, :2], E_inv[:2, :2] - np.outer(
+            centre[:2], centre[:2]) * E_inv[2, 2], lines_n[:, :2]) / E_inv[2, 2], 1e-18))
+        offset = np.abs(lines_n @ centre) / spread
+        for circle in circles:
+            share = abs(circle.chord_x_m - circle.centre_x_m) / circle.radius_m
+            diameter = share < 1e-9
+            world = circle.world_points()
+            # The other order of P1, P2 is the world's reflection y -> -y (the axes' mismatch is the same, so the
+            # places are searched once; mirror images are gated later); the other order of Q1, Q2 is searched on
+            # its own, but for a diameter, where it is the reflection x -> -x.
+            reflections = [np.diag([sx, sy, 1.0]) for sx in ((1.0, -1.0) if diameter else (1.0,)) for sy in (1.0, -1.0)]
+            for k in np.nonzero(np.abs(offset - share) <= config.chord_offset_slack)[0]:
+                cuts = _line_cuts(E, lines_n[k])
+                if cuts is None:
+                    continue
+                for points in ([world] if diameter else [world, world[[0, 1, 3, 2]]]):
+                    chords.append((E, cuts[0], cuts[1], E_inv @ lines_n[k], points, reflections))
+    if not chords:
+        return np.zeros((0, 3, 3))
+    found, owner = _Chords(chords).best_homographies(config.centre_steps, config.refine_iterations)
+    out = [found[owner == c] @ reflection for c, chord in enumerate(chords) for reflection in chord[5]]
+    return np.concatenate(out)
 
 
-class _Chord:
-    """The halfway line's chord P1 P2 of the circle's image conic E, with the pole of the line (the vanishing
-    point of the touchlines' direction): the homography for each place of the centre spot's image on it."""
+class _Chords:
+    """Chords P1 P2 of circles' image conics E, each with the pole of its line and its four world points: the
+    homography for each place of the image M of the chord's middle on it, every chord at once."""
 
-    def __init__(self, E: np.ndarray, p1: np.ndarray, p2: np.ndarray, pole: np.ndarray) -> None:
-        self.E, self.p1, self.p2, self.pole = E, p1, p2, pole
-        self.vEv = pole @ E @ pole
+    def __init__(self, chords: list) -> None:
+        self.E = np.stack([c[0] for c in chords])
+        self.p1, self.p2 = np.stack([c[1] for c in chords]), np.stack([c[2] for c in chords])
+        self.pole = np.stack([c[3] for c in chords])
+        self.world = np.stack([c[4] for c in chords])
+        self.vEv = np.einsum("ci,cij,cj->c", self.pole, self.E, self.pole)
 
-    def homographies(self, places: np.ndarray, world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(S, 3, 3) H and (S,) the axes' mismatch (inf where the long axis misses the conic) for the centre
-        spot's image at the places (S,) along the chord (0: P1, 1: P2)."""
-        O = self.p1[None, :] + places[:, None] * (self.p2 - self.p1)[None, :]
-        ratio = -np.einsum("si,ij,sj->s", O, self.E, O) / self.vEv
+    def homographies(self, which: np.ndarray, places: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(N, 3, 3) H and (N,) the axes' mismatch (inf where the long axis misses the conic) for chord ``which``
+        (N,) with M at ``places`` (N,) along it (0: P1, 1: P2)."""
+        p1, p2, pole, E = self.p1[which], self.p2[which], self.pole[which], self.E[which]
+        M = p1 + places[:, None] * (p2 - p1)
+        ratio = -np.einsum("ni,nij,nj->n", M, E, M) / self.vEv[which]
         valid = ratio > 0
         t = np.sqrt(np.where(valid, ratio, 0.0))[:, None]
-        q1, q2 = O + t * self.pole[None, :], O - t * self.pole[None, :]
-        image = np.stack([np.broadcast_to(self.p1, q1.shape), np.broadcast_to(self.p2, q1.shape), q1, q2], axis=1)
-        H = _homographies_from_points(image, world)
+        image = np.stack([p1, p2, M + t * pole, M - t * pole], axis=1)
+        H = _homographies_from_points(image, self.world[which])
         _, mismatch = focal_and_mismatch(H)
         return H, np.where(valid, mismatch, np.inf)
 
-    def best_homographies(self, world: np.ndarray, steps: np.ndarray, iterations: int) -> np.ndarray:
-        """The homographies on the grid ``steps`` of places along the chord, and at the places where the axes'
+    def best_homographies(self, steps: int, iterations: int) -> tuple[np.ndarray, np.ndarray]:
+        """The homographies on a grid of ``steps`` places along each chord, and at the places where the axes'
         mismatch has a local minimum, narrowed by golden-section search in the grid cells either side (on a
-        detected ellipse the minimum can also be shallow or off the right place: the map decides among all)."""
-        grid, mismatch = self.homographies(steps, world)
-        grid = grid[np.isfinite(mismatch)]
-        inner = np.arange(1, len(steps) - 1)
-        minima = inner[(mismatch[inner] <= mismatch[inner - 1]) & (mismatch[inner] <= mismatch[inner + 1])
-                       & np.isfinite(mismatch[inner])]
-        if not len(minima):
-            return grid
-        lo, hi = steps[minima - 1], steps[minima + 1]
+        detected ellipse the minimum can be shallow or off the right place: the map decides among all), with the
+        chord of each."""
+        count = len(self.E)
+        grid = np.linspace(0.0, 1.0, steps + 2)[1:-1]
+        which = np.repeat(np.arange(count), steps)
+        H, mismatch = self.homographies(which, np.tile(grid, count))
+        table = mismatch.reshape(count, steps)
+        inner = np.arange(1, steps - 1)
+        is_min = ((table[:, inner] <= table[:, inner - 1]) & (table[:, inner] <= table[:, inner + 1])
+                  & np.isfinite(table[:, inner]))
+        chord, cell = np.nonzero(is_min)
+        lo, hi = grid[inner[cell] - 1], grid[inner[cell] + 1]
         ratio = (math.sqrt(5.0) - 1.0) / 2.0
-        for _ in range(iterations):
+        for _ in range(iterations if len(chord) else 0):
             a, b = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
-            _, fa = self.homographies(a, world)
-            _, fb = self.homographies(b, world)
-            left = fa <= fb
+            _, fa = self.homographies(np.concatenate([chord, chord]), np.concatenate([a, b]))
+            left = fa[:len(chord)] <= fa[len(chord):]
             hi, lo = np.where(left, b, hi), np.where(left, lo, a)
-        return np.concatenate([grid, self.homographies(0.5 * (lo + hi), world)[0]])
-
-
+        narrowed, _ = self.homographies(chord, 0.5 * (lo + hi))
+        keep = np.isfinite(mismatch)
+        return np.concatenate([H[keep], narrowed]), np.concatenate([which[keep], chord])
 
 
 def _line_cuts(E: np.ndarray, line: np.ndarray):

@@ -56,7 +56,7 @@ def test_the_ellipse_conic_holds_the_circles_image():
 
 def test_a_hypothesis_of_the_circle_and_the_halfway_line_is_the_true_camera():
     truth = _centre_view()
-    H_n = circle_line_homographies(_image_ellipse(truth), _halfway_line_n(truth)[None], (W, H), CENTRE)
+    H_n = circle_line_homographies([_image_ellipse(truth)], _halfway_line_n(truth)[None], (W, H), [CENTRE])
     cameras = cameras_from_homographies(H_n, (W, H), PITCH)
     assert len(cameras) >= 1
     gap = np.linalg.norm(cameras.C_w - truth.position_m, axis=1)
@@ -68,7 +68,7 @@ def test_a_hypothesis_of_the_circle_and_the_halfway_line_is_the_true_camera():
 def test_a_line_far_from_the_ellipse_centre_makes_no_hypothesis():
     truth = _centre_view()
     far = _halfway_line_n(truth) + np.array([0.0, 0.0, 0.5])
-    assert len(circle_line_homographies(_image_ellipse(truth), far[None], (W, H), CENTRE)) == 0
+    assert len(circle_line_homographies([_image_ellipse(truth)], far[None], (W, H), [CENTRE])) == 0
 
 
 def test_a_penalty_arc_and_its_16m_line_give_the_camera():
@@ -78,7 +78,7 @@ def test_a_penalty_arc_and_its_16m_line_give_the_camera():
     ellipse = _image_ellipse(truth.replace(position_m=truth.position_m - np.array([arc.centre_x_m, 0.0, 0.0])))
     (u0, u1), _ = truth.project(np.array([[arc.chord_x_m, -5.0, 0.0], [arc.chord_x_m, 5.0, 0.0]]))
     line = np.cross(np.append((u0 - [W / 2, H / 2]) / (W / 2), 1.0), np.append((u1 - [W / 2, H / 2]) / (W / 2), 1.0))
-    H_n = circle_line_homographies(ellipse, (line / np.linalg.norm(line[:2]))[None], (W, H), arc)
+    H_n = circle_line_homographies([ellipse], (line / np.linalg.norm(line[:2]))[None], (W, H), [arc])
     cameras = cameras_from_homographies(H_n, (W, H), PITCH)
     gap = np.linalg.norm(cameras.C_w - truth.position_m, axis=1)
     assert len(cameras) and gap.min() < 0.5
