@@ -619,3 +619,64 @@ def test_a_main_camera_metres_from_every_candidate_position_is_found_at_its_firs
                      640, 360)
     assert median_template_error_px(camera, tracked) < 3.0
     assert np.linalg.norm(camera.position_m - np.asarray(tracked.position_m)) < 1.5
+
+
+# --------------------------------------------------------------------------- the court model
+
+
+def _court_policy(fakes, court_camera, court_confidence, registry=None, **config):
+    """A policy whose court model answers court_camera (with its twin), scored court_confidence by the fakes."""
+    from broadtrack_graph.reinit.court import twin_camera
+    from broadtrack_graph.track.camera_ids import CameraRegistry
+
+    calls = []
+
+    def court(detections, frame_size, curves):
+        calls.append(frame_size)
+        if court_camera is None:
+            return ReinitResult(None, None, "", "nothing")
+        fakes.confidences[id(court_camera)] = court_confidence
+        twin = twin_camera(court_camera)
+        fakes.confidences[id(twin)] = court_confidence
+        return ReinitResult(court_camera, None, "fake court", twin=twin)
+
+    policy = ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence,
+                          registry or CameraRegistry(), court=court)
+    return policy, calls
+
+
+def test_a_confident_court_camera_starts_a_new_shot_without_the_search():
+    fakes = Fakes({None: (MAIN, 0.9)})
+    policy, calls = _court_policy(fakes, CORNER, 0.75)
+    decision = _decide(policy, 0)
+    assert decision.camera is CORNER and decision.new_camera and not decision.searched
+    assert fakes.searched == [] and calls == [(W, H)] and policy.counts["court_used"] == 1
+
+
+def test_an_unconfident_court_camera_is_dropped_and_the_search_decides():
+    fakes = Fakes({None: (MAIN, 0.62)})
+    policy, _ = _court_policy(fakes, CORNER, 0.3)
+    decision = _decide(policy, 0)
+    assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
+
+
+def test_a_court_camera_between_the_threshold_and_the_margin_is_a_candidate_the_search_must_beat():
+    threshold = TrackingConfig().confidence_threshold
+    fakes = Fakes({None: (MAIN, threshold - 0.02)})
+    policy, _ = _court_policy(fakes, CORNER, threshold + 0.05)
+    decision = _decide(policy, 0)
+    assert decision.camera is CORNER and decision.searched  # the search's camera is not confident
+    fakes = Fakes({None: (MAIN, threshold + 0.08)})
+    policy, _ = _court_policy(fakes, CORNER, threshold + 0.05)
+    assert _decide(policy, 0).camera is MAIN  # a confident camera of the search
+
+
+def test_a_known_camera_standing_where_the_twin_stands_decides_the_twin():
+    from broadtrack_graph.reinit.court import twin_camera
+    from broadtrack_graph.track.camera_ids import CameraRegistry
+
+    far_side = twin_camera(MAIN)  # the court model's rule would keep the main side: here a known camera decides
+    registry = CameraRegistry(known={"opposite": far_side.position_m})
+    policy, _ = _court_policy(Fakes(), MAIN, 0.8, registry)
+    decision = _decide(policy, 0)
+    assert np.allclose(decision.camera.position_m, far_side.position_m) and decision.camera_id == "opposite"
