@@ -15,6 +15,7 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.reinit.mask import fit_points, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
@@ -31,7 +32,9 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
 
     Returns:
         ReinitResult whose ``score.jaccard`` is the confidence of the camera (as
-        :func:`~broadtrack_graph.reinit.mask.reinit_from_mask`), or camera None with a reason.
+        :func:`~broadtrack_graph.reinit.mask.reinit_from_mask`), or camera None with a reason. A refined camera
+        whose focal point is not a broadcast camera's (:func:`~broadtrack_graph.reinit.frame.plausible_position`)
+        is dropped, as every other camera is.
     """
     if detections is None or detections.marking_mask is None or not guesses:
         return ReinitResult(None, None, "", "no guess or no marking map")
@@ -44,8 +47,11 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
     for label, guess in guesses:
         start = guess if (guess.width_px, guess.height_px) == (W, H) else guess.rescaled(W, H)
         camera = refine_on_map(start, points, start.position_m, curves, config, config.schedule)
+        if not plausible_position(camera.position_m, curves.pitch):
+            continue  # the gate every camera passes: a fit that slid under the grass or onto the pitch
         confidence = camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
                                        player_mask=detections.player_mask)
         if best is None or confidence > best.score.jaccard:
             best = ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"refined {label}")
-    return best
+    return best if best is not None else ReinitResult(None, None, "", "every refined guess stood under 1 m or on "
+                                                                      "the pitch")

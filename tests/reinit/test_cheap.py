@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from reinit_helpers import median_template_error_px
 
 from broadtrack_graph.detect.weightfree import WeightFreeDetector
@@ -33,3 +35,22 @@ def test_a_nearby_guess_is_refined_onto_the_markings_and_the_best_guess_wins():
     assert (rescaled.camera.width_px, rescaled.camera.height_px) == (960, 540)
     assert refine_guesses([], det, CURVES).camera is None
     assert refine_guesses([("near", near)], None, CURVES).camera is None
+
+
+def test_a_guess_refined_onto_the_pitch_is_dropped_like_any_implausible_camera():
+    from types import SimpleNamespace
+
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.geometry.template import TemplateCurves
+    from broadtrack_graph.reinit.cheap import refine_guesses
+
+    curves = TemplateCurves(PitchTemplate())
+    on_pitch = Camera.from_degrees(1200.0, 0.0, 0.0, 70.0, 0.0, (0.0, 10.0, -12.0), 960, 540)  # over the grass
+    mask = np.zeros((540, 960), bool)
+    mask[300, 100:900] = True
+    detections = SimpleNamespace(marking_mask=mask, marking_points_px=np.column_stack(
+        [np.arange(100, 900, 20), np.full(40, 300)]).astype(float), width_px=960, height_px=540,
+        field_mask=None, player_mask=None)
+    result = refine_guesses([("over the pitch", on_pitch)], detections, curves)
+    assert result.camera is None and "on the pitch" in result.reason
