@@ -192,7 +192,7 @@ def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: Templat
     right. Fitted to H's own image of every marking it shows, with each point's marking known, the camera lands
     on it from there.
     """
-    W, H = start.width_px, start.height_px
+    W = start.width_px
     lines = {}
     for name, samples_w in curves.samples_w.items():
         if not curves.pitch.is_on_ground(name):

@@ -51,7 +51,8 @@ from broadtrack_graph.track.observe import FrameObserver
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
 from broadtrack_graph.track.records import PendingFrame, RecordQueue
-from broadtrack_graph.track.reinit_policy import ReinitDecision, ReinitPolicy
+from broadtrack_graph.track.reinit_decision import ReinitDecision
+from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.result import RunResult
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.status import FrameStatus

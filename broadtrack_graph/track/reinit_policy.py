@@ -65,7 +65,7 @@ grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Callable
 
 import numpy as np
@@ -76,6 +76,7 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
+from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import SearchBudget, TrySchedule
 from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
@@ -87,30 +88,6 @@ Refiner = Callable[[list, object, object], ReinitResult]
 """``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit."""
 Confidence = Callable[..., float | None]
 """``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
-
-@dataclass(frozen=True)
-class ReinitDecision:
-    """What the policy found for one frame, and why.
-
-    camera: the camera to restart the solver from, or None (keep the held camera; or nothing found).
-    confidence: the tracker's confidence of ``camera`` (None when unknown or no camera).
-    camera_id: the camera id ``camera`` belongs to (None with no camera).
-    continues_chain: ``camera`` is a confident camera of this camera id moved onto the frame: its
-        chain (and the trust it earned) goes on.
-    searched: a global search ran for this frame.
-    reason: one line.
-    new_camera: ``camera`` was searched for a shot whose camera was not known: its chain is trusted only from
-        a frame confident by the margin (a shot's first frame can be explained, nearly as well, by a wrong camera).
-    """
-
-    camera: Camera | None
-    confidence: float | None
-    camera_id: str | None
-    continues_chain: bool
-    searched: bool
-    reason: str
-    new_camera: bool = False
-
 
 class ReinitPolicy:
     """The one re-initialisation decision of a run (module docstring).
@@ -224,7 +201,7 @@ class ReinitPolicy:
         untrusted = self.camera_id is None or self.camera_id in self.registry.untrusted
         new_camera = untrusted and self.search_positions is None and with_map
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
-        candidate = None if guess is None else (guess, guess_id, guess_confidence, True, "refined " + guess.reason)
+        candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True, "refined " + guess.reason)
         court, court_confidence = self.tries.court_camera(observations, detections, curves, score)
         if court is not None:
             # The primary route: a camera from the markings alone, taken when its chain can be trusted from it.
@@ -232,10 +209,10 @@ class ReinitPolicy:
                 self.counts["court_used"] += 1
                 return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
                                       False, court.hypothesis, held, held_confidence, chain_trusted, new_camera)
-            if court_confidence >= threshold and (candidate is None or court_confidence > candidate[2]):
+            if court_confidence >= threshold and (candidate is None or court_confidence > candidate.confidence):
                 # Confident, not by the margin: a candidate the later tries must beat (an unconfident one is not
                 # kept: a wrong camera would hold the solver against the search's).
-                candidate = (court, None, court_confidence, False, court.hypothesis)
+                candidate = Candidate(court, None, court_confidence, False, court.hypothesis)
         modelled, modelled_confidence = self.tries.model_camera(i, image, detections, curves, score)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
@@ -246,9 +223,9 @@ class ReinitPolicy:
                 camera_id = self._camera_id_of(modelled, modelled_confidence)
                 return self._decision(modelled, modelled_confidence, camera_id, False, False, modelled.hypothesis,
                                       held, held_confidence, chain_trusted, new_camera)
-            if candidate is None or modelled_confidence > candidate[2]:
+            if candidate is None or modelled_confidence > candidate.confidence:
                 # Its camera id is given only if it is taken (a new id is registered where it stands).
-                candidate = (modelled, None, modelled_confidence, False, modelled.hypothesis)
+                candidate = Candidate(modelled, None, modelled_confidence, False, modelled.hypothesis)
         known = self.camera_id is not None and self.camera_id in self.registry.positions
         if with_map and not self.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
@@ -270,7 +247,7 @@ class ReinitPolicy:
             self.budget.spend(i, found is not None and found_confidence >= trusted_from,
                               self._paid() - paid_before, known, shot_start)
         if candidate is not None and (found is None or (found_confidence < threshold
-                                                        and found_confidence <= candidate[2] + margin)):
+                                                        and found_confidence <= candidate.confidence + margin)):
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
             # model's camera) stays unless the search's camera is clearly better.
             return self._candidate_decision(candidate, True, "; the search found nothing better", held,
@@ -280,10 +257,11 @@ class ReinitPolicy:
         return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
                               label, held, held_confidence, chain_trusted, new_camera)
 
-    def _candidate_decision(self, candidate: tuple, searched: bool, why: str, held, held_confidence, chain_trusted,
+    def _candidate_decision(self, candidate: Candidate, searched: bool, why: str, held, held_confidence, chain_trusted,
                             new_camera: bool) -> ReinitDecision:
         """The decision for the best camera so far that is not confident, ``why`` appended to its label."""
-        result, camera_id, confidence, continues, label = candidate
+        result, camera_id, confidence, continues, label = (candidate.result, candidate.camera_id, candidate.confidence,
+                                                           candidate.continues_chain, candidate.label)
         camera_id = camera_id if continues else self._camera_id_of(result, confidence)
         return self._decision(result, confidence, camera_id, continues, searched, label + why, held, held_confidence,
                               chain_trusted, new_camera and not continues)
