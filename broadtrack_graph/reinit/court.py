@@ -61,7 +61,7 @@ class CourtConfig:
     search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24), position_sigma_m=25.0)
     min_marking_points: int = 10  # fewer marking points: no camera, said at once
     max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
-    refine_top_k: int = 4  # the best distinct hypotheses fitted
+    refine_top_k: int = 3  # the best distinct hypotheses fitted
     refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
     twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)

@@ -327,9 +327,13 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     scale = np.sqrt(n1 * n2)
     r1 = sign[:, None] * a[:, :, 0] / n1[:, None]
     r2 = sign[:, None] * a[:, :, 1] / n2[:, None]
+    # The two axes made orthonormal symmetrically (about their bisector), the third their cross product.
+    bisector = r1 + r2
+    bisector /= np.linalg.norm(bisector, axis=1, keepdims=True)
+    across = r1 - r2
+    across /= np.linalg.norm(across, axis=1, keepdims=True)
+    r1, r2 = (bisector + across) / math.sqrt(2.0), (bisector - across) / math.sqrt(2.0)
     R = np.stack([r1, r2, np.cross(r1, r2)], axis=2)
-    u, _, vt = np.linalg.svd(R)
-    R = u @ vt  # the nearest rotation
     t = sign[:, None] * a[:, :, 2] / scale[:, None]
     C = -np.einsum("kji,kj->ki", R, t)
     half_l, half_w = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2
