@@ -85,12 +85,6 @@ def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> d
             "render_s": time.perf_counter() - started}
 
 
-def twin_camera(camera):
-    """The camera turned half round the centre spot: it sees every marking where ``camera`` sees its mirror image."""
-    position = np.asarray(camera.position_m, float) * np.array([-1.0, -1.0, 1.0])
-    return camera.replace(pan_rad=camera.pan_rad + math.pi, position_m=position)
-
-
 def outcome(confidence: float | None, error_px: float | None, written_at: float, success_px: float) -> str:
     """found / near / wrong / none for a route's camera (module docstring); error None: no camera."""
     if confidence is None or error_px is None or confidence < written_at:
@@ -200,6 +194,8 @@ def run(args) -> dict:
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason}
                 if result_row["outcome"] == "wrong":
+                    from broadtrack_graph.reinit.court import twin_camera
+
                     twin_error = _median_error(camera, twin_camera(truth), ground)
                     result_row["twin"] = twin_error is not None and twin_error <= args.success_px
                 row["routes"][route] = result_row
@@ -216,7 +212,9 @@ def run(args) -> dict:
 
 
 def _round(value, digits: int):
-    return None if value is None else round(float(value), digits)
+    """value rounded; None for None and for a non-finite value (JSON has no inf: an error of inf is a camera that
+    puts every marking behind it, and its outcome is decided before rounding)."""
+    return None if value is None or not math.isfinite(float(value)) else round(float(value), digits)
 
 
 def _seconds(values) -> dict:
@@ -236,6 +234,7 @@ def route_figures(rows: list[dict], route: str) -> dict:
         k = sum(r["outcome"] == name for r in results)
         out[name], out[f"{name}_pct"] = k, round(100.0 * k / n, 1) if n else None
     out["wrong_twin"] = sum(bool(r.get("twin")) for r in results)
+    out["wrong_twin_pct"] = round(100.0 * out["wrong_twin"] / n, 1) if n else None
     out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
     out["seconds"] = _seconds([r["seconds"] for r in results])
     return out
@@ -266,17 +265,17 @@ def summary_table(report: dict) -> str:
     """A few lines for a human (stderr): per route and group, the shares of the counted frames and the seconds."""
     lines = [f"{report['frames']} frames, {report['determinable']} determinable ({report['not_determinable']} apart); "
              f"render {report['render_s']['median']} s, detect {report['detect_s']['median']} s median"]
-    lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'near%':>6} {'none%':>6} "
-                 f"{'s med':>6} {'s p95':>6} {'truth ok':>8}")
+    lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'twin%':>6} {'near%':>6} "
+                 f"{'none%':>6} {'s med':>6} {'s p95':>6} {'truth ok':>8}")
     for route, figures in report["by_route"].items():
         groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
                   "not determinable": figures["not_determinable"]}
         for name, f in groups.items():
             pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}")
-                   for o in ("found", "wrong", "near", "none")]
+                   for o in ("found", "wrong", "wrong_twin", "near", "none")]
             seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
             lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
-                         f"{seconds[0]:>6} {seconds[1]:>6} {f['truth_written']:>8}")
+                         f"{pct[4]:>6} {seconds[0]:>6} {seconds[1]:>6} {f['truth_written']:>8}")
     for note in report["skipped_routes"].values():
         lines.append(note)
     return "\n".join(lines)

@@ -162,9 +162,7 @@ class MapScorer:
                 precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
             else:
                 precision = np.ones_like(recall)
-            cost = -_f_beta(precision, recall, b2)
-            cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
-            out[s:s + chunk] = cost
+            out[s:s + chunk] = _chunk_costs(precision, recall, inside, thin, b2)
         return out
 
 
@@ -218,16 +216,18 @@ class MapScorer:
                 precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
             else:
                 precision = np.ones_like(recall)
-            cost = -_f_beta(precision, recall, b2)
-            cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
-            out[s:s + chunk] = cost
+            out[s:s + chunk] = _chunk_costs(precision, recall, inside, thin, b2)
         return out
 
 
-def _f_beta(precision: np.ndarray, recall: np.ndarray, beta2: float) -> np.ndarray:
-    """F_beta of precision and recall (arrays of one shape), 0 where both are 0; beta2 is beta squared."""
+def _chunk_costs(precision: np.ndarray, recall: np.ndarray, inside: np.ndarray, thin: int, beta2: float) -> np.ndarray:
+    """(k,) costs -F_beta of precision and recall (k,) (0 where both are 0; beta2 is beta squared), inf for a camera
+    with too few template samples in the image (inside: (k, S) bool)."""
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(precision + recall > 0, (1 + beta2) * precision * recall / (beta2 * precision + recall), 0.0)
+        score = np.where(precision + recall > 0, (1 + beta2) * precision * recall / (beta2 * precision + recall), 0.0)
+    cost = -score
+    cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
+    return cost
 
 
 @dataclass
