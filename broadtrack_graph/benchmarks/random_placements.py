@@ -141,6 +141,8 @@ def run(args) -> dict:
     curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
     config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
     written_at = config.confidence_threshold + config.reinit_switch_margin
+    # The court model's camera is taken by the tracker only from its own bar (TrackingConfig.court_accept_confidence).
+    written_at_by_route = {"search": written_at, "court": max(written_at, config.court_accept_confidence)}
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
     routes, skipped = list(dict.fromkeys(args.routes)), {}
     model = model_reinit_for(config.reinit_model) if "search" in routes else None
@@ -190,7 +192,7 @@ def run(args) -> dict:
                     camera, reason = result.camera, result.reason
                     confidence = None if camera is None else confidence_of(camera)
                 error = _median_error(camera, truth, ground)
-                result_row = {"outcome": outcome(confidence, error, written_at, args.success_px),
+                result_row = {"outcome": outcome(confidence, error, written_at_by_route[route], args.success_px),
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason}
                 if result_row["outcome"] == "wrong":
@@ -204,7 +206,8 @@ def run(args) -> dict:
         cv2.setNumThreads(threads)
     report = {"mode": "random", "frames": len(rows), "frame_size": [W, H], "seed": args.seed, "looks": list(args.looks),
               "routes": routes, "skipped_routes": skipped, "reinit_model": args.reinit_model,
-              "written_confidence": round(written_at, 3), "success_px": args.success_px, "wrong_px": WRONG_PX,
+              "written_confidence": {route: round(written_at_by_route[route], 3) for route in routes},
+              "success_px": args.success_px, "wrong_px": WRONG_PX,
               "rule": {"min_line_px": MIN_LINE_PX, "min_curve_share": MIN_CURVE_SHARE},
               **summarise(rows, routes), "frames_by_index": rows}
     print(summary_table(report), file=sys.stderr)

@@ -58,7 +58,8 @@ class CourtConfig:
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
     # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of
     # sight, so the fit holds it loosely.
-    search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24), position_sigma_m=25.0)
+    search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24), position_sigma_m=25.0,
+                                                max_fit_points=250)
     min_marking_points: int = 10  # fewer marking points: no camera, said at once
     max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
     refine_top_k: int = 3  # the best distinct hypotheses fitted
@@ -182,7 +183,7 @@ def _camera_of(hypotheses, k: int, W: int, H: int) -> Camera:
     return Camera(float(hypotheses.focal_n[k] * W / 2.0), 0.0, pan, tilt, roll, hypotheses.C_w[k], W, H)
 
 
-def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: TemplateCurves, per_class: int = 24) -> Camera:
+def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: TemplateCurves, per_class: int = 12) -> Camera:
     """The camera (k1 held at 0) that draws the ground template where the homography H_px (pitch (x, y, 1) metres ->
     pixels; a ground point X is in front when ``sign * (H_px X)_z > 0``) draws it, fitted from ``start`` (its
     decomposition).
@@ -205,7 +206,7 @@ def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: Templat
             lines[name] = uv[shown][np.linspace(0, shown.sum() - 1, min(per_class, int(shown.sum()))).astype(int)]
     if sum(len(p) for p in lines.values()) < 8:
         return start
-    config = LineFitConfig(cauchy_scale_px=0.05 * W, polish_power=0.0, iterations=30, sigma_k1=1e-3)
+    config = LineFitConfig(cauchy_scale_px=0.05 * W, polish_power=0.0, iterations=20, sigma_k1=1e-3)
     return fit_camera_to_lines(start, lines, curves, config, fixed=(1,)).camera
 
 

@@ -31,6 +31,10 @@ class TrackingConfig:
     # A camera from the marking map alone, wherever it stands (reinit/court.py), tried after the guesses and before
     # the field model and the global search; taken when its chain can be trusted from it (False: not tried)
     court_reinit: bool = True
+    # ... its camera is taken (the field model and the search skipped) only from this confidence, and dropped under
+    # it: a camera from nothing that skips the search must be surer than the margin (on random placements the
+    # court model's wrong cameras scored 0.61-0.68, its right ones 0.67-1.00: docs/BENCHMARKS.md)
+    court_accept_confidence: float = 0.7
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each
@@ -74,6 +78,8 @@ class TrackingConfig:
             raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
         if not 0.0 <= self.confidence_threshold <= 1.0:
             raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
+        if not 0.0 <= self.court_accept_confidence <= 1.0:
+            raise ValueError(f"court_accept_confidence must be in [0, 1], got {self.court_accept_confidence}")
         if self.max_motion_prior_frames < 0:
             raise ValueError(f"max_motion_prior_frames must be >= 0, got {self.max_motion_prior_frames}")
         if not 0.0 < self.search_time_share <= 1.0:

@@ -17,8 +17,8 @@ What is tried, cheapest first:
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`, as the field model is.
 2. **The court model** (a marking map): a camera from the straight markings alone, wherever it stands
    (:func:`~broadtrack_graph.reinit.court.court_reinit`, :class:`~broadtrack_graph.track.frame_tries.FrameTries`):
-   taken when its chain can be trusted from it (a new shot's camera: confident by the margin), with the id of where
-   it stands (its twin when a known camera stands there); else a candidate the later tries must beat. On its own
+   taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), with the id of where
+   it stands (its twin when a known camera stands there); under it, dropped. On its own
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`.
 3. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
@@ -201,18 +201,16 @@ class ReinitPolicy:
         untrusted = self.camera_id is None or self.camera_id in self.registry.untrusted
         new_camera = untrusted and self.search_positions is None and with_map
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
-        candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True, "refined " + guess.reason)
+        candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True,
+                                                         "refined " + guess.reason)
         court, court_confidence = self.tries.court_camera(observations, detections, curves, score)
-        if court is not None:
-            # The primary route: a camera from the markings alone, taken when its chain can be trusted from it.
-            if court_confidence >= threshold + (margin if new_camera else 0.0):
-                self.counts["court_used"] += 1
-                return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
-                                      False, court.hypothesis, held, held_confidence, chain_trusted, new_camera)
-            if court_confidence >= threshold and (candidate is None or court_confidence > candidate.confidence):
-                # Confident, not by the margin: a candidate the later tries must beat (an unconfident one is not
-                # kept: a wrong camera would hold the solver against the search's).
-                candidate = Candidate(court, None, court_confidence, False, court.hypothesis)
+        accept = max(self.config.court_accept_confidence, threshold + (margin if new_camera else 0.0))
+        if court is not None and court_confidence >= accept:
+            # The primary route: a camera from the markings alone, taken when sure enough to skip the search. Under
+            # that it is dropped, not kept as a candidate: a wrong camera the solver held would block the search's.
+            self.counts["court_used"] += 1
+            return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
+                                  False, court.hypothesis, held, held_confidence, chain_trusted, new_camera)
         modelled, modelled_confidence = self.tries.model_camera(i, image, detections, curves, score)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /

@@ -48,7 +48,7 @@ def test_two_frames_end_to_end_with_the_search(tmp_path, capsys):
     found = [row for row in rows if row["routes"]["search"]["outcome"] == "found"]
     assert found, [(row["class"], row["routes"]["search"]) for row in rows]
     assert all(row["determinable"] and row["routes"]["search"]["error_px"] < 1.0 for row in found)
-    assert all(row["routes"]["search"]["confidence"] >= report["written_confidence"] for row in found)
+    assert all(row["routes"]["search"]["confidence"] >= report["written_confidence"]["search"] for row in found)
     # The JSON on stdout is the report; the table goes to stderr.
     captured = capsys.readouterr()
     assert json.loads(captured.out)["frames_by_index"] == rows

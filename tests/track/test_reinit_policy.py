@@ -660,15 +660,14 @@ def test_an_unconfident_court_camera_is_dropped_and_the_search_decides():
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
 
 
-def test_a_court_camera_between_the_threshold_and_the_margin_is_a_candidate_the_search_must_beat():
-    threshold = TrackingConfig().confidence_threshold
-    fakes = Fakes({None: (MAIN, threshold - 0.02)})
-    policy, _ = _court_policy(fakes, CORNER, threshold + 0.05)
+def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():
+    config = TrackingConfig()
+    fakes = Fakes({None: (MAIN, config.confidence_threshold - 0.02)})
+    policy, _ = _court_policy(fakes, CORNER, config.court_accept_confidence - 0.02)
     decision = _decide(policy, 0)
-    assert decision.camera is CORNER and decision.searched  # the search's camera is not confident
-    fakes = Fakes({None: (MAIN, threshold + 0.08)})
-    policy, _ = _court_policy(fakes, CORNER, threshold + 0.05)
-    assert _decide(policy, 0).camera is MAIN  # a confident camera of the search
+    assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
+    policy, _ = _court_policy(Fakes(), CORNER, 0.8, court_accept_confidence=0.85)
+    assert _decide(policy, 0).camera is None
 
 
 def test_a_known_camera_standing_where_the_twin_stands_decides_the_twin():
