@@ -31,7 +31,12 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.court_circle import CourtCircleConfig, circle_line_homographies, pitch_circle_chords
+from broadtrack_graph.reinit.court_circle import (
+    CourtCircleConfig,
+    circle_line_homographies,
+    circle_pole_homographies,
+    pitch_circle_chords,
+)
 from broadtrack_graph.reinit.court_lines import (
     CourtLineConfig,
     cameras_from_homographies,
@@ -152,12 +157,16 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig):
     """The circles' hypotheses: each ellipse of the map as each pitch circle, with each straight marking as the line
-    across it (the halfway line, a 16.5 m line)."""
+    across it (the halfway line, a 16.5 m line), and as the centre circle with each marking that misses it as a
+    touchline."""
     if not ellipses:
         return concatenate([])
     lines_n, _, _ = normalised_lines(lines, frame_size)
-    found = circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle)
-    return cameras_from_homographies(found, frame_size, pitch, config.lines)
+    d = pitch.dimensions
+    found = [circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle),
+             circle_pole_homographies(ellipses, lines_n, frame_size, d.centre_circle_radius_m, d.width_m / 2,
+                                      config.circle)]
+    return cameras_from_homographies(np.concatenate(found), frame_size, pitch, config.lines)
 
 
 def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int) -> np.ndarray:

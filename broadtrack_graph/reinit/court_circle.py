@@ -139,7 +139,42 @@ def circle_line_homographies(ellipses: list[ImageEllipse], lines_n: np.ndarray, 
     return np.concatenate(out)
 
 
-class _Chords:
+class _OneParameterSearch:
+    """Homographies that depend on one parameter per item, each item searched over the same range: a grid, then the
+    local minima of the axes' mismatch narrowed by golden-section search (on a detected ellipse the minimum can be
+    shallow or off the right place: every grid homography is kept as well, and the map decides among all)."""
+
+    count: int
+    span: tuple[float, float] = (0.0, 1.0)  # the parameter's range (its ends excluded)
+
+    def homographies(self, which: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(N, 3, 3) H and (N,) the axes' mismatch (inf where undefined) of items ``which`` at ``params`` (N,)."""
+        raise NotImplementedError
+
+    def best_homographies(self, steps: int, iterations: int) -> tuple[np.ndarray, np.ndarray]:
+        """The grid's homographies and the narrowed minima's, with the item of each."""
+        lo_span, hi_span = self.span
+        grid = np.linspace(lo_span, hi_span, steps + 2)[1:-1]
+        which = np.repeat(np.arange(self.count), steps)
+        H, mismatch = self.homographies(which, np.tile(grid, self.count))
+        table = mismatch.reshape(self.count, steps)
+        inner = np.arange(1, steps - 1)
+        is_min = ((table[:, inner] <= table[:, inner - 1]) & (table[:, inner] <= table[:, inner + 1])
+                  & np.isfinite(table[:, inner]))
+        item, cell = np.nonzero(is_min)
+        lo, hi = grid[inner[cell] - 1], grid[inner[cell] + 1]
+        ratio = (math.sqrt(5.0) - 1.0) / 2.0
+        for _ in range(iterations if len(item) else 0):
+            a, b = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
+            _, fa = self.homographies(np.concatenate([item, item]), np.concatenate([a, b]))
+            left = fa[:len(item)] <= fa[len(item):]
+            hi, lo = np.where(left, b, hi), np.where(left, lo, a)
+        narrowed, _ = self.homographies(item, 0.5 * (lo + hi))
+        keep = np.isfinite(mismatch)
+        return np.concatenate([H[keep], narrowed]), np.concatenate([which[keep], item])
+
+
+class _Chords(_OneParameterSearch):
     """Chords P1 P2 of circles' image conics E, each with the pole of its line and its four world points: the
     homography for each place of the image M of the chord's middle on it, every chord at once."""
 
@@ -149,6 +184,7 @@ class _Chords:
         self.pole = np.stack([c[3] for c in chords])
         self.world = np.stack([c[4] for c in chords])
         self.vEv = np.einsum("ci,cij,cj->c", self.pole, self.E, self.pole)
+        self.count = len(self.E)
 
     def homographies(self, which: np.ndarray, places: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(N, 3, 3) H and (N,) the axes' mismatch (inf where the long axis misses the conic) for chord ``which``
@@ -163,30 +199,94 @@ class _Chords:
         _, mismatch = focal_and_mismatch(H)
         return H, np.where(valid, mismatch, np.inf)
 
-    def best_homographies(self, steps: int, iterations: int) -> tuple[np.ndarray, np.ndarray]:
-        """The homographies on a grid of ``steps`` places along each chord, and at the places where the axes'
-        mismatch has a local minimum, narrowed by golden-section search in the grid cells either side (on a
-        detected ellipse the minimum can be shallow or off the right place: the map decides among all), with the
-        chord of each."""
-        count = len(self.E)
-        grid = np.linspace(0.0, 1.0, steps + 2)[1:-1]
-        which = np.repeat(np.arange(count), steps)
-        H, mismatch = self.homographies(which, np.tile(grid, count))
-        table = mismatch.reshape(count, steps)
-        inner = np.arange(1, steps - 1)
-        is_min = ((table[:, inner] <= table[:, inner - 1]) & (table[:, inner] <= table[:, inner + 1])
-                  & np.isfinite(table[:, inner]))
-        chord, cell = np.nonzero(is_min)
-        lo, hi = grid[inner[cell] - 1], grid[inner[cell] + 1]
-        ratio = (math.sqrt(5.0) - 1.0) / 2.0
-        for _ in range(iterations if len(chord) else 0):
-            a, b = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
-            _, fa = self.homographies(np.concatenate([chord, chord]), np.concatenate([a, b]))
-            left = fa[:len(chord)] <= fa[len(chord):]
-            hi, lo = np.where(left, b, hi), np.where(left, lo, a)
-        narrowed, _ = self.homographies(chord, 0.5 * (lo + hi))
-        keep = np.isfinite(mismatch)
-        return np.concatenate([H[keep], narrowed]), np.concatenate([which[keep], chord])
+
+def circle_pole_homographies(ellipses: list[ImageEllipse], lines_n: np.ndarray, frame_size, radius_m: float,
+                             offset_m: float, config: CourtCircleConfig = CourtCircleConfig()) -> np.ndarray:
+    """(K, 3, 3) ground homographies (normalised image coordinates) putting the centre circle (radius_m about the
+    centre spot) on an ellipse and the line y = +-offset_m (a touchline) on an image line (L, 3) that misses it.
+
+    The pole of the touchline's image is the image of (0, r^2 / c), on the halfway line; the halfway line's image is
+    a line d through it at an unknown angle, tried over half a turn. d cuts the ellipse at the images of (0, -+r)
+    and the touchline at the image of (0, c); the cross ratio of these with (0, 0) places the centre spot's image O
+    on d; the pole of d is the long axis's vanishing point, and the line through O and it cuts the ellipse at the
+    images of (+-r, 0). The two orders of the cuts on d are searched; the world's reflections add the rest.
+    """
+    r, c = radius_m, offset_m
+    worlds = [np.array([[0.0, -r], [0.0, r], [r, 0.0], [-r, 0.0]]), np.array([[0.0, r], [0.0, -r], [r, 0.0], [-r, 0.0]])]
+    items = []  # (E, the touchline's image, world points, the y-values of the cuts)
+    for ellipse in ellipses:
+        E = ellipse_conic_n(ellipse, frame_size)
+        for line in np.asarray(lines_n, float).reshape(-1, 3):
+            if _line_cuts(E, line) is not None:
+                continue  # a touchline does not cross the centre circle
+            for world in worlds:
+                items.append((E, line, world))
+    if not items:
+        return np.zeros((0, 3, 3))
+    found, owner = _Pencils(items, c).best_homographies(config.centre_steps, config.refine_iterations)
+    reflections = [np.diag([sx, sy, 1.0]) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
+    return np.concatenate([found @ reflection for reflection in reflections])
+
+
+class _Pencils(_OneParameterSearch):
+    """Lines d through the pole of a touchline's image, one angle each: the homography of each (module docstring of
+    :func:`circle_pole_homographies`)."""
+
+    span = (0.0, math.pi)
+
+    def __init__(self, items: list, offset_m: float) -> None:
+        self.E = np.stack([item[0] for item in items])
+        self.line = np.stack([item[1] for item in items])
+        self.world = np.stack([item[2] for item in items])
+        self.E_inv = np.linalg.inv(self.E)
+        self.pole = np.einsum("nij,nj->ni", self.E_inv, self.line)
+        self.offset_m, self.count = offset_m, len(items)
+
+    def homographies(self, which: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        E, E_inv, line, pole, world = self.E[which], self.E_inv[which], self.line[which], self.pole[which], self.world[which]
+        direction = np.column_stack([np.cos(angles), np.sin(angles), np.zeros(len(angles))])
+        d = np.cross(pole, direction)
+        d1, d2, cut = _line_cuts_many(E, d)
+        crossing = np.cross(d, line)
+        # The crossing's place t along D1 -> D2 (the component along the chord), then O's by the cross ratio of the
+        # world's (-r or r, r or -r, c, 0) in the cuts' order.
+        chord = (d2 - d1)[:, :2]
+        ahead = np.abs(crossing[:, 2]) > 1e-12
+        x = np.where(ahead[:, None], crossing[:, :2] / np.where(ahead, crossing[:, 2], 1.0)[:, None], 0.0)
+        t3 = np.einsum("ni,ni->n", x - d1[:, :2], chord) / np.maximum(np.einsum("ni,ni->n", chord, chord), 1e-18)
+        y1, y2 = world[:, 0, 1], world[:, 1, 1]
+        c = self.offset_m
+        ratio_w = ((c - y1) * (0.0 - y2)) / ((c - y2) * (0.0 - y1))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t4 = t3 / (t3 - ratio_w * (t3 - 1.0))
+        O = d1 + t4[:, None] * (d2 - d1)
+        v = np.einsum("nij,nj->ni", E_inv, d)
+        ratio = -np.einsum("ni,nij,nj->n", O, E, O) / np.einsum("ni,nij,nj->n", v, E, v)
+        valid = cut & ahead & np.isfinite(t4) & (ratio > 0)
+        s = np.sqrt(np.where(valid, ratio, 0.0))[:, None]
+        image = np.stack([d1, d2, O + s * v, O - s * v], axis=1)
+        image = np.where(valid[:, None, None], image, np.array([[1.0, 0, 1], [0, 1.0, 1], [-1.0, 0, 1], [0, -1.0, 1]]))
+        H = _homographies_from_points(image, world)
+        _, mismatch = focal_and_mismatch(H)
+        return H, np.where(valid, mismatch, np.inf)
+
+
+def _line_cuts_many(E: np.ndarray, lines: np.ndarray):
+    """The two points (homogeneous, w = 1) where each line (N, 3) cuts its conic E (N, 3, 3), and whether it does."""
+    normal = lines[:, :2]
+    norm2 = np.maximum(np.einsum("ni,ni->n", normal, normal), 1e-24)
+    foot = -lines[:, 2:3] * normal / norm2[:, None]
+    direction = np.column_stack([-normal[:, 1], normal[:, 0]]) / np.sqrt(norm2)[:, None]
+    p0 = np.column_stack([foot, np.ones(len(lines))])
+    d = np.column_stack([direction, np.zeros(len(lines))])
+    A = np.einsum("ni,nij,nj->n", d, E, d)
+    B = 2.0 * np.einsum("ni,nij,nj->n", p0, E, d)
+    C = np.einsum("ni,nij,nj->n", p0, E, p0)
+    disc = B * B - 4.0 * A * C
+    cut = (disc > 0) & (np.abs(A) > 1e-15)
+    root = np.sqrt(np.where(cut, disc, 0.0))
+    A = np.where(cut, A, 1.0)
+    return p0 + ((-B + root) / (2 * A))[:, None] * d, p0 + ((-B - root) / (2 * A))[:, None] * d, cut
 
 
 def _line_cuts(E: np.ndarray, line: np.ndarray):

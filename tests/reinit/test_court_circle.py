@@ -82,3 +82,16 @@ def test_a_penalty_arc_and_its_16m_line_give_the_camera():
     cameras = cameras_from_homographies(H_n, (W, H), PITCH)
     gap = np.linalg.norm(cameras.C_w - truth.position_m, axis=1)
     assert len(cameras) and gap.min() < 0.5
+
+
+def test_the_centre_circle_and_a_touchline_give_the_camera_without_the_halfway_line():
+    from broadtrack_graph.reinit.court_circle import circle_pole_homographies
+
+    truth = _centre_view()
+    (u0, u1), _ = truth.project(np.array([[-20.0, -34.0, 0.0], [20.0, -34.0, 0.0]]))  # the far touchline
+    line = np.cross(np.append((u0 - [W / 2, H / 2]) / (W / 2), 1.0), np.append((u1 - [W / 2, H / 2]) / (W / 2), 1.0))
+    H_n = circle_pole_homographies([_image_ellipse(truth)], (line / np.linalg.norm(line[:2]))[None], (W, H), RADIUS,
+                                   34.0)
+    cameras = cameras_from_homographies(H_n, (W, H), PITCH)
+    gap = np.linalg.norm(cameras.C_w - truth.position_m, axis=1)
+    assert len(cameras) and gap.min() < 0.5
