@@ -86,7 +86,13 @@ class CameraRegistry:
 
     def stands_at(self, camera_id: str, position_w, sight_w=None) -> bool:
         """True when a camera at position_w (looking along sight_w) can be the known camera ``camera_id``."""
-        offset = np.asarray(position_w, float).reshape(3) - self.positions[camera_id]
+        return self.same_place(self.positions[camera_id], position_w, sight_w)
+
+    def same_place(self, known_w, position_w, sight_w=None) -> bool:
+        """True when a camera at position_w (looking along sight_w) can stand where one at known_w stands: within
+        ``along_sight_m`` along its line of sight and ``across_sight_m`` across it (``same_camera_m`` without a
+        sight)."""
+        offset = np.asarray(position_w, float).reshape(3) - np.asarray(known_w, float).reshape(3)
         if sight_w is None:
             return float(np.linalg.norm(offset)) <= self.same_camera_m
         axis = np.asarray(sight_w, float).reshape(3)

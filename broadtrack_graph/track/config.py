@@ -35,6 +35,9 @@ class TrackingConfig:
     # it: a camera from nothing that skips the search must be surer than the margin (on random placements the
     # court model's wrong cameras scored 0.61-0.68, its right ones 0.67-1.00: docs/BENCHMARKS.md)
     court_accept_confidence: float = 0.7
+    # ... or from the margin when the court model's camera of a frame at most this many frames before, in the same
+    # stretch, stood in the same place (two frames agreeing; 0: never)
+    court_agreement_frames: int = 5
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each
@@ -72,6 +75,8 @@ class TrackingConfig:
     def __post_init__(self) -> None:
         if self.mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
+        if self.court_agreement_frames < 0:
+            raise ValueError(f"court_agreement_frames must be >= 0, got {self.court_agreement_frames}")
         if self.lag_frames < 1:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
         if self.recover_max_frames < 0:

@@ -39,11 +39,13 @@ class FrameTries:
         self.config, self.registry, self.refine = config, registry, refine
         self.model, self.court, self.counts = model, court, counts
         self.model_schedule, self.court_schedule = TrySchedule(), TrySchedule()
+        self._last_court: tuple[int, object] | None = None  # (frame, camera) of the stretch's last court camera
 
     def new_stretch(self) -> None:
         """A cut or a view change: the shot's first frames are tried one by one."""
         self.model_schedule.new_stretch()
         self.court_schedule.new_stretch()
+        self._last_court = None
 
     def confident(self) -> None:
         """A confident frame: a later loss is tried after 1, 2, 4, ... frames."""
@@ -68,22 +70,29 @@ class FrameTries:
         self.model_schedule.tried(frame_index, found is not None and found[1] >= self.config.confidence_threshold)
         return found if found is not None else (None, 0.0)
 
-    def court_camera(self, observations, detections, curves, score) -> tuple[ReinitResult | None, float]:
-        """The court model's camera for the frame (or its twin, when a known camera stands where the twin does) and
-        its confidence; (None, 0) without a court model or a marking map, while it backs off, or when it found
-        nothing."""
+    def court_camera(self, observations, detections, curves, score) -> tuple[ReinitResult | None, float, bool]:
+        """The court model's camera for the frame (or its twin, when a known camera stands where the twin does), its
+        confidence, and whether it agrees with the court model's camera of a frame shortly before in the stretch
+        (both confident by the margin and standing in one place: ``court_agreement_frames``); (None, 0, False)
+        without a court model or a marking map, while it backs off, or when it found nothing."""
         i = observations.frame_index
         if self.court is None or getattr(detections, "marking_mask", None) is None or not self.court_schedule.allows(i):
-            return None, 0.0
+            return None, 0.0, False
         self.counts["court_tried"] += 1
         result = self.court(detections, (observations.width_px, observations.height_px), curves)
         if result.camera is None:
             self.court_schedule.tried(i, False)
-            return None, 0.0
+            return None, 0.0, False
         camera, twin = result.camera, result.twin
         if twin is not None and self.registry.nearest(camera.position_m, camera.R_cw[2]) is None \
                 and self.registry.nearest(twin.position_m, twin.R_cw[2]) is not None:
             camera, twin = twin, camera  # a known camera's tripod decides the twin
         confidence = float(score(camera) or 0.0)
         self.court_schedule.tried(i, confidence >= self.config.confidence_threshold)
-        return replace(result, camera=camera, twin=twin), confidence
+        agrees = False
+        if confidence >= self.config.confidence_threshold + self.config.reinit_switch_margin:
+            last = self._last_court
+            agrees = last is not None and 0 < i - last[0] <= self.config.court_agreement_frames \
+                and self.registry.same_place(last[1].position_m, camera.position_m, camera.R_cw[2])
+            self._last_court = (i, camera)
+        return replace(result, camera=camera, twin=twin), confidence, agrees

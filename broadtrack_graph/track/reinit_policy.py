@@ -17,8 +17,9 @@ What is tried, cheapest first:
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`, as the field model is.
 2. **The court model** (a marking map): a camera from the straight markings alone, wherever it stands
    (:func:`~broadtrack_graph.reinit.court.court_reinit`, :class:`~broadtrack_graph.track.frame_tries.FrameTries`):
-   taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), with the id of where
-   it stands (its twin when a known camera stands there); under it, dropped. On its own
+   taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), or confident by the
+   margin when the court camera of a frame shortly before stood in the same place, with the id of where it stands
+   (its twin when a known camera stands there); otherwise dropped. On its own
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`.
 3. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
@@ -203,11 +204,12 @@ class ReinitPolicy:
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
         candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True,
                                                          "refined " + guess.reason)
-        court, court_confidence = self.tries.court_camera(observations, detections, curves, score)
+        court, court_confidence, court_agrees = self.tries.court_camera(observations, detections, curves, score)
         accept = max(self.config.court_accept_confidence, threshold + (margin if new_camera else 0.0))
-        if court is not None and court_confidence >= accept:
-            # The primary route: a camera from the markings alone, taken when sure enough to skip the search. Under
-            # that it is dropped, not kept as a candidate: a wrong camera the solver held would block the search's.
+        if court is not None and (court_confidence >= accept or court_agrees):
+            # The primary route: a camera from the markings alone, taken when sure enough to skip the search (or
+            # confident by the margin on two frames that agree). Otherwise dropped, not kept as a candidate: a
+            # wrong camera the solver held would block the search's.
             self.counts["court_used"] += 1
             return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
                                   False, court.hypothesis, held, held_confidence, chain_trusted, new_camera)

@@ -679,3 +679,21 @@ def test_a_known_camera_standing_where_the_twin_stands_decides_the_twin():
     policy, _ = _court_policy(Fakes(), MAIN, 0.8, registry)
     decision = _decide(policy, 0)
     assert np.allclose(decision.camera.position_m, far_side.position_m) and decision.camera_id == "opposite"
+
+
+def test_two_frames_whose_court_cameras_agree_place_the_camera_under_the_bar():
+    config = TrackingConfig()
+    between = config.confidence_threshold + config.reinit_switch_margin + 0.02  # confident by the margin only
+    assert between < config.court_accept_confidence
+    fakes = Fakes()
+    policy, _ = _court_policy(fakes, CORNER, between)
+    assert _decide(policy, 0).camera is None  # one frame: under the bar
+    assert _decide(policy, 1).camera is CORNER  # the next agrees: taken
+    assert policy.counts["court_used"] == 1
+    fakes = Fakes()
+    policy, _ = _court_policy(fakes, CORNER, between, court_agreement_frames=0)
+    assert _decide(policy, 0).camera is None and _decide(policy, 1).camera is None
+    policy, _ = _court_policy(Fakes(), CORNER, between)
+    _decide(policy, 0)
+    policy.new_stretch()  # a cut between the two frames: no agreement across it
+    assert _decide(policy, 1).camera is None
