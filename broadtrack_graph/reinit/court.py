@@ -101,10 +101,13 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config)
     search = config.search
     ellipses = []
-    if lines and (not len(costs) or -costs.min() < config.circles_below_score):
-        # The straight markings explain the map poorly: the centre circle with the halfway line as well.
-        ellipses = structures.ellipses() + structures.border_ellipses()
-        circles = _circle_hypotheses(ellipses, lines, (W, H), pitch, config)
+    for across in (True, False):
+        if not lines or (len(costs) and -costs.min() >= config.circles_below_score):
+            break
+        # Nothing explains the map well yet: a circle with the line across it, then the centre circle with a
+        # touchline (more hypotheses, and looser: tried last).
+        ellipses = ellipses or structures.ellipses() + structures.border_ellipses()
+        circles = _circle_hypotheses(ellipses, lines, (W, H), pitch, config, across)
         hypotheses = concatenate([hypotheses, circles])
         costs = np.concatenate([costs, _scores(circles, structures.scorer, (W, H), search, config.rescore_top)])
     if not len(hypotheses):
@@ -155,18 +158,20 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
     return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top)
 
 
-def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig):
-    """The circles' hypotheses: each ellipse of the map as each pitch circle, with each straight marking as the line
-    across it (the halfway line, a 16.5 m line), and as the centre circle with each marking that misses it as a
-    touchline."""
+def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):
+    """The circles' hypotheses: each ellipse of the map as each pitch circle with each straight marking as the line
+    across it (the halfway line, a 16.5 m line; ``across``), or as the centre circle with each marking that misses it
+    as a touchline."""
     if not ellipses:
         return concatenate([])
     lines_n, _, _ = normalised_lines(lines, frame_size)
     d = pitch.dimensions
-    found = [circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle),
-             circle_pole_homographies(ellipses, lines_n, frame_size, d.centre_circle_radius_m, d.width_m / 2,
-                                      config.circle)]
-    return cameras_from_homographies(np.concatenate(found), frame_size, pitch, config.lines)
+    if across:
+        found = circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle)
+    else:
+        found = circle_pole_homographies(ellipses, lines_n, frame_size, d.centre_circle_radius_m, d.width_m / 2,
+                                         config.circle)
+    return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
 
 def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int) -> np.ndarray:
