@@ -212,7 +212,7 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
         F = (x / a) ** 2 + (y / b) ** 2 - 1.0
         grad = 2.0 * np.hypot(x / a**2, y / b**2)
         support = int(np.sum(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
-        inside, outline_px = _outline_in_image(cx, cy, a, b, theta, w, h)
+        inside, outline_px = outline_in_image(cx, cy, a, b, theta, w, h)
         if (inside < config.ellipse_min_inside) != at_border or support < config.ellipse_min_coverage * outline_px:
             continue
         found.append((support, np.array([cx, cy]), (a, b), theta))
@@ -230,7 +230,7 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     return out
 
 
-def _outline_in_image(cx: float, cy: float, a: float, b: float, theta: float, w: int, h: int,
+def outline_in_image(cx: float, cy: float, a: float, b: float, theta: float, w: int, h: int,
                       samples: int = 360) -> tuple[float, float]:
     """(share of the ellipse's outline inside a w x h image, that length in pixels): evenly spaced (in
     angle) outline samples and Ramanujan's perimeter (close enough for the tests they serve)."""

@@ -26,7 +26,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+from broadtrack_graph.detect.marking_structures import MarkingStructureConfig, outline_in_image
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
@@ -73,6 +73,8 @@ class CourtConfig:
     twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
     rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
     circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
+    centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
+    #                                          centre circle beside a touchline (painted all round; an arc is not)
 
 
 def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size: tuple[int, int],
@@ -169,7 +171,11 @@ def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config
     if across:
         found = circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle)
     else:
-        found = circle_pole_homographies(ellipses, lines_n, frame_size, d.centre_circle_radius_m, d.width_m / 2,
+        # Only an ellipse drawn along most of its outline in view can be the centre circle here: a penalty arc
+        # (under a third of its circle) with a touchline would explain the view as well, 41.5 m along the pitch.
+        whole = [e for e in ellipses if e.support_px >= config.centre_circle_min_coverage * outline_in_image(
+            e.centre_px[0], e.centre_px[1], *e.semi_axes_px, e.angle_rad, *frame_size)[1]]
+        found = circle_pole_homographies(whole, lines_n, frame_size, d.centre_circle_radius_m, d.width_m / 2,
                                          config.circle)
     return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
