@@ -290,17 +290,6 @@ def _line_cuts_many(E: np.ndarray, lines: np.ndarray):
 
 
 def _line_cuts(E: np.ndarray, line: np.ndarray):
-    """The two points (homogeneous, w = 1) where a line (3,) cuts the conic E, or None."""
-    normal = line[:2]
-    norm = np.linalg.norm(normal)
-    if norm < 1e-12:
-        return None
-    foot = -line[2] * normal / norm**2  # the line's point nearest the origin
-    direction = np.array([-normal[1], normal[0]]) / norm
-    p0, d = np.append(foot, 1.0), np.append(direction, 0.0)
-    A, B, C = d @ E @ d, 2.0 * (p0 @ E @ d), p0 @ E @ p0
-    disc = B * B - 4.0 * A * C
-    if abs(A) < 1e-15 or disc <= 0:
-        return None
-    root = math.sqrt(disc)
-    return p0 + (-B + root) / (2 * A) * d, p0 + (-B - root) / (2 * A) * d
+    """The two points (homogeneous, w = 1) where a line (3,) cuts the conic E, or None (:func:`_line_cuts_many`)."""
+    first, second, cut = _line_cuts_many(E[None], np.asarray(line, float)[None])
+    return (first[0], second[0]) if cut[0] else None

@@ -244,8 +244,6 @@ class PlaneHypotheses:
     def __len__(self) -> int:
         return len(self.focal_n)
 
-    def take(self, keep) -> "PlaneHypotheses":
-        return PlaneHypotheses(*(getattr(self, name)[keep] for name in self.__dataclass_fields__))
 
 
 def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: PitchTemplate, frame_size,
