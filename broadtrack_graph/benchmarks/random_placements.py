@@ -132,7 +132,6 @@ def run(args) -> dict:
     from broadtrack_graph.reinit.cheap import refine_guesses
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
-    from broadtrack_graph.reinit.court import twin_camera
     from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.track.reinit_policy import ReinitPolicy
     from broadtrack_graph.types.observations import FrameObservations
@@ -197,6 +196,8 @@ def run(args) -> dict:
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason}
                 if result_row["outcome"] == "wrong":
+                    from broadtrack_graph.reinit.court import twin_camera  # only here: the route may be skipped
+
                     twin_error = _median_error(camera, twin_camera(truth), ground)
                     result_row["twin"] = twin_error is not None and twin_error <= args.success_px
                 row["routes"][route] = result_row
