@@ -144,8 +144,10 @@ class GraphBuilder:
             ), len(flow))
         return out
 
-    def prior_factors(self, frame_index: int, out: FrameFactors, anchor_state: np.ndarray | None = None) -> FrameFactors:
-        """Range prior on f and k1 (always), k1 held fixed if configured, anchor when given."""
+    def prior_factors(self, frame_index: int, out: FrameFactors, anchor_state: np.ndarray | None = None,
+                      anchor_position_m: float | None = None) -> FrameFactors:
+        """Range prior on f and k1 (always), k1 held fixed if configured, anchor when given (its focal point's sigma
+        ``anchor_position_m``, default the priors' ``anchor_position_m``)."""
         p = self.config.priors
         key = camera_key(frame_index)
         out.add("range_prior", make_range_factor(
@@ -153,7 +155,7 @@ class GraphBuilder:
             p.k1_mean, p.k1_sigma,
         ))
         if anchor_state is not None:
-            sigmas = p.anchor_vector(anchor_state)
+            sigmas = p.anchor_vector(anchor_state, anchor_position_m)
             if p.k1_fixed:
                 sigmas[1] = p.k1_fixed_sigma
             out.add("anchor", make_anchor_factor(key, anchor_state, sigmas))

@@ -86,14 +86,21 @@ class PriorSigmas:
     anchor_k1: float = 0.3
     anchor_angle_rad: float = math.radians(10.0)
     anchor_position_m: float = 10.0
+    # Without a tripod, the online solvers' anchor of a (re)started frame holds its focal point this close (metres)
+    # to the re-initialisation's: one frame barely tells where the focal point stands (nearer with a shorter lens
+    # looks the same), and under the wide anchor a zoomed frame's Gauss-Newton step ran metres off along that valley
+    # (k1 to its limit), or the system was indeterminate (1080p, f 3-9 W, two markings). A frame whose markings do
+    # place it is barely held (they weigh far more); with a tripod the tripod holds it (a searched camera can stand
+    # metres off along its line of sight, where the tripod knows better).
+    restart_position_m: float = 1.0
 
     def focal_range_px(self, width_px: int) -> tuple[float, float]:
         return self.focal_min_per_width * width_px, self.focal_max_per_width * width_px
 
-    def anchor_vector(self, state: np.ndarray) -> np.ndarray:
-        """(8,) anchor sigmas around a state."""
+    def anchor_vector(self, state: np.ndarray, position_m: float | None = None) -> np.ndarray:
+        """(8,) anchor sigmas around a state (``position_m``: the focal point's instead of ``anchor_position_m``)."""
         a = self.anchor_angle_rad
-        p = self.anchor_position_m
+        p = self.anchor_position_m if position_m is None else position_m
         return np.array([self.anchor_focal_rel * state[0], self.anchor_k1, a, a, a, p, p, p])
 
 

@@ -20,13 +20,14 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.graph.builder import GraphBuilder, graph_of
+from broadtrack_graph.graph.builder import FrameFactors, GraphBuilder, graph_of
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.keys import camera_key
 from broadtrack_graph.graph.noise import isam2_params
 from broadtrack_graph.types.observations import FrameObservations
 from factors.flow import flow_residuals
+from factors.priors import make_anchor_factor
 from factors.robust import cauchy_weight
 
 logger = logging.getLogger(__name__)
@@ -89,6 +90,43 @@ class OnlineTracker:
     def reset(self, camera: Camera) -> None:
         """Re-anchor on a camera: the next frame is not linked to the previous one."""
         self._pending_reset = camera
+
+    def replace_last(self, camera: Camera) -> None:
+        """The last frame's camera, re-initialised after its update: the next frame is linked to it (optical flow
+        and motion prior) as to a tracked frame's.
+
+        The camera enters the window as a state of its own and becomes the previous state, held on it by a prior of
+        one frame's motion (the random walk's sigmas) but for its focal point, held as a restarted frame's is
+        (:meth:`_restart_position_m`): a re-initialised camera can stand metres off along its line of sight, and a
+        chain kept there drifts as the view turns (synthetic fast pans). Re-anchoring the next frame on it instead
+        (:meth:`reset`) left that frame alone against what one frame barely tells apart (focal length against
+        distance, k1): on a zoomed 1080p frame with two markings its Gauss-Newton step ran off, or the system was
+        indeterminate, and the frame was re-initialised again.
+        """
+        self._pending_reset = None
+        camera = camera if (camera.width_px, camera.height_px) == (self.width_px, self.height_px) \
+            else camera.rescaled(self.width_px, self.height_px)
+        state = camera.to_vector()
+        sigmas = self.config.motion.random_walk_vector()
+        sigmas[0] *= state[0]  # relative zoom -> pixels
+        sigmas[5:8] = self.config.priors.anchor_vector(state, self._restart_position_m())[5:8]
+        if self.config.priors.k1_fixed:
+            sigmas[1] = self.config.priors.k1_fixed_sigma
+        step = self._step + 1
+        frame = FrameFactors()
+        frame.add("anchor", make_anchor_factor(camera_key(step), state, sigmas))
+        values = gtsam.Values()
+        values.insert(camera_key(step), state)
+        self._smoother.update(graph_of(frame.factors), values, {camera_key(step): float(step)})
+        self._step = step
+        self._linked_steps = 1
+        self._last_state = self._smoother.calculateEstimateVector(camera_key(step))
+        self._active[step] = frame.active
+        self._active.pop(step - self.window_frames - 2, None)
+
+    def _restart_position_m(self) -> float | None:
+        """The focal point's sigma (metres) in a (re)started frame's anchor: the tripod holds it when there is one."""
+        return None if self.tripod is not None else self.config.priors.restart_position_m
 
     def add_frame(
         self, observations: FrameObservations, initial_guess: Camera | None = None, trust_previous: bool = True
@@ -185,7 +223,8 @@ class OnlineTracker:
             start = self._predict(start, observations)
         previous = step - 1 if linked else None
         frame = self.builder.measurement_factors(observations, step, previous)
-        self.builder.prior_factors(step, frame, anchor_state=None if linked else start)
+        self.builder.prior_factors(step, frame, anchor_state=None if linked else start,
+                                   anchor_position_m=self._restart_position_m())
         if linked:
             before = step - 2 if self._linked_steps >= 2 else None
             self.builder.motion_factors(step, step - 1, before, frame)

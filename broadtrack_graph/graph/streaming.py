@@ -85,6 +85,11 @@ class StreamingSolver:
         """Re-anchor on a camera: the next frame is not linked to the previous one."""
         self.tracker.reset(camera)
 
+    def replace_last(self, camera: Camera) -> None:
+        """The last frame's camera, re-initialised after its update: the next frame is linked to it
+        (:meth:`~broadtrack_graph.graph.online.OnlineTracker.replace_last`)."""
+        self.tracker.replace_last(camera)
+
     def push(self, observations: FrameObservations, guess: Camera | None, trust_previous: bool,
              fallback: Camera | None = None) -> tuple[FrameEstimate, list[FrameEstimate]]:
         """Add one frame. Returns (current filtered estimate, estimates released now, oldest first).

@@ -248,6 +248,7 @@ class TrackingRun:
         elif decision.camera_id is None and self.camera_id is None:
             self.online_tripod.release(self.solver)  # not identified yet (untrusted): no other camera's tripod
         if not decision.continues_chain:  # a new camera's chain is trusted from a frame confident by the margin
+            self.online_tripod.new_chain(self.solver, decision.camera, self.policy.registry)  # (not elsewhere's)
             bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
             self._trust_at = bar if self._chain_confident else max(self._trust_at, bar)  # (see low below)
 
@@ -269,17 +270,18 @@ class TrackingRun:
                                                        else self._trust_at)  # a new camera's untrusted chain too
         lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
         continues_chain = reinitialised and self._reinit_continues
+        replaced = False  # the solved camera was replaced by the decision's
         if camera is None or (low and not reinitialised):
-            # Re-initialise this frame; the next frame does not trust flow from the previous camera.
+            # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
             decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
             if decision.camera is not None:
                 self._adopt(decision)
-                self.solver.reset(decision.camera)
+                self.solver.replace_last(decision.camera)
                 entry.reinitialised = True
                 entry.status = FrameStatus.REINITIALISED
                 entry.override_camera = decision.camera
                 camera, confidence = decision.camera, decision.confidence
-                continues_chain = decision.continues_chain
+                continues_chain, replaced = decision.continues_chain, True
             elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
                 lost_now = True
         entry.confidence, entry.confidence_camera = confidence, camera
@@ -307,6 +309,8 @@ class TrackingRun:
         if lost_now or camera is None:
             self._break_chain()
         else:
+            if replaced and not continues_chain:
+                self._history.clear()  # a new chain: the replaced chain's motion is not its motion
             self._history.append(camera)
             self._last_std = current.std
             self._lost = False

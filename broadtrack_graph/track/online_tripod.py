@@ -16,6 +16,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
 from broadtrack_graph.reinit.frame import plausible_position
+from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.types.shot import MAIN_CAMERA_ID
 
@@ -88,6 +89,25 @@ class OnlineTripod:
             self.tripods[self.camera_id] = solver.tripod
         self.camera_id, self.known_tripod, self.provisional, self.cameras = None, None, False, []
         solver.tripod = None
+
+    def new_chain(self, solver, camera: Camera, registry: CameraRegistry) -> None:
+        """A re-initialisation starts a chain that does not continue the last one at ``camera``: when it cannot stand
+        where the cameras collected for this camera's tripod stand (``registry``'s rule, along and across its line of
+        sight), those cameras, and the provisional tripod made from them, are dropped. They stood elsewhere (a wrong
+        chain the re-initialisation replaced): held in the tripod factor, their tripod would pull every frame of the
+        new chain off, and each would be re-initialised. A fitted or given tripod stays.
+        """
+        if self.known_tripod is not None or (solver.tripod is not None and not self.provisional):
+            return
+        tripod = solver.tripod if self.provisional else provisional_tripod(
+            self.cameras, self.graph.solver.tripod_delta_prior_m or 0.2, self.graph.measurements.tripod_lambda_mean_m)
+        if tripod is None or registry.same_place(tripod.T_w, camera.position_m, camera.R_cw[2]):
+            return
+        log.info("a new chain's camera stands %.1f m from the cameras collected for its tripod: they are dropped",
+                 float(np.linalg.norm(np.subtract(camera.position_m, tripod.T_w))))
+        self.cameras = []
+        if self.provisional:
+            solver.tripod, self.provisional, self.info = None, False, None
 
     def by_camera(self, solver) -> dict[str, Tripod]:
         """Every camera's tripod so far (fitted or given; the current camera's as the solver holds it)."""

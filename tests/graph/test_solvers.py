@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig, PriorSigmas
 from broadtrack_graph.graph.estimates import EstimateSequence
@@ -120,6 +122,39 @@ def test_reset_drops_link_to_previous_frame(clip):
     assert reprojection_error_px(estimate.camera, track.cameras[30], pitch) < 1.0
     estimate = tracker.add_frame(observations[31], trust_previous=True)
     assert "motion" in estimate.active_factors
+
+
+def test_a_camera_replaced_after_its_update_is_the_next_frame_s_previous_state(clip):
+    pitch, track, observations = clip
+    tracker = OnlineTracker(W, H, pitch)
+    for i in range(10):
+        tracker.add_frame(observations[i], initial_guess=track.cameras[0] if i == 0 else None)
+    # Frame 9's camera re-initialised after its update (the truth here): frame 10 continues from it, by flow and the
+    # motion prior, as from a tracked frame (not re-anchored on it alone).
+    tracker.replace_last(track.cameras[9])
+    estimate = tracker.add_frame(observations[10])
+    assert "flow" in estimate.active_factors and "motion" in estimate.active_factors
+    assert "anchor" not in estimate.active_factors
+    assert reprojection_error_px(estimate.camera, track.cameras[10], pitch) < 1.0
+    assert "smoothness" in tracker.add_frame(observations[11]).active_factors
+
+
+def test_a_restarted_zoomed_1080p_frame_with_two_markings_is_solved():
+    # A tight view of a pitch corner at 1920x1080 (f = 6.9 W): two lines leave the focal length against the distance
+    # along the line of sight to the anchor; at 10 m the system is indeterminate in GTSAM's elimination.
+    pitch = PitchTemplate()
+    truth = Camera(13263.0, 0.0, np.radians(69.62), np.radians(77.67), np.radians(-0.55), (0.0, 55.0, -12.0), 1920, 1080)
+    observations = next(simulate_frames([truth], pitch, SimulationSettings(line_points=300, flow_matches=0), seed=0))
+    assert sorted(observations.lines_px) == ["Side line bottom", "Side line right"]
+    guess = truth.replace(position_m=np.asarray(truth.position_m) + 3.0 * truth.R_cw[2], focal_px=0.95 * truth.focal_px)
+    estimate = OnlineTracker(1920, 1080, pitch).add_frame(observations, guess, trust_previous=False)
+    assert reprojection_error_px(estimate.camera, truth, pitch) < 5.0
+    wide = GraphConfig(priors=PriorSigmas(restart_position_m=10.0))
+    with pytest.raises(RuntimeError, match="Indeterminant|Indeterminate"):
+        OnlineTracker(1920, 1080, pitch, wide).add_frame(observations, guess, trust_previous=False)
+    # With a tripod, the tripod holds the focal point: the anchor stays wide.
+    tracker = OnlineTracker(1920, 1080, pitch, tripod=Tripod((0.0, 55.0, -12.2), 0.2))
+    assert tracker.add_frame(observations, guess, trust_previous=False).camera is not None
 
 
 def test_first_frame_needs_a_camera_and_size_must_match(clip):

@@ -44,7 +44,7 @@ class FakeSolver:
 
     def __init__(self, lag: int = 0, lost=(), smooth: bool = False) -> None:
         self.lag, self.lost, self.smooth = lag, set(lost), smooth
-        self.pushed, self.resets, self.held = [], [], []
+        self.pushed, self.resets, self.replaced, self.held = [], [], [], []
         self.tripod = None
         self.rebuilds = 0
 
@@ -65,6 +65,9 @@ class FakeSolver:
 
     def reset(self, camera):
         self.resets.append(camera)
+
+    def replace_last(self, camera):
+        self.replaced.append(camera)
 
     def finish(self):
         out = [self._released(e) for e in self.held]
@@ -142,13 +145,28 @@ def test_the_state_machine_frame_by_frame(tmp_path):
                              (8, True, False, False), (9, False, True, True), (10, True, False, False)]
     # A search that finds nothing confident at the known camera's position tries the default positions too.
     assert script.reinit_calls == [0, 2, 6, 6, 7, 7, 8, 9, 9, 10]
-    assert [c.to_vector().tolist() for c in solver.resets] == [reinit_camera(2).to_vector().tolist()]
+    # Frame 2's camera, re-initialised after its update, is the camera frame 3 continues from (flow, motion prior);
+    # as a new chain's, it predicts frame 3 alone (the replaced chain's motion is not its own).
+    assert [c.to_vector().tolist() for c in solver.replaced] == [reinit_camera(2).to_vector().tolist()]
+    assert solver.resets == []
     records = {r.frame_index: r for r in read_track(tmp_path / "run").records}
     assert records[2].camera.pan_rad == pytest.approx(reinit_camera(2).pan_rad, abs=1e-9)
     assert records[2].confidence == pytest.approx(0.8) and records[2].reinitialised
     assert records[3].camera.pan_rad == pytest.approx(solved(3).pan_rad, abs=1e-9)
     assert records[9].camera is None and records[9].confidence is None
     assert result.summary["status_counts"]["failed"] == 2 and result.summary["solver_restarts"] == 0
+
+
+def test_a_new_chain_s_camera_replacing_the_solved_one_predicts_the_next_frame_alone(tmp_path):
+    solver = FakeSolver()
+    run = run_of(tmp_path, solver, Scripted(confidence={2: 0.3}, reinit_confidence={2: 0.8}))
+    for i in range(3):
+        run.process(frame(i))
+    # The solved chain's motion (frames 0-1) is not the new camera's: no velocity from it into frame 3.
+    assert len(run._history) == 1 and run._history[-1].pan_rad == pytest.approx(reinit_camera(2).pan_rad)
+    run.process(frame(3))
+    assert len(run._history) == 2
+    run.finish()
 
 
 def test_fixed_lag_records_are_written_in_frame_order_as_frames_are_released(tmp_path):
@@ -338,7 +356,7 @@ def test_a_trusted_chain_switches_to_an_unconfident_camera_only_when_clearly_bet
     assert script.reinit_calls == [0, 2, 2, 15]  # frame 2: the known camera's position, then the defaults
     assert records[2].status == "tracked" and records[2].confidence == pytest.approx(0.45)  # 0.48: not 0.05 better
     assert records[15].status == "reinitialised" and records[15].confidence == pytest.approx(0.52)  # confident
-    assert len(solver.resets) == 1
+    assert len(solver.replaced) == 1 and solver.resets == []
 
 
 def test_each_shot_gets_its_camera_s_id_and_a_returning_camera_its_own(tmp_path):

@@ -11,6 +11,7 @@ from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod, focal_point
 from broadtrack_graph.graph.config import GraphConfig
+from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.online_tripod import OnlineTripod
 
@@ -153,3 +154,35 @@ def test_a_camera_not_identified_yet_is_solved_without_the_tripod_of_the_camera_
     assert solver.tripod is main
     given.switch(solver, "main")
     assert solver.tripod is main
+
+
+def test_a_new_chain_standing_elsewhere_drops_the_cameras_collected_for_the_tripod():
+    truth = Tripod((0.0, 55.0, -12.0), 0.2)
+    cameras = cameras_on(truth, 8)
+    solver = SimpleNamespace(tripod=None)
+    online = policy()
+    for camera in cameras[:5]:
+        online.update(solver, camera, 0.9)
+    assert online.provisional and solver.tripod is not None
+    registry = CameraRegistry()
+    # The same camera re-found by a search 6 m back along its line of sight and 1 m across it: kept.
+    same = cameras[5]
+    moved = same.replace(position_m=np.asarray(same.position_m) - 6.0 * same.R_cw[2] + 1.0 * same.R_cw[0])
+    online.new_chain(solver, moved, registry)
+    assert online.provisional and solver.tripod is not None and len(online.cameras) == 5
+    # A chain of a camera standing 8 m across its line of sight from them (the wrong chain it replaces stood there):
+    # their tripod would pull every frame of it off.
+    elsewhere = same.replace(position_m=np.asarray(same.position_m) + 8.0 * same.R_cw[0])
+    online.new_chain(solver, elsewhere, registry)
+    assert solver.tripod is None and not online.provisional and online.cameras == [] and online.info is None
+    # Cameras collected before a provisional tripod are dropped too; a fitted or given tripod stays.
+    online.update(solver, cameras[6], 0.9)
+    online.new_chain(solver, elsewhere, registry)
+    assert online.cameras == []
+    fitted = SimpleNamespace(tripod=truth)
+    online.new_chain(fitted, elsewhere, registry)
+    assert fitted.tripod is truth
+    given = policy(known=truth)
+    solver = SimpleNamespace(tripod=truth)
+    given.new_chain(solver, elsewhere, registry)
+    assert solver.tripod is truth
