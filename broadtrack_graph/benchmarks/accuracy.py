@@ -12,6 +12,10 @@ helpers (:mod:`broadtrack_graph.metrics.compare`, which call
   final score at 5 px, MRE / MedRE (px, at 1920x1080 when the clip is);
 * errors of the camera parameters against the ground-truth cameras (pan / tilt / roll RMS,
   focal length mean |relative| error, focal point RMS), jitter (RMS second difference);
+* the reliability of the written cameras: their confidence against whether they are right
+  (every marking the true camera shows laid within 5 px of its true image at 960 x 540), grouped by
+  confidence, per run and pooled over the presets per mode
+  (:mod:`~broadtrack_graph.benchmarks.reliability`);
 * the fitted tripod against the clip's ``tripod.json``: |T - T_true|, its horizontal part
   (the height of T is weakly observable with a main camera) and delta error. A run folder
   has ``tripod.json`` once a tripod is fitted (batch always; online after
@@ -51,6 +55,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
+from broadtrack_graph.benchmarks.reliability import pooled, run_reliability
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
 
@@ -363,8 +368,13 @@ def run(args) -> dict:
                               tripod_error(path, clip / "tripod.json"))
             for name, path in runs.items()
         }
+        for name, path in runs.items():
+            report["presets"][preset][name]["reliability"] = (None if comparison["runs"][name] is None
+                                                              else run_reliability(path, clip / "cameras"))
         report["presets"][preset]["compare_md"] = comparison.get("files", {}).get("markdown")
 
+    report["reliability"] = {mode: pooled([report["presets"][p][mode]["reliability"] for p in args.presets])
+                             for mode in args.modes}
     if ablation:
         base = mode_configs.get(args.ablation_mode) or TrackingConfig(mode=args.ablation_mode, lag_frames=args.lag,
                                                                           **tracker_options(args))

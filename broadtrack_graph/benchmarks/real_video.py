@@ -4,7 +4,9 @@ Per clip: frames, frames with a camera, the alignment of those cameras with the 
 lines by a check that does not use the tracker's detector
 (:mod:`broadtrack_graph.metrics.line_alignment`), the share of the main-camera frames with
 an aligned camera, re-initialisations (per 100 frames), other-view frames, cuts, cameras
-written on frames known to be another view, fps and stage timings; an overlay video per
+written on frames known to be another view, fps and stage timings, and the reliability of the
+written cameras (their confidence against the alignment check,
+:mod:`broadtrack_graph.metrics.reliability`; pooled over the clips too); an overlay video per
 clip is written beside the runs (never inside the repository). With ``--shadow KEPT`` every
 clip is tracked under a stand's shadow keeping that share of the light
 (:mod:`broadtrack_graph.benchmarks.shadow`) and its cameras are scored on the unshaded frames.
@@ -26,6 +28,7 @@ from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment, line_pixels
+from broadtrack_graph.metrics.reliability import merged_summaries, reliability_summary
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.types.status import FrameStatus
 
@@ -64,7 +67,9 @@ def run_video_clips(args) -> dict:
             overlay = Path(args.out) / f"{name}_overlay.mp4"
             write_overlay(run_dir, tracked, overlay, end=args.end, progress=not args.no_progress)
             report[name]["overlay"] = str(overlay)
-    return {"clips": report} if kept is None else {"clips": report, "shadow_kept": kept}
+    pooled = merged_summaries([figures.get("reliability") for figures in report.values()])
+    return {"clips": report, "reliability": pooled} if kept is None else \
+        {"clips": report, "reliability": pooled, "shadow_kept": kept}
 
 
 def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),
@@ -128,6 +133,8 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         "main_frames_aligned_share": share(main_scored, visible),
         "main_frames_aligned_share_all_markings": share(main_scored, all_markings),
         f"main_frames_aligned_share_tilted_{SHIFTED_TILT_DEG}deg": share(main_scored, lambda i: visible(i, shifted)),
+        "reliability": reliability_summary([np.nan if records[i].confidence is None else records[i].confidence
+                                            for i in scores], [visible(i) for i in scores]),
         "cameras_on_known_other_view_frames": sum(1 for i in other_known if i in records and records[i].camera is not None),
         "status_counts": summary.get("status_counts"),
         "fps": summary.get("fps"),

@@ -7,6 +7,7 @@ once by the accuracy suite and reused by the speed suite through the same --out 
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -70,6 +71,29 @@ def test_accuracy_suite_reports_the_batch_tripod_against_the_clip(accuracy_repor
     assert batch["T_error_xy_m"] <= batch["T_error_m"]
     # Online on 3 frames never reaches the tripod fit: no tripod.json, no figure.
     assert accuracy_report["presets"]["main"]["online"]["tripod"] is None
+
+
+def test_accuracy_suite_judges_every_written_camera_against_the_true_one(accuracy_report, bench_dir):
+    from broadtrack_graph.benchmarks.reliability import run_reliability
+
+    clip = Path(accuracy_report["clips"]["main"]["path"])
+    for mode in ("online", "batch"):
+        reliability = accuracy_report["presets"]["main"][mode]["reliability"]
+        assert reliability["determinable_frames"] == FRAMES and reliability["cameras"] == FRAMES
+        assert reliability["written_right_share"] == 1.0 and reliability["written_share"] == 1.0
+        confident = [row for row in reliability["rows"] if row["cameras"]]
+        assert confident and all(row["right_share"] == 1.0 for row in confident)
+    pooled = accuracy_report["reliability"]["online"]
+    assert pooled["cameras"] == FRAMES and pooled["written_right_share_of_determinable"] == 1.0
+    # A run whose cameras are tilted by half a degree is wrong on every frame, whatever its confidence says.
+    tilted = bench_dir / "tilted"
+    shutil.copytree(bench_dir / "runs" / "main" / "online", tilted)
+    records = [json.loads(line) for line in (tilted / "track.jsonl").read_text().splitlines()]
+    for record in records:
+        record["tilt_deg"] += 0.5
+    (tilted / "track.jsonl").write_text("".join(json.dumps(record) + "\n" for record in records))
+    judged = run_reliability(tilted, clip / "cameras")
+    assert judged["cameras"] == FRAMES and judged["written_right_share"] == 0.0
 
 
 def test_accuracy_ablation_reuses_the_full_run_and_switches_flow_off(accuracy_report, bench_dir):
