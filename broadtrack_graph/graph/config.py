@@ -86,12 +86,11 @@ class PriorSigmas:
     anchor_k1: float = 0.3
     anchor_angle_rad: float = math.radians(10.0)
     anchor_position_m: float = 10.0
-    # Without a tripod, the online solvers' anchor of a (re)started frame holds its focal point this close (metres)
-    # to the re-initialisation's: one frame barely tells where the focal point stands (nearer with a shorter lens
-    # looks the same), and under the wide anchor a zoomed frame's Gauss-Newton step ran metres off along that valley
-    # (k1 to its limit), or the system was indeterminate (1080p, f 3-9 W, two markings). A frame whose markings do
-    # place it is barely held (they weigh far more); with a tripod the tripod holds it (a searched camera can stand
-    # metres off along its line of sight, where the tripod knows better).
+    # A frame restarted after GTSAM found its system indeterminate holds its focal point this close (metres) to its
+    # starting camera, unless a tripod holds it: its markings did not place the focal point (with two or three
+    # markings in a zoomed view, nearer with a shorter lens looks the same), so the wide anchor left a valley the
+    # elimination could not solve. Other restarts keep the wide anchor, so that the markings move a re-initialised
+    # camera standing metres off along its line of sight.
     restart_position_m: float = 1.0
 
     def focal_range_px(self, width_px: int) -> tuple[float, float]:

@@ -78,6 +78,7 @@ class OnlineTracker:
         self._linked_steps = 0  # consecutive linked frames ending at the last one
         self._last_state: np.ndarray | None = None
         self._pending_reset: Camera | None = None
+        self._hold_position = False  # the next restarted frame holds its focal point (hold_position_next)
         self._active: dict[int, dict[str, int]] = {}  # step -> active factor kinds, for the window
 
     # ----------------------------------------------------------------- public
@@ -97,11 +98,9 @@ class OnlineTracker:
 
         The camera enters the window as a state of its own and becomes the previous state, held on it by a prior of
         one frame's motion (the random walk's sigmas) but for its focal point, held as a restarted frame's is
-        (:meth:`_restart_position_m`): a re-initialised camera can stand metres off along its line of sight, and a
-        chain kept there drifts as the view turns (synthetic fast pans). Re-anchoring the next frame on it instead
-        (:meth:`reset`) left that frame alone against what one frame barely tells apart (focal length against
-        distance, k1): on a zoomed 1080p frame with two markings its Gauss-Newton step ran off, or the system was
-        indeterminate, and the frame was re-initialised again.
+        (:meth:`_restart_position_m`): a re-initialised camera can stand metres off along its line of sight. Re-anchoring
+        the next frame on it instead (:meth:`reset`) would leave that frame alone against what one frame barely tells
+        apart (focal length against distance, k1).
         """
         self._pending_reset = None
         camera = camera if (camera.width_px, camera.height_px) == (self.width_px, self.height_px) \
@@ -110,6 +109,7 @@ class OnlineTracker:
         sigmas = self.config.motion.random_walk_vector()
         sigmas[0] *= state[0]  # relative zoom -> pixels
         sigmas[5:8] = self.config.priors.anchor_vector(state, self._restart_position_m())[5:8]
+        self._hold_position = False
         if self.config.priors.k1_fixed:
             sigmas[1] = self.config.priors.k1_fixed_sigma
         step = self._step + 1
@@ -124,9 +124,17 @@ class OnlineTracker:
         self._active[step] = frame.active
         self._active.pop(step - self.window_frames - 2, None)
 
+    def hold_position_next(self) -> None:
+        """The next restarted frame holds its focal point within ``PriorSigmas.restart_position_m`` of its starting
+        camera (unless a tripod holds it): after GTSAM found that frame's system indeterminate."""
+        self._hold_position = True
+
     def _restart_position_m(self) -> float | None:
-        """The focal point's sigma (metres) in a (re)started frame's anchor: the tripod holds it when there is one."""
-        return None if self.tripod is not None else self.config.priors.restart_position_m
+        """The focal point's sigma (metres) in a (re)started frame's anchor: None (the anchor's own) unless held
+        (:meth:`hold_position_next`) without a tripod."""
+        if not self._hold_position or self.tripod is not None:
+            return None
+        return self.config.priors.restart_position_m
 
     def add_frame(
         self, observations: FrameObservations, initial_guess: Camera | None = None, trust_previous: bool = True
@@ -225,6 +233,8 @@ class OnlineTracker:
         frame = self.builder.measurement_factors(observations, step, previous)
         self.builder.prior_factors(step, frame, anchor_state=None if linked else start,
                                    anchor_position_m=self._restart_position_m())
+        if not linked:
+            self._hold_position = False
         if linked:
             before = step - 2 if self._linked_steps >= 2 else None
             self.builder.motion_factors(step, step - 1, before, frame)

@@ -15,6 +15,7 @@ from broadtrack_graph.graph.estimates import EstimateSequence
 from broadtrack_graph.graph.fixed_lag import FixedLagSmoother
 from broadtrack_graph.graph.online import OnlineTracker
 from broadtrack_graph.graph.simulate import SimulationSettings, reprojection_error_px, simulate_frames
+from broadtrack_graph.graph.streaming import OnlineStreamingSolver
 from broadtrack_graph.synth.motion import generate_camera_track
 from broadtrack_graph.types.observations import FrameObservations
 
@@ -139,21 +140,27 @@ def test_a_camera_replaced_after_its_update_is_the_next_frame_s_previous_state(c
     assert "smoothness" in tracker.add_frame(observations[11]).active_factors
 
 
-def test_a_restarted_zoomed_1080p_frame_with_two_markings_is_solved():
+def test_a_restarted_zoomed_1080p_frame_with_two_markings_is_solved_with_its_focal_point_held():
     # A tight view of a pitch corner at 1920x1080 (f = 6.9 W): two lines leave the focal length against the distance
-    # along the line of sight to the anchor; at 10 m the system is indeterminate in GTSAM's elimination.
+    # along the line of sight to the anchor; under the wide anchor the system is indeterminate in GTSAM's elimination.
     pitch = PitchTemplate()
     truth = Camera(13263.0, 0.0, np.radians(69.62), np.radians(77.67), np.radians(-0.55), (0.0, 55.0, -12.0), 1920, 1080)
     observations = next(simulate_frames([truth], pitch, SimulationSettings(line_points=300, flow_matches=0), seed=0))
     assert sorted(observations.lines_px) == ["Side line bottom", "Side line right"]
     guess = truth.replace(position_m=np.asarray(truth.position_m) + 3.0 * truth.R_cw[2], focal_px=0.95 * truth.focal_px)
-    estimate = OnlineTracker(1920, 1080, pitch).add_frame(observations, guess, trust_previous=False)
-    assert reprojection_error_px(estimate.camera, truth, pitch) < 5.0
-    wide = GraphConfig(priors=PriorSigmas(restart_position_m=10.0))
     with pytest.raises(RuntimeError, match="Indeterminant|Indeterminate"):
-        OnlineTracker(1920, 1080, pitch, wide).add_frame(observations, guess, trust_previous=False)
+        OnlineTracker(1920, 1080, pitch).add_frame(observations, guess, trust_previous=False)
+    held = OnlineTracker(1920, 1080, pitch)
+    held.hold_position_next()
+    assert reprojection_error_px(held.add_frame(observations, guess, trust_previous=False).camera, truth, pitch) < 5.0
+    # The streaming solver does so itself: the update fails, the solver is rebuilt and the frame added again held.
+    solver = OnlineStreamingSolver(1920, 1080, pitch, GraphConfig(), None)
+    current, released = solver.push(observations, guess, trust_previous=False)
+    assert solver.rebuilds == 1 and current.camera is not None and released == [current]
+    assert reprojection_error_px(current.camera, truth, pitch) < 5.0
     # With a tripod, the tripod holds the focal point: the anchor stays wide.
     tracker = OnlineTracker(1920, 1080, pitch, tripod=Tripod((0.0, 55.0, -12.2), 0.2))
+    tracker.hold_position_next()
     assert tracker.add_frame(observations, guess, trust_previous=False).camera is not None
 
 

@@ -41,7 +41,11 @@ class StubTracker:
         self.tripod = tripod
         self.calls = []
         self.resets = []
+        self.held = False  # hold_position_next was called before the next add_frame
         StubTracker.built.append(self)
+
+    def hold_position_next(self):
+        self.held = True
 
     def add_frame(self, obs, guess, trust_previous):
         self.calls.append((obs.frame_index, guess, trust_previous, obs.flow is not None))
@@ -84,6 +88,7 @@ def test_one_failure_rebuilds_and_re_adds_the_frame_as_a_fresh_start_without_flo
     old, new = StubTracker.built
     assert old.calls[-1] == (2, None, True, True)
     assert new.calls == [(2, FALLBACK, False, False)]  # from the fallback, unlinked, flow dropped
+    assert new.held and not old.held  # its focal point held near the fallback's
     assert new.tripod == TRIPOD  # the rebuilt solver keeps the tripod
     assert current == FrameEstimate(2, FALLBACK) and released == [current]
     assert caplog.messages == ["frame 2: solver update failed (Indeterminant linear system detected); "
