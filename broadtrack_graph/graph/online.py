@@ -97,10 +97,11 @@ class OnlineTracker:
         and motion prior) as to a tracked frame's.
 
         The camera enters the window as a state of its own and becomes the previous state, held on it by a prior of
-        one frame's motion (the random walk's sigmas) but for its focal point, held as a restarted frame's is
-        (:meth:`_restart_position_m`): a re-initialised camera can stand metres off along its line of sight. Re-anchoring
-        the next frame on it instead (:meth:`reset`) would leave that frame alone against what one frame barely tells
-        apart (focal length against distance, k1).
+        one frame's motion (the random walk's sigmas) but for its focal point, held within
+        ``PriorSigmas.restart_position_m`` unless a tripod holds it. No marking of the frame is attached to that
+        state: the camera, fitted to them, stands for them, and under the wide anchor the next frames' lines alone
+        walked its focal point off during fast pans. Re-anchoring the next frame on it instead (:meth:`reset`) would
+        leave that frame alone against what one frame barely tells apart (focal length against distance, k1).
         """
         self._pending_reset = None
         camera = camera if (camera.width_px, camera.height_px) == (self.width_px, self.height_px) \
@@ -108,8 +109,8 @@ class OnlineTracker:
         state = camera.to_vector()
         sigmas = self.config.motion.random_walk_vector()
         sigmas[0] *= state[0]  # relative zoom -> pixels
-        sigmas[5:8] = self.config.priors.anchor_vector(state, self._restart_position_m())[5:8]
-        self._hold_position = False
+        held_m = None if self.tripod is not None else self.config.priors.restart_position_m
+        sigmas[5:8] = self.config.priors.anchor_vector(state, held_m)[5:8]
         if self.config.priors.k1_fixed:
             sigmas[1] = self.config.priors.k1_fixed_sigma
         step = self._step + 1

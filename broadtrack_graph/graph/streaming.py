@@ -85,6 +85,11 @@ class StreamingSolver:
         """Re-anchor on a camera: the next frame is not linked to the previous one."""
         self.tracker.reset(camera)
 
+    def hold_position_next(self) -> None:
+        """The next restarted frame holds its focal point near its starting camera's
+        (:meth:`~broadtrack_graph.graph.online.OnlineTracker.hold_position_next`)."""
+        self.tracker.hold_position_next()
+
     def replace_last(self, camera: Camera) -> None:
         """The last frame's camera, re-initialised after its update: the next frame is linked to it
         (:meth:`~broadtrack_graph.graph.online.OnlineTracker.replace_last`)."""

@@ -208,6 +208,8 @@ class TrackingRun:
                 return None, detections
             self._adopt(decision)
             guess, self._reinit_continues = decision.camera, decision.continues_chain
+            if self.camera_id is not None and self.camera_id not in self.policy.registry.untrusted:
+                self.solver.hold_position_next()  # a known camera's place: not moved by one frame's few markings
             reinitialised = True
             observations, detections = self.observer.named_by(frame, observations, detections, guess)
         started = time.perf_counter()

@@ -44,7 +44,7 @@ class FakeSolver:
 
     def __init__(self, lag: int = 0, lost=(), smooth: bool = False) -> None:
         self.lag, self.lost, self.smooth = lag, set(lost), smooth
-        self.pushed, self.resets, self.replaced, self.held = [], [], [], []
+        self.pushed, self.resets, self.replaced, self.held, self.holds = [], [], [], [], []
         self.tripod = None
         self.rebuilds = 0
 
@@ -68,6 +68,9 @@ class FakeSolver:
 
     def replace_last(self, camera):
         self.replaced.append(camera)
+
+    def hold_position_next(self):
+        self.holds.append(len(self.pushed))  # the index of the next push
 
     def finish(self):
         out = [self._released(e) for e in self.held]
@@ -145,6 +148,9 @@ def test_the_state_machine_frame_by_frame(tmp_path):
                              (8, True, False, False), (9, False, True, True), (10, True, False, False)]
     # A search that finds nothing confident at the known camera's position tries the default positions too.
     assert script.reinit_calls == [0, 2, 6, 6, 7, 7, 8, 9, 9, 10]
+    # Restarts of the known, trusted camera (frames 8 and 10, pushes 6 and 8) hold its focal point; the first
+    # camera of the run (frame 0) is placed by its markings.
+    assert solver.holds == [6, 8]
     # Frame 2's camera, re-initialised after its update, is the camera frame 3 continues from (flow, motion prior);
     # as a new chain's, it predicts frame 3 alone (the replaced chain's motion is not its own).
     assert [c.to_vector().tolist() for c in solver.replaced] == [reinit_camera(2).to_vector().tolist()]
