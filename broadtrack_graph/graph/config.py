@@ -86,12 +86,12 @@ class PriorSigmas:
     anchor_k1: float = 0.3
     anchor_angle_rad: float = math.radians(10.0)
     anchor_position_m: float = 10.0
-    # Online without a tripod, the focal point is held this close (metres) to the camera it starts from in two
-    # cases. A frame restarted after GTSAM found its system indeterminate: its markings did not place the focal point
-    # (two or three markings in a zoomed view; nearer with a shorter lens looks the same). And a re-initialised camera
-    # put in the window after its frame's update (OnlineTracker.replace_last): no marking is attached to its state,
-    # the camera stands for them. Other restarts keep the wide anchor, so that the frame's markings move a camera
-    # found metres off along its line of sight.
+    # Online without a tripod, the focal point is held this close (metres) to the camera it starts from when the
+    # tracker asks for it (OnlineTracker.hold_position_next: a known, trusted camera restarted after its chain was
+    # lost, its place known) and for a re-initialised camera put in the window after its frame's update
+    # (OnlineTracker.replace_last: no marking is attached to its state, the camera stands for them). Other restarts
+    # keep the wide anchor, so that the frame's markings move a camera found metres off along its line of sight, or
+    # reject a wrong one.
     restart_position_m: float = 1.0
 
     def focal_range_px(self, width_px: int) -> tuple[float, float]:

@@ -127,7 +127,8 @@ class OnlineTracker:
 
     def hold_position_next(self) -> None:
         """The next restarted frame holds its focal point within ``PriorSigmas.restart_position_m`` of its starting
-        camera (unless a tripod holds it): after GTSAM found that frame's system indeterminate."""
+        camera (unless a tripod holds it): a camera whose place is known. A zoomed view showing two or three markings
+        leaves focal length against distance along the line of sight open; held, it is solved."""
         self._hold_position = True
 
     def _restart_position_m(self) -> float | None:

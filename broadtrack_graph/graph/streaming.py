@@ -101,8 +101,8 @@ class StreamingSolver:
 
         On a GTSAM error (``SOLVER_ERRORS``): log it, release what the old window held, rebuild
         (same tripod), and add the frame again without flow as a fresh start from ``guess``
-        (else ``fallback``), its focal point held near the start's
-        (:meth:`~broadtrack_graph.graph.online.OnlineTracker.hold_position_next`). Without a camera to start from, or when that fails too, the frame's
+        (else ``fallback``) under the wide anchor: a start the frame's markings cannot hold (a wrong
+        re-initialisation) then moves, and its confidence tells. Without a camera to start from, or when that fails too, the frame's
         estimate is a failed FrameEstimate (camera None, with the reason) and is released at once.
 
         Args:
@@ -126,7 +126,6 @@ class StreamingSolver:
             if start is None:
                 failed = FrameEstimate(observations.frame_index, None, reason="solver failed and no camera to restart from")
                 return failed, released + [failed]
-            self.tracker.hold_position_next()  # the frame's markings did not place its focal point
             try:
                 current, more = self._add(replace(observations, flow=None), start, False)
             except SOLVER_ERRORS:

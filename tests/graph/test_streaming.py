@@ -88,7 +88,7 @@ def test_one_failure_rebuilds_and_re_adds_the_frame_as_a_fresh_start_without_flo
     old, new = StubTracker.built
     assert old.calls[-1] == (2, None, True, True)
     assert new.calls == [(2, FALLBACK, False, False)]  # from the fallback, unlinked, flow dropped
-    assert new.held and not old.held  # its focal point held near the fallback's
+    assert not new.held  # under the wide anchor: the frame's markings may move a wrong start
     assert new.tripod == TRIPOD  # the rebuilt solver keeps the tripod
     assert current == FrameEstimate(2, FALLBACK) and released == [current]
     assert caplog.messages == ["frame 2: solver update failed (Indeterminant linear system detected); "
