@@ -55,7 +55,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
-from broadtrack_graph.benchmarks.reliability import pooled, run_reliability
+from broadtrack_graph.benchmarks.reliability import add_reliability, pooled
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
 
@@ -368,12 +368,10 @@ def run(args) -> dict:
                               tripod_error(path, clip / "tripod.json"))
             for name, path in runs.items()
         }
-        for name, path in runs.items():
-            report["presets"][preset][name]["reliability"] = (None if comparison["runs"][name] is None
-                                                              else run_reliability(path, clip / "cameras"))
+        add_reliability(report["presets"][preset], runs, clip / "cameras")
         report["presets"][preset]["compare_md"] = comparison.get("files", {}).get("markdown")
 
-    report["reliability"] = {mode: pooled([report["presets"][p][mode]["reliability"] for p in args.presets])
+    report["reliability"] = {mode: pooled([report["presets"][p][mode].get("reliability") for p in args.presets])
                              for mode in args.modes}
     if ablation:
         base = mode_configs.get(args.ablation_mode) or TrackingConfig(mode=args.ablation_mode, lag_frames=args.lag,

@@ -53,6 +53,14 @@ def run_reliability(run_dir: Path, truth_dir: Path, tau_px: float = RIGHT_TAU_PX
     return summary
 
 
+def add_reliability(figures: dict, runs: dict[str, Path], truth_dir: Path) -> None:
+    """Each run's reliability (:func:`run_reliability`) into its figures (``figures[name]["reliability"]``; None for a
+    run that wrote nothing)."""
+    for name, path in runs.items():
+        entry = figures[name]
+        entry["reliability"] = None if entry.get("frames") is None else run_reliability(path, truth_dir)
+
+
 def pooled(summaries: list[dict]) -> dict | None:
     """Several runs' reliability added up (the rows; the shares of the determinable frames recomputed)."""
     merged = merged_summaries(summaries)
