@@ -14,6 +14,9 @@ A camera operator on a fluid head follows play. The model (the tripod model of
 * Zoom (horizontal field of view) drifts between the preset's limits, opens when play
   is fast, and now and then the operator zooms in on a player in an area with few
   markings (between the penalty area and the centre circle).
+* A preset with ``max_view_speed_fov_per_s`` has its operator open the zoom ahead of a sweep,
+  so that the view turns by at most that many fields of view per second (a whip pan is shot
+  wide, a tight view only drifts); the zoom closes again at its own pace afterwards.
 * f follows the field of view, ``f = (W / 2) / tan(hfov / 2)``; k1 and lambda are
   smooth functions of f (the entrance pupil moves forward when zooming in; k1 is
   largest at wide angle and small at tele).
@@ -35,6 +38,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from scipy.ndimage import gaussian_filter1d
 
 from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
@@ -207,6 +211,29 @@ def _operator_plan(preset: MotionPreset, ball_xy: np.ndarray, speeds: np.ndarray
     return aim, hfov
 
 
+def _look_ahead_frames(preset: MotionPreset) -> int:
+    """Frames the operator sees a sweep coming: three zoom time constants (the zoom is then ~80 % there)."""
+    return int(math.ceil(3.0 * preset.zoom_time_s * FPS))
+
+
+def _sweep_focal_limit(preset: MotionPreset, pan_rad: np.ndarray, tilt_rad: np.ndarray, width_px: int) -> np.ndarray:
+    """(N,) the largest log focal length (pixels at width_px) at which the view turns by at most
+    ``preset.max_view_speed_fov_per_s`` fields of view per second, opened ahead of each sweep and smooth.
+
+    The optical axis turns at ``hypot(sin(tilt) d pan, d tilt)`` radians per frame. The limit of frame t is the
+    tightest of frames t - b .. t + :func:`_look_ahead_frames` (the operator sees the sweep coming), then smoothed
+    by a Gaussian reaching b frames either side, so that it never exceeds any frame's own limit.
+    """
+    axis_speed = np.hypot(np.sin(tilt_rad) * np.gradient(pan_rad), np.gradient(tilt_rad)) * FPS  # rad/s
+    lo, hi = (math.radians(v) for v in preset.hfov_range_deg)
+    own = np.log(hfov_to_focal_px(np.clip(axis_speed / preset.max_view_speed_fov_per_s, lo, hi), width_px))
+    ahead = _look_ahead_frames(preset)
+    behind = max(1, ahead // 4)
+    padded = np.concatenate([np.full(behind, own[0]), own, np.full(ahead, own[-1])])
+    limit = sliding_window_view(padded, behind + ahead + 1).min(axis=1)
+    return gaussian_filter1d(limit, behind / 4.0, mode="nearest", truncate=4.0)
+
+
 def _aim_angles(T_w: np.ndarray, aim_xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pan and tilt (radians) whose optical axis from T_w passes through ground points aim_xy (N, 2)."""
     direction = np.column_stack([aim_xy[:, 0] - T_w[0], aim_xy[:, 1] - T_w[1], np.full(len(aim_xy), -T_w[2])])
@@ -221,7 +248,7 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     """A smooth broadcast camera track on a fixed tripod.
 
     Args:
-        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low", "low-16m").
+        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low", "low-16m", "fast").
         frame_count: number of frames (>= 1), at FPS = 25.
         width_px, height_px: image size of the cameras.
         seed: random seed; the same arguments always give the same track.
@@ -238,20 +265,27 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
         raise ValueError(f"frame_count must be >= 1, got {frame_count}")
     if width_px <= 0 or height_px <= 0:
         raise ValueError(f"image size must be positive, got {width_px}x{height_px}")
-    # Separate random streams per component keep a short clip the beginning of a long one.
+    # Separate random streams per component keep a short clip the beginning of a long one; a zoom opened ahead
+    # of sweeps looks ahead, so play is generated that far beyond the clip's end and cut off.
     key = (int(seed), PRESET_STREAMS.index(preset))
     T_w = np.asarray(spec.tripod_T_w, dtype=float)
     tripod = Tripod(tuple(float(v) for v in T_w), float(spec.delta_m))
+    planned = frame_count + (0 if spec.max_view_speed_fov_per_s is None else 2 * _look_ahead_frames(spec) + 1)
 
-    ball_xy, speeds = _ball_path(spec, frame_count, np.random.default_rng([*key, 1]))
+    ball_xy, speeds = _ball_path(spec, planned, np.random.default_rng([*key, 1]))
     aim_xy, hfov_rad = _operator_plan(spec, ball_xy, speeds, np.random.default_rng([*key, 3]), (*key, 2))
     aim_xy[:, 0] = np.clip(aim_xy[:, 0], *spec.aim_x_range_m)
     aim_xy[:, 1] = np.clip(aim_xy[:, 1], *spec.aim_y_range_m)
     aim_xy = _second_order_filter(aim_xy, spec.follow_time_s)
-    log_focal = _second_order_filter(np.log(hfov_to_focal_px(hfov_rad, width_px))[:, None], spec.zoom_time_s)[:, 0]
+    pan, tilt = _aim_angles(T_w, aim_xy)
+    log_focal_plan = np.log(hfov_to_focal_px(hfov_rad, width_px))
+    # Opened ahead of sweeps: the operator zooms towards the limit, and the lens never lags past it.
+    limit = np.inf if spec.max_view_speed_fov_per_s is None else _sweep_focal_limit(spec, pan, tilt, width_px)
+    log_focal = _second_order_filter(np.minimum(log_focal_plan, limit)[:, None], spec.zoom_time_s)[:, 0]
+    log_focal = np.minimum(log_focal, limit)
+    pan, tilt, log_focal, ball_xy = pan[:frame_count], tilt[:frame_count], log_focal[:frame_count], ball_xy[:frame_count]
     focal_px = np.exp(log_focal)
 
-    pan, tilt = _aim_angles(T_w, aim_xy)
     jitter = np.radians(spec.jitter_deg) * smooth_noise((*key, 4), frame_count, 2, 2.0)
     pan = pan + jitter[:, 0]
     tilt = tilt + jitter[:, 1]
