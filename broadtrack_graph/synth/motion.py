@@ -212,26 +212,42 @@ def _operator_plan(preset: MotionPreset, ball_xy: np.ndarray, speeds: np.ndarray
 
 
 def _look_ahead_frames(preset: MotionPreset) -> int:
-    """Frames the operator sees a sweep coming: three zoom time constants (the zoom is then ~80 % there)."""
-    return int(math.ceil(3.0 * preset.zoom_time_s * FPS))
+    """Frames the operator sees a sweep coming: long enough to open the lens over its whole range
+    (:func:`_zoom_rate_per_frame`) and for the zoom to catch up (four zoom time constants)."""
+    lo, hi = preset.hfov_range_deg
+    crossing = math.log(math.tan(math.radians(hi) / 2) / math.tan(math.radians(lo) / 2)) / _zoom_rate_per_frame(preset)
+    return int(math.ceil(crossing + 4.0 * preset.zoom_time_s * FPS))
+
+
+def _zoom_rate_per_frame(preset: MotionPreset) -> float:
+    """How fast the operator opens the zoom ahead of a sweep: the lens's whole range (log focal length) in four
+    zoom time constants, per frame."""
+    lo, hi = preset.hfov_range_deg
+    span = math.log(math.tan(math.radians(hi) / 2) / math.tan(math.radians(lo) / 2))
+    return span / (4.0 * preset.zoom_time_s * FPS)
 
 
 def _sweep_focal_limit(preset: MotionPreset, pan_rad: np.ndarray, tilt_rad: np.ndarray, width_px: int) -> np.ndarray:
-    """(N,) the largest log focal length (pixels at width_px) at which the view turns by at most
-    ``preset.max_view_speed_fov_per_s`` fields of view per second, opened ahead of each sweep and smooth.
+    """(N,) the largest log focal length (pixels at width_px) the operator aims the zoom at so that the view turns
+    by at most ``preset.max_view_speed_fov_per_s`` fields of view per second, opened ahead of each sweep.
 
-    The optical axis turns at ``hypot(sin(tilt) d pan, d tilt)`` radians per frame. The limit of frame t is the
-    tightest of frames t - b .. t + :func:`_look_ahead_frames` (the operator sees the sweep coming), then smoothed
-    by a Gaussian reaching b frames either side, so that it never exceeds any frame's own limit.
+    The optical axis turns at ``hypot(sin(tilt) d pan, d tilt)`` radians per frame. Each frame's own limit is
+    moved four zoom time constants earlier (the zoom, starting from rest, reaches its aim about that much later), then the largest function
+    below it that changes by at most :func:`_zoom_rate_per_frame` a frame is taken (the lens opens over many
+    frames, never in a snap).
     """
     axis_speed = np.hypot(np.sin(tilt_rad) * np.gradient(pan_rad), np.gradient(tilt_rad)) * FPS  # rad/s
     lo, hi = (math.radians(v) for v in preset.hfov_range_deg)
     own = np.log(hfov_to_focal_px(np.clip(axis_speed / preset.max_view_speed_fov_per_s, lo, hi), width_px))
-    ahead = _look_ahead_frames(preset)
-    behind = max(1, ahead // 4)
-    padded = np.concatenate([np.full(behind, own[0]), own, np.full(ahead, own[-1])])
-    limit = sliding_window_view(padded, behind + ahead + 1).min(axis=1)
-    return gaussian_filter1d(limit, behind / 4.0, mode="nearest", truncate=4.0)
+    lag = int(round(4.0 * preset.zoom_time_s * FPS))
+    padded = np.concatenate([own, np.full(lag, own[-1])])
+    limit = sliding_window_view(padded, lag + 1).min(axis=1)
+    rate = _zoom_rate_per_frame(preset)
+    for i in range(1, len(limit)):  # limit[t] = min over s of own_ahead[s] + rate |s - t|: two passes
+        limit[i] = min(limit[i], limit[i - 1] + rate)
+    for i in range(len(limit) - 2, -1, -1):
+        limit[i] = min(limit[i], limit[i + 1] + rate)
+    return limit
 
 
 def _aim_angles(T_w: np.ndarray, aim_xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -279,10 +295,9 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     aim_xy = _second_order_filter(aim_xy, spec.follow_time_s)
     pan, tilt = _aim_angles(T_w, aim_xy)
     log_focal_plan = np.log(hfov_to_focal_px(hfov_rad, width_px))
-    # Opened ahead of sweeps: the operator zooms towards the limit, and the lens never lags past it.
-    limit = np.inf if spec.max_view_speed_fov_per_s is None else _sweep_focal_limit(spec, pan, tilt, width_px)
-    log_focal = _second_order_filter(np.minimum(log_focal_plan, limit)[:, None], spec.zoom_time_s)[:, 0]
-    log_focal = np.minimum(log_focal, limit)
+    if spec.max_view_speed_fov_per_s is not None:  # opened ahead of sweeps
+        log_focal_plan = np.minimum(log_focal_plan, _sweep_focal_limit(spec, pan, tilt, width_px))
+    log_focal = _second_order_filter(log_focal_plan[:, None], spec.zoom_time_s)[:, 0]
     pan, tilt, log_focal, ball_xy = pan[:frame_count], tilt[:frame_count], log_focal[:frame_count], ball_xy[:frame_count]
     focal_px = np.exp(log_focal)
 

@@ -157,10 +157,10 @@ PRESETS: dict[str, MotionPreset] = {
     "fast": MotionPreset(
         name="fast", tripod_T_w=(0.0, 55.0, -12.0), delta_m=0.22,
         ball_x_range_m=(-50.0, 50.0), ball_y_range_m=(-30.0, 30.0),
-        hfov_range_deg=(5.0, 45.0), hfov_typical_deg=22.0,
+        hfov_range_deg=(4.8, 45.0), hfov_typical_deg=22.0,
         dribble_speed_mps=(4.0, 9.0), pass_speed_mps=(25.0, 36.0), pass_probability=0.6, pause_probability=0.05,
         follow_time_s=0.22, zoom_time_s=0.35,
-        sparse_zoom_per_min=8.0, sparse_zoom_hfov_deg=(5.0, 5.4), sparse_zoom_duration_s=(4.0, 6.0),
+        sparse_zoom_per_min=8.0, sparse_zoom_hfov_deg=(4.8, 5.2), sparse_zoom_duration_s=(5.0, 7.0),
         aim_offset_y_m=3.0, aim_x_range_m=(-42.0, 42.0), aim_y_range_m=(-18.0, 22.0), jitter_deg=0.02, roll_max_deg=0.2,
         lambda_wide_m=0.05, lambda_tele_m=0.6, k1_wide=0.05, k1_tele=0.005,
         player_count=22, player_spread_m=18.0, max_view_speed_fov_per_s=1.0,
