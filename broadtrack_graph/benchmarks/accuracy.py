@@ -1,7 +1,6 @@
 """``broadtrack-graph bench accuracy``: the whole tracker on rendered clips, against exact ground truth.
 
-For every synthetic preset (default main and 16m, 1920x1080; ``fast`` for sweeps of 40 deg/s and more under
-motion blur and zoom-ins to a 5 deg field of view) a clip is rendered once
+For every synthetic preset (default main and 16m, 1920x1080) a clip is rendered once
 (:func:`~broadtrack_graph.synth.writer.write_synthetic_clip`, reused from ``--out`` when
 it is already there) and tracked with the weight-free detector in every mode
 (online iSAM2, fixed-lag smoother, batch two-pass refinement) by
