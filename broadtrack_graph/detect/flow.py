@@ -28,6 +28,11 @@ class FlowConfig:
     pyramid_levels: int = 3
     fb_max_px: float = 0.5  # forward-backward error bound, working pixels
     pitch_margin_m: float = 1.0  # matches must back-project inside the pitch grown by this
+    # Each working image is divided by its own Gaussian blur of this sigma (working pixels; 0: not): shading that
+    # stays put in the frame (lens vignetting, exposure changes) is taken out, or where motion blur leaves little
+    # texture it holds the matches back towards no motion
+    shading_sigma_px: float = 32.0
+    shading_gain: float = 512.0  # grey levels per unit of relative brightness after the division (around 128)
 
 
 @dataclass
@@ -49,7 +54,24 @@ def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig()) -> FlowFra
     h, w = image_bgr.shape[:2]
     ww = min(config.work_width_px, w)
     grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)  # grey first: the reduction then moves one channel, not three
-    return FlowFrame(grey if ww == w else cv2.resize(grey, (ww, int(round(h * ww / w))), interpolation=cv2.INTER_AREA))
+    grey = grey if ww == w else cv2.resize(grey, (ww, int(round(h * ww / w))), interpolation=cv2.INTER_AREA)
+    return FlowFrame(_without_shading(grey, config) if config.shading_sigma_px > 0 else grey)
+
+
+def _without_shading(grey: np.ndarray, config: FlowConfig) -> np.ndarray:
+    """(h, w) uint8: the grey image relative to its local mean (a Gaussian of ``shading_sigma_px``), around 128.
+
+    The local mean is smooth, so it is taken on the image reduced by a quarter of the sigma and scaled back up
+    (a tenth of the cost of the full-size blur).
+    """
+    h, w = grey.shape
+    image = grey.astype(np.float32) + 1.0
+    factor = max(1, int(config.shading_sigma_px // 4))
+    small = cv2.resize(image, (max(1, w // factor), max(1, h // factor)), interpolation=cv2.INTER_AREA)
+    small = cv2.GaussianBlur(small, (0, 0), config.shading_sigma_px / factor)
+    local = cv2.resize(small, (w, h), interpolation=cv2.INTER_LINEAR)
+    relative = cv2.divide(image, local) - 1.0
+    return np.clip(128.0 + config.shading_gain * relative, 0, 255).astype(np.uint8)
 
 
 def ground_points(camera: Camera, uv_px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

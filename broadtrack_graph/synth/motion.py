@@ -14,6 +14,9 @@ A camera operator on a fluid head follows play. The model (the tripod model of
 * Zoom (horizontal field of view) drifts between the preset's limits, opens when play
   is fast, and now and then the operator zooms in on a player in an area with few
   markings (between the penalty area and the centre circle).
+* A preset with ``max_view_speed_fov_per_s`` has its operator open the zoom ahead of a sweep,
+  so that the view turns by at most that many fields of view per second (a whip pan is shot
+  wide, a tight view only drifts); the zoom closes again at its own pace afterwards.
 * f follows the field of view, ``f = (W / 2) / tan(hfov / 2)``; k1 and lambda are
   smooth functions of f (the entrance pupil moves forward when zooming in; k1 is
   largest at wide angle and small at tele).
@@ -35,6 +38,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from scipy.ndimage import gaussian_filter1d
 
 from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
@@ -207,6 +211,45 @@ def _operator_plan(preset: MotionPreset, ball_xy: np.ndarray, speeds: np.ndarray
     return aim, hfov
 
 
+def _look_ahead_frames(preset: MotionPreset) -> int:
+    """Frames the operator sees a sweep coming: long enough to open the lens over its whole range
+    (:func:`_zoom_rate_per_frame`) and for the zoom to catch up (four zoom time constants)."""
+    lo, hi = preset.hfov_range_deg
+    crossing = math.log(math.tan(math.radians(hi) / 2) / math.tan(math.radians(lo) / 2)) / _zoom_rate_per_frame(preset)
+    return int(math.ceil(crossing + 4.0 * preset.zoom_time_s * FPS))
+
+
+def _zoom_rate_per_frame(preset: MotionPreset) -> float:
+    """How fast the operator opens the zoom ahead of a sweep: the lens's whole range (log focal length) in four
+    zoom time constants, per frame."""
+    lo, hi = preset.hfov_range_deg
+    span = math.log(math.tan(math.radians(hi) / 2) / math.tan(math.radians(lo) / 2))
+    return span / (4.0 * preset.zoom_time_s * FPS)
+
+
+def _sweep_focal_limit(preset: MotionPreset, pan_rad: np.ndarray, tilt_rad: np.ndarray, width_px: int) -> np.ndarray:
+    """(N,) the largest log focal length (pixels at width_px) the operator aims the zoom at so that the view turns
+    by at most ``preset.max_view_speed_fov_per_s`` fields of view per second, opened ahead of each sweep.
+
+    The optical axis turns at ``hypot(sin(tilt) d pan, d tilt)`` radians per frame. Each frame's own limit is
+    moved four zoom time constants earlier (the zoom, starting from rest, reaches its aim about that much later), then the largest function
+    below it that changes by at most :func:`_zoom_rate_per_frame` a frame is taken (the lens opens over many
+    frames, never in a snap).
+    """
+    axis_speed = np.hypot(np.sin(tilt_rad) * np.gradient(pan_rad), np.gradient(tilt_rad)) * FPS  # rad/s
+    lo, hi = (math.radians(v) for v in preset.hfov_range_deg)
+    own = np.log(hfov_to_focal_px(np.clip(axis_speed / preset.max_view_speed_fov_per_s, lo, hi), width_px))
+    lag = int(round(4.0 * preset.zoom_time_s * FPS))
+    padded = np.concatenate([own, np.full(lag, own[-1])])
+    limit = sliding_window_view(padded, lag + 1).min(axis=1)
+    rate = _zoom_rate_per_frame(preset)
+    for i in range(1, len(limit)):  # limit[t] = min over s of own_ahead[s] + rate |s - t|: two passes
+        limit[i] = min(limit[i], limit[i - 1] + rate)
+    for i in range(len(limit) - 2, -1, -1):
+        limit[i] = min(limit[i], limit[i + 1] + rate)
+    return limit
+
+
 def _aim_angles(T_w: np.ndarray, aim_xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Pan and tilt (radians) whose optical axis from T_w passes through ground points aim_xy (N, 2)."""
     direction = np.column_stack([aim_xy[:, 0] - T_w[0], aim_xy[:, 1] - T_w[1], np.full(len(aim_xy), -T_w[2])])
@@ -221,7 +264,7 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
     """A smooth broadcast camera track on a fixed tripod.
 
     Args:
-        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low", "low-16m").
+        preset: one of PRESETS ("main", "16m", "high-behind", "hard", "wide", "long", "low", "low-16m", "fast").
         frame_count: number of frames (>= 1), at FPS = 25.
         width_px, height_px: image size of the cameras.
         seed: random seed; the same arguments always give the same track.
@@ -238,20 +281,26 @@ def generate_camera_track(preset: str, frame_count: int, width_px: int, height_p
         raise ValueError(f"frame_count must be >= 1, got {frame_count}")
     if width_px <= 0 or height_px <= 0:
         raise ValueError(f"image size must be positive, got {width_px}x{height_px}")
-    # Separate random streams per component keep a short clip the beginning of a long one.
+    # Separate random streams per component keep a short clip the beginning of a long one; a zoom opened ahead
+    # of sweeps looks ahead, so play is generated that far beyond the clip's end and cut off.
     key = (int(seed), PRESET_STREAMS.index(preset))
     T_w = np.asarray(spec.tripod_T_w, dtype=float)
     tripod = Tripod(tuple(float(v) for v in T_w), float(spec.delta_m))
+    planned = frame_count + (0 if spec.max_view_speed_fov_per_s is None else 2 * _look_ahead_frames(spec) + 1)
 
-    ball_xy, speeds = _ball_path(spec, frame_count, np.random.default_rng([*key, 1]))
+    ball_xy, speeds = _ball_path(spec, planned, np.random.default_rng([*key, 1]))
     aim_xy, hfov_rad = _operator_plan(spec, ball_xy, speeds, np.random.default_rng([*key, 3]), (*key, 2))
     aim_xy[:, 0] = np.clip(aim_xy[:, 0], *spec.aim_x_range_m)
     aim_xy[:, 1] = np.clip(aim_xy[:, 1], *spec.aim_y_range_m)
     aim_xy = _second_order_filter(aim_xy, spec.follow_time_s)
-    log_focal = _second_order_filter(np.log(hfov_to_focal_px(hfov_rad, width_px))[:, None], spec.zoom_time_s)[:, 0]
+    pan, tilt = _aim_angles(T_w, aim_xy)
+    log_focal_plan = np.log(hfov_to_focal_px(hfov_rad, width_px))
+    if spec.max_view_speed_fov_per_s is not None:  # opened ahead of sweeps
+        log_focal_plan = np.minimum(log_focal_plan, _sweep_focal_limit(spec, pan, tilt, width_px))
+    log_focal = _second_order_filter(log_focal_plan[:, None], spec.zoom_time_s)[:, 0]
+    pan, tilt, log_focal, ball_xy = pan[:frame_count], tilt[:frame_count], log_focal[:frame_count], ball_xy[:frame_count]
     focal_px = np.exp(log_focal)
 
-    pan, tilt = _aim_angles(T_w, aim_xy)
     jitter = np.radians(spec.jitter_deg) * smooth_noise((*key, 4), frame_count, 2, 2.0)
     pan = pan + jitter[:, 0]
     tilt = tilt + jitter[:, 1]

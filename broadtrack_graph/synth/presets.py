@@ -45,6 +45,9 @@ class MotionPreset:
     k1_tele: float  # k1 at the tightest zoom
     player_count: int  # players on the pitch (for the renderer)
     player_spread_m: float  # how tightly players cluster around the ball (renderer)
+    # The operator opens the zoom ahead of a sweep so that the view turns by at most this many horizontal
+    # fields of view per second (a whip pan is shot wide, a tight view only drifts); None: no such limit.
+    max_view_speed_fov_per_s: float | None = None
 
 
 PRESETS: dict[str, MotionPreset] = {
@@ -147,10 +150,25 @@ PRESETS: dict[str, MotionPreset] = {
         roll_max_deg=0.25, lambda_wide_m=0.04, lambda_tele_m=0.35, k1_wide=0.055, k1_tele=0.01,
         player_count=22, player_spread_m=18.0,
     ),
+    # The main camera through fast play: counter-attacks and long passes swept at 40 deg/s and more (shot wide,
+    # the zoom opened ahead of each sweep, so the frames are smeared by motion blur but the view moves by about a
+    # field of view a second), and zoom-ins from wide down to a 5 deg field of view on a player, where a frame
+    # may show a single marking or none.
+    "fast": MotionPreset(
+        name="fast", tripod_T_w=(0.0, 55.0, -12.0), delta_m=0.22,
+        ball_x_range_m=(-50.0, 50.0), ball_y_range_m=(-30.0, 30.0),
+        hfov_range_deg=(4.8, 45.0), hfov_typical_deg=22.0,
+        dribble_speed_mps=(4.0, 9.0), pass_speed_mps=(25.0, 36.0), pass_probability=0.6, pause_probability=0.05,
+        follow_time_s=0.22, zoom_time_s=0.35,
+        sparse_zoom_per_min=8.0, sparse_zoom_hfov_deg=(4.8, 5.2), sparse_zoom_duration_s=(5.0, 7.0),
+        aim_offset_y_m=3.0, aim_x_range_m=(-42.0, 42.0), aim_y_range_m=(-18.0, 22.0), jitter_deg=0.02, roll_max_deg=0.2,
+        lambda_wide_m=0.05, lambda_tele_m=0.6, k1_wide=0.05, k1_tele=0.005,
+        player_count=22, player_spread_m=18.0, max_view_speed_fov_per_s=1.0,
+    ),
 }
 """Preset name -> camera placement and operating style."""
 
-PRESET_STREAMS = ("16m", "hard", "high-behind", "long", "main", "wide", "low", "low-16m")
+PRESET_STREAMS = ("16m", "hard", "high-behind", "long", "main", "wide", "low", "low-16m", "fast")
 """The random stream of each preset's clips, by position: fixed, so a new preset (added at the end) changes no
 existing clip."""
 

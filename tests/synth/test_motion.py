@@ -62,6 +62,36 @@ def test_main_preset_looks_like_a_broadcast_main_camera():
     np.testing.assert_allclose(track.cameras[0].position_m, PRESETS["main"].tripod_T_w, atol=1.0)
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_fast_preset_sweeps_at_40_deg_per_s_and_zooms_to_5_deg(seed):
+    """What the fast preset is for, read from its cameras (300 frames, the benchmark's seeds): pans of 40 deg/s
+    and more on at least 5 % of the frames, shot wide, and (seeds 0 and 1: seed 2's first zoom-in on a player
+    comes after frame 300) a zoom from a wide view down to a field of view of 5.5 deg or less."""
+    track = generate_camera_track("fast", 300, 1920, 1080, seed=seed)
+    pan_rad = np.array([c.pan_rad for c in track.cameras])
+    tilt_rad = np.array([c.tilt_rad for c in track.cameras])
+    hfov_rad = 2.0 * np.arctan(np.array([c.width_px / 2.0 / c.focal_px for c in track.cameras]))
+    pan_rate_deg_s = np.degrees(np.abs(np.diff(pan_rad))) * track.fps
+    assert (pan_rate_deg_s >= 40.0).mean() >= 0.05
+    assert np.degrees(hfov_rad).max() >= 40.0
+    if seed != 2:
+        assert np.degrees(hfov_rad).min() <= 5.5
+    # Where the widest zoom can hold it, the view turns by at most about a field of view a second: the zoom
+    # opens ahead of a sweep (and smoothly: never by more than 10 % of the focal length a frame).
+    budget = PRESETS["fast"].max_view_speed_fov_per_s
+    axis_rate_rad_s = np.hypot(np.sin(tilt_rad) * np.gradient(pan_rad), np.gradient(tilt_rad)) * track.fps
+    holdable = axis_rate_rad_s <= budget * math.radians(PRESETS["fast"].hfov_range_deg[1])
+    assert (axis_rate_rad_s / hfov_rad)[holdable].max() < 1.1 * budget
+    focal_px = np.array([c.focal_px for c in track.cameras])
+    assert np.abs(np.diff(np.log(focal_px))).max() < 0.1
+
+
+def test_a_short_clip_is_the_beginning_of_a_long_one_with_the_zoom_opened_ahead():
+    short = np.array([c.to_vector() for c in generate_camera_track("fast", 120, 960, 540, seed=0).cameras])
+    long = np.array([c.to_vector() for c in generate_camera_track("fast", 300, 960, 540, seed=0).cameras])
+    np.testing.assert_array_equal(short, long[:120])
+
+
 def test_zoom_laws_tie_k1_and_lambda_to_focal_length():
     preset = PRESETS["main"]
     wide = (1920 / 2) / math.tan(math.radians(preset.hfov_range_deg[1]) / 2)
