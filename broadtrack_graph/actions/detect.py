@@ -42,9 +42,9 @@ from broadtrack_graph.io.mask_png import write_mask_png
 from broadtrack_graph.io.nbjw_keypoints import read_nbjw_predictions
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.feed import run_loop
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
-from broadtrack_graph.track.passes import run_loop
 from broadtrack_graph.track.result import RunResult
 from broadtrack_graph.types.observations import FrameObservations
 

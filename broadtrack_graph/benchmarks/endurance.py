@@ -16,7 +16,7 @@ Tracking reads JPEG frames, so its time never includes rendering.
 
 The tracked run. The clip is tracked online with the weight-free detector through the
 product's own loop (:class:`~broadtrack_graph.track.frame_loop.TrackingRun` and
-:func:`~broadtrack_graph.track.passes.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
+:func:`~broadtrack_graph.track.feed.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
 builds them: frames prefetched and decoded in a background thread). Each call of
 ``TrackingRun.process`` is timed (wall clock and the main thread's CPU time: on a shared
 machine the CPU time is the steadier figure); the process RSS (``VmRSS`` of
@@ -109,9 +109,9 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
     from broadtrack_graph.actions.track import DetectorOptions, make_detector
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.io.frames import open_frames
+    from broadtrack_graph.track.feed import run_loop
     from broadtrack_graph.track.frame_loop import TrackingRun
     from broadtrack_graph.track.inputs import frames_from_source
-    from broadtrack_graph.track.passes import run_loop
 
     pitch = PitchTemplate()
     with open_frames(clip) as source:

@@ -16,7 +16,8 @@ One loop serves every input (frames with a detector, a detections file, or both)
 The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut breaks the chain
 and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets the status
 ``other-view`` and no camera. Each camera id has its own tripod (:mod:`~broadtrack_graph.track.online_tripod`).
-Whole runs and the offline modes: :mod:`broadtrack_graph.track.passes`.
+Whole runs and the offline modes: :mod:`broadtrack_graph.track.passes`; the frames fed to a run, decoded and
+marked ahead in a background thread: :mod:`broadtrack_graph.track.feed`.
 """
 
 from __future__ import annotations
@@ -134,7 +135,7 @@ class TrackingRun:
                                      self.graph_config, config.confidence_threshold, config.recover_max_frames,
                                      lambda camera_id: self.online_tripod.by_camera(self.solver).get(camera_id))
         # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
-        # in the thread that decodes the frames (overlapping the stages here; see track.passes.run_loop).
+        # in the thread that decodes the frames (overlapping the stages here; see track.feed.run_loop).
         self.timings = {"backfill_s": 0.0, "detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0, "markings_ahead_s": 0.0}
         self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, mask_paths or {}, self.timings)

@@ -12,6 +12,9 @@ Both offline modes then give a camera to the frames the forward pass could not l
 the opening), and smooth them with their neighbours: batch mode refines them with the whole
 track; fixed-lag mode refines each recovered stretch with up to ``lag_frames`` good frames on
 either side (only the recovered frames' cameras are replaced). The online mode stays causal.
+
+Each pass is a :class:`~broadtrack_graph.track.frame_loop.TrackingRun` fed by
+:func:`~broadtrack_graph.track.feed.run_loop`.
 """
 
 from __future__ import annotations
@@ -22,10 +25,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Callable
 
-from tqdm import tqdm
-
-from broadtrack_graph.detect.flow import flow_candidates, flow_keep_mask, prepare
-from broadtrack_graph.detect.graphics import GraphicsConfig, mask_graphics
+from broadtrack_graph.detect.graphics import GraphicsConfig
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
@@ -33,7 +33,6 @@ from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
-from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
@@ -41,8 +40,8 @@ from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
+from broadtrack_graph.track.feed import run_loop
 from broadtrack_graph.track.frame_loop import TrackingRun
-from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.recover import recover_gaps
 from broadtrack_graph.track.result import RunResult, std_fields
 from broadtrack_graph.track.shot_stream import ShotStream
@@ -342,59 +341,3 @@ def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observatio
     elif joint and refiner.last_info.get("tripod_fit"):
         fit_info = refiner.last_info.get("tripod_fit")
     return track, fitted, fit_info
-
-
-FLOW_AHEAD_MIN_LEAD = 2
-"""The decoding thread tracks a frame's optical flow ahead only while it is at least this many frames ahead of the
-loop (it has time to spare: the loop is searching, say); else the loop does (the decoding thread is the slower)."""
-
-
-def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:
-    """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
-    flow_config = run.config.flow
-    find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
-    previous: list = [None, None]  # the last frame prepared ahead: its flow frame and keep mask (or Nones)
-    count = {"made": 0, "taken": 0}  # frames prepared ahead, and taken by the loop
-
-    def prepare_ahead(frame: FrameInput) -> FrameInput:
-        # In the background thread: what needs no camera, so it overlaps the tracking of the previous frames.
-        count["made"] += 1
-        if frame.image is None:
-            previous[:] = [None, None]
-            return frame
-        if run.config.use_flow and frame.flow_frame is None:
-            frame.flow_frame = prepare(frame.image, flow_config)
-        other_view = frame.shot is not None and frame.shot.is_other_view
-        keep = None
-        if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:
-            try:
-                frame.markings = find_markings(frame.image)
-                keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
-            except ValueError:
-                pass  # a bad image: the loop's own detection reports it on this frame
-        lead = count["made"] - 1 - count["taken"]  # frames ready before this one: how far ahead this thread is
-        if frame.flow_frame is not None and previous[0] is not None and keep is not None and \
-                lead >= FLOW_AHEAD_MIN_LEAD:
-            # The flow from the previous frame short of the previous camera's pitch check (the loop's, when it knows
-            # that camera): the loop's own matches (detect.flow.flow_candidates), computed here when there is time.
-            frame.flow_ahead = flow_candidates(previous[0], frame.flow_frame, frame.image.shape[1],
-                                               frame.image.shape[0], previous[1], flow_config)
-        previous[:] = [frame.flow_frame, keep] if keep is not None else [None, None]
-        return frame
-
-    bar = tqdm(prefetch(frames, prepare_ahead), total=total, desc=f"track {label}", unit="frame", disable=not progress)
-    try:
-        for frame in bar:
-            count["taken"] += 1
-            run.process(frame)
-            if progress:
-                bar.set_postfix(run.writer.progress_postfix() if hasattr(run.writer, "progress_postfix") else {},
-                                refresh=False)
-    except KeyboardInterrupt:
-        # Ctrl-C or SIGTERM (the command line turns it into KeyboardInterrupt): the summary tells the truth.
-        if hasattr(run.writer, "interrupt"):
-            run.writer.interrupt()
-        raise
-    finally:
-        bar.close()
-        run.policy.close()  # the search's workers: no search after the last frame

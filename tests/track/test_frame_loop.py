@@ -273,7 +273,7 @@ def test_frames_without_detections_are_motion_prior_then_dropped(tmp_path):
 def test_interrupted_loop_leaves_a_truthful_summary(tmp_path):
     import json
 
-    from broadtrack_graph.track.passes import run_loop
+    from broadtrack_graph.track.feed import run_loop
 
     def frames():
         for i in range(5):

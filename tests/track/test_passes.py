@@ -70,15 +70,15 @@ def test_markings_found_ahead_in_the_decoding_thread_change_no_camera(clip, tmp_
 
 
 def test_flow_tracked_ahead_in_the_decoding_thread_changes_no_camera(clip, tmp_path, monkeypatch):
-    from broadtrack_graph.track import observe, passes
+    from broadtrack_graph.track import feed, observe
 
     used = []
     monkeypatch.setattr(observe, "on_pitch", lambda *args: used.append(1) or on_pitch(*args))
-    monkeypatch.setattr(passes, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
+    monkeypatch.setattr(feed, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
     track_input(clip, tmp_path / "ahead", TrackingConfig(mode="online"), progress=False)
     ahead_uses = len(used)
     assert ahead_uses >= FRAMES - 2  # every frame with a previous camera but the first
-    monkeypatch.setattr(passes, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
+    monkeypatch.setattr(feed, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
     track_input(clip, tmp_path / "loop", TrackingConfig(mode="online"), progress=False)
     assert len(used) == ahead_uses
     files = sorted((tmp_path / "ahead" / "cameras").glob("*.json"))
