@@ -112,14 +112,16 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
     from broadtrack_graph.track.feed import run_loop
     from broadtrack_graph.track.frame_loop import TrackingRun
     from broadtrack_graph.track.inputs import frames_from_source
+    from broadtrack_graph.track.run_context import RunContext
 
     pitch = PitchTemplate()
     with open_frames(clip) as source:
         run_info = {"input": str(clip), "detections": None, "detector": "weightfree", "source": source.describe()}
-        run = TrackingRun(source.width_px, source.height_px, run_dir, config, make_detector(DetectorOptions("weightfree"),
-                          pitch), None, pitch, None, run_info)
+        context = RunContext(config, make_detector(DetectorOptions("weightfree"), pitch), pitch, run_info=run_info,
+                             progress=progress)
+        run = TrackingRun(source.width_px, source.height_px, run_dir, context)
         clock = FrameClock(run, block=block)
-        run_loop(run, frames_from_source(source), progress, len(source), config.mode)
+        run_loop(run, frames_from_source(source), len(source), config.mode)
         clock.sample_rss()  # after the last frame
         return run.finish(), clock
 

@@ -23,9 +23,10 @@ FLOW_AHEAD_MIN_LEAD = 2
 loop (it has time to spare: the loop is searching, say); else the loop does (the decoding thread is the slower)."""
 
 
-def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:
-    """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
-    flow_config = run.config.flow
+def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = "") -> None:
+    """Feed frames to a run (prefetching them in a background thread), with a progress bar unless the run's context
+    hides it (``total``: the frames expected, for the bar; ``label``: the bar's)."""
+    flow_config, progress = run.config.flow, run.context.progress
     find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
     previous: list = [None, None]  # the last frame prepared ahead: its flow frame and keep mask (or Nones)
     count = {"made": 0, "taken": 0}  # frames prepared ahead, and taken by the loop

@@ -26,16 +26,12 @@ import time
 from collections import deque
 from dataclasses import asdict, replace
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
-from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
@@ -43,10 +39,8 @@ from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.cheap import refine_guesses
 from broadtrack_graph.reinit.court import court_reinit
 from broadtrack_graph.reinit.field_model import model_reinit_for
-from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for, streaming_solver_for
 from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.observe import FrameObserver
 from broadtrack_graph.track.online_tripod import OnlineTripod
@@ -55,11 +49,9 @@ from broadtrack_graph.track.records import PendingFrame, RecordQueue
 from broadtrack_graph.track.reinit_decision import ReinitDecision
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.result import RunResult
+from broadtrack_graph.track.run_context import RunContext
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.status import FrameStatus
-
-FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
-"""Observer of a processed frame: (frame, what it handed the solver or None, its detections or None)."""
 
 
 class TrackingRun:
@@ -68,55 +60,31 @@ class TrackingRun:
     Args:
         width_px, height_px: input resolution.
         out_dir: run folder (cameras/, track.jsonl, summary.json, tripod.json).
-        config: tracking options.
-        detector: a FieldDetector for image input (None when every frame brings observations).
-        tripod: a known tripod (e.g. from an earlier run), or None.
-        pitch: the template.
-        graph_config: solver sigmas (default from :func:`graph_config_for`).
-        run_info: stored in summary.json.
-        keep_observations: keep every frame's observations (needed by the batch pass).
-        reinit_positions: candidate focal points (metres) for re-initialisation without a tripod.
-        mask_paths: frame index -> marking-mask PNG named by a detections file.
-        solver_factory: ``(config, graph_config, width_px, height_px, pitch, tripod) -> StreamingSolver``
-            (default :func:`streaming_solver_for`).
-        reinitialise: one global search, ``(observations, detections, pitch, positions, curves, sampling) ->
-            ReinitResult`` (default :func:`broadtrack_graph.reinit.frame.reinitialise`); when and where it runs is
-            decided by :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`.
-        confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
-            (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
-        on_frame_done: observer called after every processed frame (:data:`FrameDone`).
-        tripods: known tripods by camera id (e.g. "main"); ``tripod`` is the main camera's.
-        backfill: offline modes: frames left without a camera are walked in from their neighbours' cameras
-            (:mod:`broadtrack_graph.track.backfill`; needs a detector that finds its markings ahead).
+        context: what the run is given (:class:`~broadtrack_graph.track.run_context.RunContext`: options, the
+            detector, known tripods, the solver, search and confidence, observers).
     """
 
-    def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
-                 detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
-                 graph_config: GraphConfig | None = None, run_info: dict | None = None,
-                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
-                 solver_factory=streaming_solver_for, reinitialise=reinitialise, confidence=frame_confidence,
-                 on_frame_done: FrameDone | None = None, tripods: dict[str, Tripod] | None = None,
-                 backfill: bool = False) -> None:
-        self.W, self.H, self.config, self.detector = int(width_px), int(height_px), config, detector
-        self.pitch = pitch or PitchTemplate()
-        self.graph_config = graph_config or graph_config_for(config)
+    def __init__(self, width_px: int, height_px: int, out_dir: str | Path, context: RunContext = RunContext()) -> None:
+        config, detector = context.config, context.detector
+        self.W, self.H, self.context = int(width_px), int(height_px), context
+        self.config, self.detector = config, detector
+        self.pitch = context.pitch
+        self.graph_config = context.graph()
         self.curves = fitting_curves(self.pitch)
         self.sampling = TemplateSampling(self.pitch)
-        self.known_tripod = tripod
-        known = {camera_id: t.T_w for camera_id, t in (tripods or {}).items()}
-        self.policy = ReinitPolicy(config, reinitialise, refine_guesses, confidence, CameraRegistry(known=known),
-                                   reinit_positions, model_reinit_for(config.reinit_model) if detector else None,
-                                   court_reinit if config.court_reinit and reinit_positions is None else None)
-        self.confidence = confidence
-        self.on_frame_done = on_frame_done
-        use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
-        self.solver: StreamingSolver = solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
-                                                      use_tripod_now)
-        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, tripod, tripods)
+        known = {camera_id: t.T_w for camera_id, t in (context.tripods or {}).items()}
+        self.policy = ReinitPolicy(config, context.reinitialise, refine_guesses, context.confidence,
+                                   CameraRegistry(known=known), context.reinit_positions,
+                                   model_reinit_for(config.reinit_model) if detector else None,
+                                   court_reinit if config.court_reinit and context.reinit_positions is None else None)
+        self.confidence = context.confidence
+        use_tripod_now = context.tripod if config.use_tripod else None
+        self.solver: StreamingSolver = context.solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
+                                                              use_tripod_now)
+        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, context.tripod, context.tripods)
         self.out_dir = Path(out_dir)
         self.writer = TrackWriter(self.out_dir, self.W, self.H, also_960x540=config.write_960x540,
-                                  run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
-        self.keep_observations = keep_observations
+                                  run_info={**(context.run_info or {}), "mode": config.mode, "config": asdict(config)})
         self.kept: dict[int, FrameObservations] = {}
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
@@ -130,15 +98,16 @@ class TrackingRun:
         self.shot_index: int | None = None  # the current shot (None: no shot information)
         self.shot_camera_ids: dict[int, str] = {}  # shot index -> the camera id of its first confident frame
         self.backfill = None
-        if backfill and detector is not None and hasattr(detector, "name") and config.recover_max_frames > 0:
-            self.backfill = Backfill(detector.name, confidence, self.pitch, self.curves, self.sampling,
+        if context.backfill and detector is not None and hasattr(detector, "name") and config.recover_max_frames > 0:
+            self.backfill = Backfill(detector.name, self.confidence, self.pitch, self.curves, self.sampling,
                                      self.graph_config, config.confidence_threshold, config.recover_max_frames,
                                      lambda camera_id: self.online_tripod.by_camera(self.solver).get(camera_id))
         # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
         # in the thread that decodes the frames (overlapping the stages here; see track.feed.run_loop).
         self.timings = {"backfill_s": 0.0, "detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0, "markings_ahead_s": 0.0}
-        self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, mask_paths or {}, self.timings)
+        self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, context.mask_paths or {},
+                                      self.timings)
         self.records = RecordQueue(self.writer, lambda camera, observations, detections: self.confidence(
             camera, observations, detections, self.curves, self.sampling),
             None if self.backfill is None else self.backfill.final, self.timings)
@@ -148,8 +117,8 @@ class TrackingRun:
         if self.backfill is not None:
             self.backfill.note(frame)
         handed, detections = self._process(frame)
-        if self.on_frame_done is not None:
-            self.on_frame_done(frame, handed, detections)
+        if self.context.on_frame_done is not None:
+            self.context.on_frame_done(frame, handed, detections)
 
     def _process(self, frame: FrameInput) -> tuple[FrameObservations | None, Detections | None]:
         """Returns (the observations handed to the solver or None, the frame's detections or None)."""
@@ -223,7 +192,7 @@ class TrackingRun:
         else:
             self._carried = 0
         self.records.add(entry)
-        if self.keep_observations:
+        if self.context.keep_observations:
             self.kept[frame.frame_index] = replace(observations, marking_mask=None)
         self._check_confidence(entry, current, reinitialised)
         for estimate in released:
