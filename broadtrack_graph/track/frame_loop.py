@@ -13,6 +13,8 @@ One loop serves every input (frames with a detector, a detections file, or both)
 5. every record that became final is written at once, in frame order
    (:class:`~broadtrack_graph.track.records.RecordQueue`): an interrupted run keeps every frame.
 
+The chain (the frames linked since a re-initialisation), its camera id and the trust it has earned have one
+owner, :class:`~broadtrack_graph.track.chain.Chain`; the policy reads it, the loop tells it what happened.
 The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut breaks the chain
 and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets the status
 ``other-view`` and no camera. Each camera id has its own tripod (:mod:`~broadtrack_graph.track.online_tripod`).
@@ -41,6 +43,7 @@ from broadtrack_graph.reinit.court import court_reinit
 from broadtrack_graph.reinit.field_model import model_reinit_for
 from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.observe import FrameObserver
 from broadtrack_graph.track.online_tripod import OnlineTripod
@@ -72,29 +75,25 @@ class TrackingRun:
         self.graph_config = context.graph()
         self.curves = fitting_curves(self.pitch)
         self.sampling = TemplateSampling(self.pitch)
-        known = {camera_id: t.T_w for camera_id, t in (context.tripods or {}).items()}
-        self.policy = ReinitPolicy(config, context.reinitialise, refine_guesses, context.confidence,
-                                   CameraRegistry(known=known), context.reinit_positions,
-                                   model_reinit_for(config.reinit_model) if detector else None,
-                                   court_reinit if config.court_reinit and context.reinit_positions is None else None)
         self.confidence = context.confidence
         use_tripod_now = context.tripod if config.use_tripod else None
         self.solver: StreamingSolver = context.solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
                                                               use_tripod_now)
         self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, context.tripod, context.tripods)
+        registry = CameraRegistry(known={camera_id: t.T_w for camera_id, t in (context.tripods or {}).items()})
+        self.chain = Chain(config, registry, self.online_tripod, self.solver)
+        self.policy = ReinitPolicy(config, context.reinitialise, refine_guesses, context.confidence, registry,
+                                   context.reinit_positions,
+                                   model_reinit_for(config.reinit_model) if detector else None,
+                                   court_reinit if config.court_reinit and context.reinit_positions is None else None,
+                                   chain=self.chain)
         self.out_dir = Path(out_dir)
         self.writer = TrackWriter(self.out_dir, self.W, self.H, also_960x540=config.write_960x540,
                                   run_info={**(context.run_info or {}), "mode": config.mode, "config": asdict(config)})
         self.kept: dict[int, FrameObservations] = {}
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
-        self._lost = True
-        self._carried = 0  # frames in a row carried on the motion prior alone
-        self._chain_confident = False  # a frame of the current chain reached the confidence threshold
-        self._reinit_continues = False  # the frame's re-initialisation continues a confident camera's chain
-        self._trust_at = config.confidence_threshold  # the confidence that makes the chain trusted
         self.cuts = 0  # cuts that broke the chain
-        self.camera_id: str | None = None  # the camera id of the current chain (None: not known yet)
         self.shot_index: int | None = None  # the current shot (None: no shot information)
         self.shot_camera_ids: dict[int, str] = {}  # shot index -> the camera id of its first confident frame
         self.backfill = None
@@ -130,35 +129,35 @@ class TrackingRun:
         shot = frame.shot
         if shot is not None:
             if shot.cut and shot.shot_index > 0:
-                self._break_chain()  # nothing is linked across a cut
+                self._end_chain()  # nothing is linked across a cut
                 self.cuts += 1
             if shot.cut or shot.shot_index != self.shot_index:
-                self.policy.new_stretch()  # a new shot: its camera is not known yet, searched at once
-                self.camera_id = None
+                self.chain.new_stretch()  # a new shot: its camera is not known yet ...
+                self.policy.new_stretch()  # ... and searched at once
             self.shot_index = shot.shot_index
             if shot.is_other_view:
                 self.records.emit_now(frame, FrameStatus.OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
-                self._break_chain()
+                self._end_chain()
                 return None, None
-        predicted = None if self._lost else predicted_camera(self._history, self._last_std, self.W)
+        lost = self.chain.lost
+        predicted = None if lost else predicted_camera(self._history, self._last_std, self.W)
         try:
-            observations, detections = self.observer.observe(frame, predicted, None if self._lost or not self._history
+            observations, detections = self.observer.observe(frame, predicted, None if lost or not self._history
                                                              else self._history[-1])
         except ValueError as exc:
             self.records.emit_now(frame, FrameStatus.FAILED, f"detector: {exc}")
-            self._break_chain()
+            self._end_chain()
             return None, None
         if self.observer.shows_no_pitch(observations, detections):
-            if detections is None and not self._lost and self._history \
-                    and self._carried < self.config.max_motion_prior_frames:
+            if detections is None and self._history and self.chain.carry():
                 # A detections-file frame with (almost) nothing: carried on the motion prior, no camera claimed.
-                self._carried += 1
                 return self._track(frame, observations, None, note=f"no detections; carried by the motion prior "
-                                   f"({self._carried} of at most {self.config.max_motion_prior_frames}); no camera")
+                                   f"({self.chain.carried} of at most {self.config.max_motion_prior_frames}); "
+                                   "no camera")
             status = FrameStatus.NO_PITCH if detections is not None else FrameStatus.NO_DETECTIONS
             reason = "no pitch in view" if detections is not None else "no detections for this frame"
             self.records.emit_now(frame, status, reason)
-            self._break_chain()
+            self._end_chain()
             return None, detections
         return self._track(frame, observations, detections)
 
@@ -167,18 +166,16 @@ class TrackingRun:
         """Solve one frame with something to see; returns (observations handed to the solver or None, detections)."""
         reinitialised = False
         guess = None
-        trust_previous = not self._lost
-        self._reinit_continues = False
-        if self._lost:
+        trust_previous = not self.chain.lost
+        if self.chain.lost:
             decision = self._decide(observations, detections, image=frame.image)
             if decision.camera is None:
                 self.records.emit_now(frame, FrameStatus.UNPLACED if detections is not None else FrameStatus.NO_DETECTIONS,
                                       f"no camera found: {decision.reason}")
-                self._break_chain()
+                self._end_chain()
                 return None, detections
-            self._adopt(decision)
-            guess, self._reinit_continues = decision.camera, decision.continues_chain
-            reinitialised = True
+            self.chain.start(decision)
+            guess, reinitialised = decision.camera, True
             observations, detections = self.observer.named_by(frame, observations, detections, guess)
         started = time.perf_counter()
         fallback = self._history[-1] if self._history else None
@@ -190,7 +187,7 @@ class TrackingRun:
         if note is not None:
             entry.status, entry.suppress_camera = FrameStatus.MOTION_PRIOR, True
         else:
-            self._carried = 0
+            self.chain.observed()
         self.records.add(entry)
         if self.context.keep_observations:
             self.kept[frame.frame_index] = replace(observations, marking_mask=None)
@@ -205,27 +202,11 @@ class TrackingRun:
         """The re-initialisation policy's decision for this frame (its time counted; image: for the field model)."""
         started = time.perf_counter()
         decision = self.policy.decide(observations, detections, self.pitch, self.curves, self.sampling, held,
-                                      held_confidence, self._chain_confident, image)
+                                      held_confidence, image)
         self.timings["reinit_s"] += time.perf_counter() - started
         if decision.camera is not None and not self.config.estimate_k1:
             decision = replace(decision, camera=decision.camera.replace(k1=0.0))
         return decision
-
-    def _adopt(self, decision: ReinitDecision) -> None:
-        """Restarting from the decision's camera: its camera id (and that camera's tripod) from now on."""
-        if decision.camera_id is not None and decision.camera_id != self.camera_id:
-            self._set_camera(decision.camera_id)
-        elif decision.camera_id is None and self.camera_id is None:
-            self.online_tripod.release(self.solver)  # not identified yet (untrusted): no other camera's tripod
-        if not decision.continues_chain:  # a new camera's chain is trusted from a frame confident by the margin
-            self.online_tripod.new_chain(self.solver, decision.camera, self.policy.registry)  # (not elsewhere's)
-            bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
-            self._trust_at = bar if self._chain_confident else max(self._trust_at, bar)  # (see low below)
-
-    def _set_camera(self, camera_id: str) -> None:  # the camera's tripod and guesses from now on
-        self.online_tripod.switch(self.solver, camera_id)
-        self.policy.switch(camera_id)
-        self.camera_id = camera_id
 
     def _check_confidence(self, entry: PendingFrame, current: FrameEstimate, reinitialised: bool) -> None:
         """Score the frame's camera; re-initialise it when low; mark it lost or extend the chain."""
@@ -236,39 +217,32 @@ class TrackingRun:
             started = time.perf_counter()
             confidence = self.confidence(camera, observations, detections, self.curves, self.sampling)
             self.timings["confidence_s"] += time.perf_counter() - started
-        low = confidence is not None and confidence < (self.config.confidence_threshold if self._chain_confident
-                                                       else self._trust_at)  # a new camera's untrusted chain too
+        low = confidence is not None and confidence < (self.config.confidence_threshold if self.chain.trusted
+                                                       else self.chain.trust_at)  # a new camera's untrusted chain too
         lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
-        continues_chain = reinitialised and self._reinit_continues
         replaced = False  # the solved camera was replaced by the decision's
         if camera is None or (low and not reinitialised):
             # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
             decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
             if decision.camera is not None:
-                self._adopt(decision)
+                self.chain.start(decision)  # (a new chain unless it continues a confident camera's)
                 self.solver.replace_last(decision.camera)
-                entry.reinitialised = True
-                entry.status = FrameStatus.REINITIALISED
+                entry.reinitialised, entry.status = True, FrameStatus.REINITIALISED
                 entry.override_camera = decision.camera
-                camera, confidence = decision.camera, decision.confidence
-                continues_chain, replaced = decision.continues_chain, True
+                camera, confidence, replaced = decision.camera, decision.confidence, True
             elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
                 lost_now = True
         entry.confidence, entry.confidence_camera = confidence, camera
-        if entry.reinitialised and not continues_chain:
-            # A new chain starts at this frame (a refined guess, a confident camera moved onto this
-            # frame, continues the chain it came from).
-            self._chain_confident = False
-        if confidence is not None and confidence >= (0.0 if self._chain_confident else self._trust_at) and \
+        if confidence is not None and confidence >= (0.0 if self.chain.trusted else self.chain.trust_at) and \
                 confidence >= self.config.confidence_threshold:
-            self._chain_confident = True
-        elif (not lost_now and camera is not None and confidence is not None and not self._chain_confident
+            self.chain.trust(entry.frame.frame_index)
+        elif (not lost_now and camera is not None and confidence is not None and not self.chain.trusted
               and detections is not None and detections.marking_mask is not None):
             # A chain started from the unlabelled marking map without one confident frame since: the camera
             # seeds the next frame, it is not written (a map search can settle on a wrong camera that still
             # explains part of the map; labelled lines and keypoints name what they show).
             entry.status = FrameStatus.FAILED
-            entry.reason = (f"confidence {confidence:.2f} below {self._trust_at:.2f} and no "
+            entry.reason = (f"confidence {confidence:.2f} below {self.chain.trust_at:.2f} and no "
                             "confident frame since the re-initialisation; camera not written")
             entry.suppress_camera = True
         if lost_now and camera is not None and confidence is not None:
@@ -277,31 +251,29 @@ class TrackingRun:
             entry.override_camera = None
             entry.suppress_camera = True
         if lost_now or camera is None:
-            self._break_chain()
+            self._end_chain()
         else:
-            if replaced and not continues_chain:
+            if replaced and not self.chain.continued:
                 self._history.clear()  # a new chain: the replaced chain's motion is not its motion
             self._history.append(camera)
             self._last_std = current.std
-            self._lost = False
+            self.chain.goes_on()
             if confidence is not None and confidence >= self.config.confidence_threshold and not entry.suppress_camera:
-                if self.camera_id is None:
-                    self._set_camera(self.policy.registry.identify(camera.position_m, camera.R_cw[2]))
+                self.chain.identify_at(camera)
                 self.policy.confident(entry.frame.frame_index, camera)
                 if self.shot_index is not None:
-                    self.shot_camera_ids.setdefault(self.shot_index, self.camera_id)
+                    self.shot_camera_ids.setdefault(self.shot_index, self.chain.camera_id)
         self.online_tripod.update(self.solver, None if (lost_now or entry.suppress_camera) else camera, confidence)
-        entry.camera_id = self.camera_id
-        if self.camera_id is not None and self.solver.tripod is not None and not self.online_tripod.provisional:
-            self.policy.tripod(self.camera_id, self.solver.tripod.T_w)  # the fitted tripod identifies the camera
+        entry.camera_id = self.chain.camera_id
+        tripod = self.chain.settled_tripod()
+        if tripod is not None:
+            self.policy.tripod(self.chain.camera_id, tripod.T_w)  # the fitted tripod identifies the camera
 
-    def _break_chain(self) -> None:
+    def _end_chain(self) -> None:
         """The next frame is not linked to the previous one (no flow, re-initialise)."""
-        self._lost, self._trust_at = True, self.config.confidence_threshold
+        self.chain.end()
         self.observer.unlink()
         self._history.clear()
-        self._carried = 0
-        self._chain_confident = False
 
     def finish(self, extra_summary: dict | None = None) -> RunResult:
         """Release the smoother's last frames, write the tripod and close the run."""
