@@ -13,8 +13,8 @@ the one before (flow, motion prior). A cut, a frame without a pitch, a failed de
 - whether the run is **lost** (the next frame is re-initialised) and how many frames in a row were **carried** on
   the motion prior alone.
 
-Everything else asks it: the re-initialisation policy reads the camera id and the trust, the frame loop tells it
-what happened. No I/O.
+Everything else asks it: the re-initialisation policy reads the camera id and the trust, the judge
+(:mod:`~broadtrack_graph.track.judge`) is given the trust, the frame loop tells it what happened. No I/O.
 """
 
 from __future__ import annotations

@@ -7,19 +7,22 @@ One loop serves every input (frames with a detector, a detections file, or both)
    (:class:`~broadtrack_graph.track.observe.FrameObserver`);
 3. **solve**: the streaming solver (iSAM2 online, or the fixed-lag smoother) adds the frame,
    restarted from a re-initialised camera when the track was lost;
-4. **judge**: the confidence of the camera; a lost frame or one under the threshold asks the one
-   re-initialisation policy (:class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`), which
-   says what it found and why, with the camera id (the broadcast camera) it belongs to;
+4. **judge**: the confidence of the camera, weighed by the judge (:func:`~broadtrack_graph.track.judge.judge`),
+   whose verdict the loop applies: write the camera, hold it back, or re-initialise the frame: the one
+   re-initialisation policy (:class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`) says what it found and
+   why, with the camera id (the broadcast camera) it belongs to, and the judge is asked again; a lost frame ends
+   the chain;
 5. every record that became final is written at once, in frame order
    (:class:`~broadtrack_graph.track.records.RecordQueue`): an interrupted run keeps every frame.
 
 The chain (the frames linked since a re-initialisation), its camera id and the trust it has earned have one
-owner, :class:`~broadtrack_graph.track.chain.Chain`; the policy reads it, the loop tells it what happened.
-The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut breaks the chain
-and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets the status
-``other-view`` and no camera. Each camera id has its own tripod (:mod:`~broadtrack_graph.track.online_tripod`).
-Whole runs and the offline modes: :mod:`broadtrack_graph.track.passes`; the frames fed to a run, decoded and
-marked ahead in a background thread: :mod:`broadtrack_graph.track.feed`.
+owner, :class:`~broadtrack_graph.track.chain.Chain`; the policy reads it, the judge is given its trust, the loop
+tells it what happened. The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut
+breaks the chain and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets
+the status ``other-view`` and no camera. Each camera id has its own tripod
+(:mod:`~broadtrack_graph.track.online_tripod`). Whole runs and the offline modes:
+:mod:`broadtrack_graph.track.passes`; the frames fed to a run, decoded and marked ahead in a background thread:
+:mod:`broadtrack_graph.track.feed`.
 """
 
 from __future__ import annotations
@@ -45,6 +48,7 @@ from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.judge import Action, FrameFacts, judge
 from broadtrack_graph.track.observe import FrameObserver
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
@@ -191,7 +195,7 @@ class TrackingRun:
         self.records.add(entry)
         if self.context.keep_observations:
             self.kept[frame.frame_index] = replace(observations, marking_mask=None)
-        self._check_confidence(entry, current, reinitialised)
+        self._judge(entry, current, reinitialised, carried=note is not None)
         for estimate in released:
             self.records.resolve(estimate)
         self.records.flush()
@@ -208,8 +212,9 @@ class TrackingRun:
             decision = replace(decision, camera=decision.camera.replace(k1=0.0))
         return decision
 
-    def _check_confidence(self, entry: PendingFrame, current: FrameEstimate, reinitialised: bool) -> None:
-        """Score the frame's camera; re-initialise it when low; mark it lost or extend the chain."""
+    def _judge(self, entry: PendingFrame, current: FrameEstimate, reinitialised: bool, carried: bool) -> None:
+        """Score the frame's camera and apply the judge's verdict (:func:`~broadtrack_graph.track.judge.judge`):
+        re-initialise it when asked, then write it, hold it back, or end the chain."""
         observations, detections = entry.observations, entry.detections
         camera = current.camera
         confidence = None
@@ -217,40 +222,28 @@ class TrackingRun:
             started = time.perf_counter()
             confidence = self.confidence(camera, observations, detections, self.curves, self.sampling)
             self.timings["confidence_s"] += time.perf_counter() - started
-        low = confidence is not None and confidence < (self.config.confidence_threshold if self.chain.trusted
-                                                       else self.chain.trust_at)  # a new camera's untrusted chain too
-        lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
+        facts = FrameFacts(confidence, camera is not None, self.chain.trusted, self.chain.trust_at, reinitialised,
+                           from_marking_map=detections is not None and detections.marking_mask is not None,
+                           carried=carried)
+        verdict = judge(facts, self.config)
         replaced = False  # the solved camera was replaced by the decision's
-        if camera is None or (low and not reinitialised):
+        if verdict.action is Action.REINITIALISE:
             # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
             decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
             if decision.camera is not None:
-                self.chain.start(decision)  # (a new chain unless it continues a confident camera's)
+                self.chain.start(decision)
                 self.solver.replace_last(decision.camera)
                 entry.reinitialised, entry.status = True, FrameStatus.REINITIALISED
                 entry.override_camera = decision.camera
                 camera, confidence, replaced = decision.camera, decision.confidence, True
-            elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
-                lost_now = True
+            verdict = judge(replace(facts, confidence=confidence, has_camera=camera is not None, asked=True,
+                                    replaced=replaced, chain_trusted=self.chain.trusted,
+                                    trust_at=self.chain.trust_at), self.config)
         entry.confidence, entry.confidence_camera = confidence, camera
-        if confidence is not None and confidence >= (0.0 if self.chain.trusted else self.chain.trust_at) and \
-                confidence >= self.config.confidence_threshold:
-            self.chain.trust(entry.frame.frame_index)
-        elif (not lost_now and camera is not None and confidence is not None and not self.chain.trusted
-              and detections is not None and detections.marking_mask is not None):
-            # A chain started from the unlabelled marking map without one confident frame since: the camera
-            # seeds the next frame, it is not written (a map search can settle on a wrong camera that still
-            # explains part of the map; labelled lines and keypoints name what they show).
-            entry.status = FrameStatus.FAILED
-            entry.reason = (f"confidence {confidence:.2f} below {self.chain.trust_at:.2f} and no "
-                            "confident frame since the re-initialisation; camera not written")
-            entry.suppress_camera = True
-        if lost_now and camera is not None and confidence is not None:
-            entry.status = FrameStatus.FAILED
-            entry.reason = f"confidence {confidence:.2f} below {self.config.lost_confidence:.2f} and re-initialisation failed"
+        if verdict.withholds_camera:
+            entry.status, entry.reason, entry.suppress_camera = FrameStatus.FAILED, verdict.reason, True
             entry.override_camera = None
-            entry.suppress_camera = True
-        if lost_now or camera is None:
+        if verdict.action is Action.LOST:
             self._end_chain()
         else:
             if replaced and not self.chain.continued:
@@ -258,12 +251,15 @@ class TrackingRun:
             self._history.append(camera)
             self._last_std = current.std
             self.chain.goes_on()
-            if confidence is not None and confidence >= self.config.confidence_threshold and not entry.suppress_camera:
+            if verdict.trusted:
+                self.chain.trust(entry.frame.frame_index)
+            if verdict.confident:
                 self.chain.identify_at(camera)
                 self.policy.confident(entry.frame.frame_index, camera)
                 if self.shot_index is not None:
                     self.shot_camera_ids.setdefault(self.shot_index, self.chain.camera_id)
-        self.online_tripod.update(self.solver, None if (lost_now or entry.suppress_camera) else camera, confidence)
+        written = verdict.action is not Action.LOST and not entry.suppress_camera
+        self.online_tripod.update(self.solver, camera if written else None, confidence)
         entry.camera_id = self.chain.camera_id
         tripod = self.chain.settled_tripod()
         if tripod is not None:
