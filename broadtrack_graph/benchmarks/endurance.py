@@ -10,8 +10,9 @@ folder of numbered images that plays the segment forwards, backwards, forwards..
 (``frames/000001.jpg`` ... as symbolic links to the segment's JPEGs; see
 :func:`pingpong_index`). The camera path stays continuous (the motion reverses at each end
 of the segment) and every frame keeps its exact ground truth: the segment frame it shows.
-Rendering costs ~0.2-0.5 s per HD frame here, so 20,000 unique frames would take hours;
-with ``--unique-frames`` >= ``--frames`` the clip is rendered in full and played once.
+Rendering an HD frame costs more than tracking it (``bench render``'s figure: docs/BENCHMARKS.md), so
+20,000 unique frames would take hours; with ``--unique-frames`` >= ``--frames`` the clip is rendered in
+full and played once.
 Tracking reads JPEG frames, so its time never includes rendering.
 
 The tracked run. The clip is tracked online with the weight-free detector through the

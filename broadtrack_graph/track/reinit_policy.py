@@ -223,8 +223,7 @@ class ReinitPolicy:
         modelled, modelled_confidence = self.tries.model_camera(i, image, detections, curves, score)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
-            # distance trade-off of the right view can reach the margin (measured on a real 360p shot: 0.66,
-            # against 0.83 for the search's camera).
+            # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").
             if modelled_confidence >= (CERTAIN_CONFIDENCE if new_camera else threshold):
                 self.counts["model_used"] += 1
                 camera_id = self._camera_id_of(modelled, modelled_confidence)
