@@ -42,10 +42,11 @@ from broadtrack_graph.io.mask_png import write_mask_png
 from broadtrack_graph.io.nbjw_keypoints import read_nbjw_predictions
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.feed import run_loop
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
-from broadtrack_graph.track.passes import run_loop
 from broadtrack_graph.track.result import RunResult
+from broadtrack_graph.track.run_context import RunContext
 from broadtrack_graph.types.observations import FrameObservations
 
 log = logging.getLogger(__name__)
@@ -109,7 +110,7 @@ class DetectionRecorder:
         self.stats = {"frames": 0, "records": 0, "frames_with_lines": 0, "frames_with_keypoints": 0, "masks": 0}
 
     def __call__(self, frame: FrameInput, handed: FrameObservations | None, detections: Detections | None) -> None:
-        """Record one processed frame (the :data:`~broadtrack_graph.track.frame_loop.FrameDone` observer)."""
+        """Record one processed frame (the :data:`~broadtrack_graph.track.run_context.FrameDone` observer)."""
         self.stats["frames"] += 1
         observations = handed
         if observations is None and detections is not None:
@@ -188,9 +189,10 @@ def export_detections(
             with writer:
                 recorder = DetectionRecorder(writer, mask_dir)
                 RunFolder(track_dir).clear()
-                run = TrackingRun(source.width_px, source.height_px, track_dir, config, made_detector, tripod, pitch,
-                                  run_info=run_info, reinit_positions=positions, on_frame_done=recorder)
-                run_loop(run, frames_from_source(source), progress, len(source), "detect")
+                context = RunContext(config, made_detector, pitch, tripod, run_info=run_info,
+                                     reinit_positions=positions, on_frame_done=recorder, progress=progress)
+                run = TrackingRun(source.width_px, source.height_px, track_dir, context)
+                run_loop(run, frames_from_source(source), len(source), "detect")
                 result = run.finish({"detections_export": dict(recorder.stats)})
         stats = recorder.stats
         return ExportSummary(out_path, stats["frames"], stats["records"], stats["frames_with_lines"],

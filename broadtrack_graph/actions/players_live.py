@@ -182,7 +182,7 @@ class LivePlayers:
     # ----------------------------------------------------------------- observers of the run
 
     def frame_done(self, frame, handed, detections) -> None:
-        """Frame observer (:data:`~broadtrack_graph.track.frame_loop.FrameDone`): collect the detector's blobs."""
+        """Frame observer (:data:`~broadtrack_graph.track.run_context.FrameDone`): collect the detector's blobs."""
         del handed
         if self.from_detector:
             boxes = detections.player_boxes_px if detections is not None else None
@@ -201,7 +201,8 @@ class LivePlayers:
         return not self.from_detector or (self.last_done is not None and frame_index <= self.last_done)
 
     def observer_for(self, folder: Path, width_px: int, height_px: int):
-        """Record observer (:data:`~broadtrack_graph.track.passes.RecordObserver`): a new ``players.jsonl`` in folder."""
+        """Record observer (:data:`~broadtrack_graph.track.run_context.RecordObserver`): a new ``players.jsonl`` in
+        folder."""
         if self.current is not None:  # the previous pass is over: all its frames were processed
             self.current.release()
             self.current.close()

@@ -2,12 +2,13 @@
 
 The library entry point behind ``broadtrack-graph track`` (and ``detect``):
 :func:`track_input` for a path, :func:`run_frames` (in :mod:`broadtrack_graph.track.passes`)
-for frames already in memory.
+for frames already in memory. :func:`track_input` is where the run's
+:class:`~broadtrack_graph.track.run_context.RunContext` is built, once, from what the user gives.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from broadtrack_graph.errors import InputError
@@ -19,6 +20,7 @@ from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import frames_from_detections, frames_from_source
 from broadtrack_graph.track.passes import run_frames
 from broadtrack_graph.track.result import RunResult
+from broadtrack_graph.track.run_context import RunContext
 
 DETECTOR_BOXES = "detector"
 """``players`` value of :func:`track_input` meaning the detector's own player blobs."""
@@ -69,6 +71,9 @@ def track_input(
 ) -> RunResult:
     """Track a video / frame folder / game-state sequence, or a detections file (with or without frames).
 
+    What the user gives becomes the run's :class:`~broadtrack_graph.track.run_context.RunContext` here, once; the
+    layers below (the passes, each tracking run) take only the context.
+
     Args:
         frames_path: the frames (None with a detections file alone: no optical flow).
         out_dir: run folder.
@@ -93,8 +98,10 @@ def track_input(
 
         live = LivePlayers(None if str(players) == DETECTOR_BOXES else Path(players), players_options or PlayersOptions())
     try:
-        result = _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end,
-                        progress, pitch, live, tripods)
+        positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
+        context = RunContext(config, pitch=pitch, tripod=tripod, tripods=tripods, reinit_positions=positions,
+                             progress=progress)
+        result = _track(frames_path, detections_path, start, end, out_dir, context, detector, live)
     except BaseException:
         if live is not None:
             live.close()  # an interrupted or failed run keeps the players of every frame it wrote
@@ -105,27 +112,27 @@ def track_input(
     return result
 
 
-def _track(frames_path, out_dir, config, detector, tripod, reinit_position, detections_path, start, end, progress,
-           pitch, players, tripods=None) -> RunResult:
-    """Open the input and run the passes; ``players`` (a LivePlayers, or None) locates the players as records are
-    written (its box file is read before the first frame)."""
-    pitch = pitch or PitchTemplate()
+def _track(frames_path, detections_path, start, end, out_dir, context: RunContext, detector: DetectorOptions,
+           players) -> RunResult:
+    """Open the input and run the passes with the context (completed here: the detector for frames, the masks a
+    detections file names, the run's description); ``players`` (a LivePlayers, or None) locates the players as
+    records are written (its box file is read before the first frame)."""
     run_info = {"input": None if frames_path is None else str(frames_path),
                 "detections": None if detections_path is None else str(detections_path),
                 "detector": None if detections_path is not None else detector.kind}
-    positions = None if reinit_position is None else [tuple(float(v) for v in reinit_position)]
     if detections_path is not None:
         window = (start, end) if frames_path is None and (start is not None or end is not None) else None
-        detections = read_detections(detections_path, pitch, frame_range=window)
+        detections = read_detections(detections_path, context.pitch, frame_range=window)
         source = open_frames(frames_path, start, end) if frames_path is not None else None
         try:
             width, height = (source.width_px, source.height_px) if source is not None else detections.image_size
             total = len(source) if source is not None else None
             frames = frames_from_detections(detections, 25.0 if source is None else source.fps, start, end, source)
             run_info["detection_issues"] = len(detections.issues)
-            return run_frames(frames, width, height, out_dir, config, None, tripod, pitch, run_info, progress, total,
-                              reinit_positions=positions, mask_paths=detections.mask_paths,
+            # (tripods by camera id are for image input: the ids of its shots)
+            context = replace(context, tripods=None, run_info=run_info, mask_paths=detections.mask_paths,
                               **_player_observers(players, width, height, out_dir))
+            return run_frames(frames, width, height, out_dir, context, total)
         finally:
             if source is not None:
                 source.close()
@@ -133,14 +140,15 @@ def _track(frames_path, out_dir, config, detector, tripod, reinit_position, dete
         raise InputError(None, "no input frames given")
     with open_frames(frames_path, start, end) as source:
         run_info["source"] = source.describe()
-        observers = _player_observers(players, source.width_px, source.height_px, out_dir)
-        return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, config,
-                          make_detector(detector, pitch), tripod, pitch, run_info, progress, len(source),
-                          reinit_positions=positions, tripods=tripods, **observers)
+        context = replace(context, detector=make_detector(detector, context.pitch), run_info=run_info,
+                          **_player_observers(players, source.width_px, source.height_px, out_dir))
+        return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, context,
+                          len(source))
 
 
 def _player_observers(players, width_px: int, height_px: int, out_dir) -> dict:
-    """The run_frames observers that locate the players as the run goes (none without players); reads the boxes."""
+    """The run context's observers that locate the players as the run goes (none without players); reads the
+    boxes."""
     if players is None:
         return {}
     players.start(width_px, height_px, out_dir)

@@ -10,13 +10,14 @@ folder of numbered images that plays the segment forwards, backwards, forwards..
 (``frames/000001.jpg`` ... as symbolic links to the segment's JPEGs; see
 :func:`pingpong_index`). The camera path stays continuous (the motion reverses at each end
 of the segment) and every frame keeps its exact ground truth: the segment frame it shows.
-Rendering costs ~0.2-0.5 s per HD frame here, so 20,000 unique frames would take hours;
-with ``--unique-frames`` >= ``--frames`` the clip is rendered in full and played once.
+Rendering an HD frame costs more than tracking it (``bench render``'s figure: docs/BENCHMARKS.md), so
+20,000 unique frames would take hours; with ``--unique-frames`` >= ``--frames`` the clip is rendered in
+full and played once.
 Tracking reads JPEG frames, so its time never includes rendering.
 
 The tracked run. The clip is tracked online with the weight-free detector through the
 product's own loop (:class:`~broadtrack_graph.track.frame_loop.TrackingRun` and
-:func:`~broadtrack_graph.track.passes.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
+:func:`~broadtrack_graph.track.feed.run_loop`, as :func:`~broadtrack_graph.actions.track.track_input`
 builds them: frames prefetched and decoded in a background thread). Each call of
 ``TrackingRun.process`` is timed (wall clock and the main thread's CPU time: on a shared
 machine the CPU time is the steadier figure); the process RSS (``VmRSS`` of
@@ -109,17 +110,19 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
     from broadtrack_graph.actions.track import DetectorOptions, make_detector
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.io.frames import open_frames
+    from broadtrack_graph.track.feed import run_loop
     from broadtrack_graph.track.frame_loop import TrackingRun
     from broadtrack_graph.track.inputs import frames_from_source
-    from broadtrack_graph.track.passes import run_loop
+    from broadtrack_graph.track.run_context import RunContext
 
     pitch = PitchTemplate()
     with open_frames(clip) as source:
         run_info = {"input": str(clip), "detections": None, "detector": "weightfree", "source": source.describe()}
-        run = TrackingRun(source.width_px, source.height_px, run_dir, config, make_detector(DetectorOptions("weightfree"),
-                          pitch), None, pitch, None, run_info)
+        context = RunContext(config, make_detector(DetectorOptions("weightfree"), pitch), pitch, run_info=run_info,
+                             progress=progress)
+        run = TrackingRun(source.width_px, source.height_px, run_dir, context)
         clock = FrameClock(run, block=block)
-        run_loop(run, frames_from_source(source), progress, len(source), config.mode)
+        run_loop(run, frames_from_source(source), len(source), config.mode)
         clock.sample_rss()  # after the last frame
         return run.finish(), clock
 

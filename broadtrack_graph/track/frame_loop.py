@@ -7,16 +7,22 @@ One loop serves every input (frames with a detector, a detections file, or both)
    (:class:`~broadtrack_graph.track.observe.FrameObserver`);
 3. **solve**: the streaming solver (iSAM2 online, or the fixed-lag smoother) adds the frame,
    restarted from a re-initialised camera when the track was lost;
-4. **judge**: the confidence of the camera; a lost frame or one under the threshold asks the one
-   re-initialisation policy (:class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`), which
-   says what it found and why, with the camera id (the broadcast camera) it belongs to;
+4. **judge**: the confidence of the camera, weighed by the judge (:func:`~broadtrack_graph.track.judge.judge`),
+   whose verdict the loop applies: write the camera, hold it back, or re-initialise the frame: the one
+   re-initialisation policy (:class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`) says what it found and
+   why, with the camera id (the broadcast camera) it belongs to, and the judge is asked again; a lost frame ends
+   the chain;
 5. every record that became final is written at once, in frame order
    (:class:`~broadtrack_graph.track.records.RecordQueue`): an interrupted run keeps every frame.
 
-The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut breaks the chain
-and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets the status
-``other-view`` and no camera. Each camera id has its own tripod (:mod:`~broadtrack_graph.track.online_tripod`).
-Whole runs and the offline modes: :mod:`broadtrack_graph.track.passes`.
+The chain (the frames linked since a re-initialisation), its camera id and the trust it has earned have one
+owner, :class:`~broadtrack_graph.track.chain.Chain`; the policy reads it, the judge is given its trust, the loop
+tells it what happened. The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut
+breaks the chain and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets
+the status ``other-view`` and no camera. Each camera id has its own tripod
+(:mod:`~broadtrack_graph.track.online_tripod`). Whole runs and the offline modes:
+:mod:`broadtrack_graph.track.passes`; the frames fed to a run, decoded and marked ahead in a background thread:
+:mod:`broadtrack_graph.track.feed`.
 """
 
 from __future__ import annotations
@@ -25,16 +31,12 @@ import time
 from collections import deque
 from dataclasses import asdict, replace
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
-from broadtrack_graph.geometry.tripod import Tripod
-from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
@@ -42,11 +44,11 @@ from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.cheap import refine_guesses
 from broadtrack_graph.reinit.court import court_reinit
 from broadtrack_graph.reinit.field_model import model_reinit_for
-from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for, streaming_solver_for
+from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.judge import Action, FrameFacts, judge
 from broadtrack_graph.track.observe import FrameObserver
 from broadtrack_graph.track.online_tripod import OnlineTripod
 from broadtrack_graph.track.prediction import predicted_camera
@@ -54,11 +56,9 @@ from broadtrack_graph.track.records import PendingFrame, RecordQueue
 from broadtrack_graph.track.reinit_decision import ReinitDecision
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.result import RunResult
+from broadtrack_graph.track.run_context import RunContext
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.status import FrameStatus
-
-FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]
-"""Observer of a processed frame: (frame, what it handed the solver or None, its detections or None)."""
 
 
 class TrackingRun:
@@ -67,77 +67,50 @@ class TrackingRun:
     Args:
         width_px, height_px: input resolution.
         out_dir: run folder (cameras/, track.jsonl, summary.json, tripod.json).
-        config: tracking options.
-        detector: a FieldDetector for image input (None when every frame brings observations).
-        tripod: a known tripod (e.g. from an earlier run), or None.
-        pitch: the template.
-        graph_config: solver sigmas (default from :func:`graph_config_for`).
-        run_info: stored in summary.json.
-        keep_observations: keep every frame's observations (needed by the batch pass).
-        reinit_positions: candidate focal points (metres) for re-initialisation without a tripod.
-        mask_paths: frame index -> marking-mask PNG named by a detections file.
-        solver_factory: ``(config, graph_config, width_px, height_px, pitch, tripod) -> StreamingSolver``
-            (default :func:`streaming_solver_for`).
-        reinitialise: one global search, ``(observations, detections, pitch, positions, curves, sampling) ->
-            ReinitResult`` (default :func:`broadtrack_graph.reinit.frame.reinitialise`); when and where it runs is
-            decided by :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`.
-        confidence: ``(camera, observations, detections, curves, sampling) -> float | None``
-            (default :func:`broadtrack_graph.reinit.frame.frame_confidence`).
-        on_frame_done: observer called after every processed frame (:data:`FrameDone`).
-        tripods: known tripods by camera id (e.g. "main"); ``tripod`` is the main camera's.
-        backfill: offline modes: frames left without a camera are walked in from their neighbours' cameras
-            (:mod:`broadtrack_graph.track.backfill`; needs a detector that finds its markings ahead).
+        context: what the run is given (:class:`~broadtrack_graph.track.run_context.RunContext`: options, the
+            detector, known tripods, the solver, search and confidence, observers).
     """
 
-    def __init__(self, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
-                 detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
-                 graph_config: GraphConfig | None = None, run_info: dict | None = None,
-                 keep_observations: bool = False, reinit_positions=None, mask_paths: dict | None = None,
-                 solver_factory=streaming_solver_for, reinitialise=reinitialise, confidence=frame_confidence,
-                 on_frame_done: FrameDone | None = None, tripods: dict[str, Tripod] | None = None,
-                 backfill: bool = False) -> None:
-        self.W, self.H, self.config, self.detector = int(width_px), int(height_px), config, detector
-        self.pitch = pitch or PitchTemplate()
-        self.graph_config = graph_config or graph_config_for(config)
+    def __init__(self, width_px: int, height_px: int, out_dir: str | Path, context: RunContext = RunContext()) -> None:
+        config, detector = context.config, context.detector
+        self.W, self.H, self.context = int(width_px), int(height_px), context
+        self.config, self.detector = config, detector
+        self.pitch = context.pitch
+        self.graph_config = context.graph()
         self.curves = fitting_curves(self.pitch)
         self.sampling = TemplateSampling(self.pitch)
-        self.known_tripod = tripod
-        known = {camera_id: t.T_w for camera_id, t in (tripods or {}).items()}
-        self.policy = ReinitPolicy(config, reinitialise, refine_guesses, confidence, CameraRegistry(known=known),
-                                   reinit_positions, model_reinit_for(config.reinit_model) if detector else None,
-                                   court_reinit if config.court_reinit and reinit_positions is None else None)
-        self.confidence = confidence
-        self.on_frame_done = on_frame_done
-        use_tripod_now = tripod if (config.use_tripod and tripod is not None) else None
-        self.solver: StreamingSolver = solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
-                                                      use_tripod_now)
-        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, tripod, tripods)
+        self.confidence = context.confidence
+        use_tripod_now = context.tripod if config.use_tripod else None
+        self.solver: StreamingSolver = context.solver_factory(config, self.graph_config, self.W, self.H, self.pitch,
+                                                              use_tripod_now)
+        self.online_tripod = OnlineTripod(config, self.graph_config, self.pitch, context.tripod, context.tripods)
+        registry = CameraRegistry(known={camera_id: t.T_w for camera_id, t in (context.tripods or {}).items()})
+        self.chain = Chain(config, registry, self.online_tripod, self.solver)
+        self.policy = ReinitPolicy(config, context.reinitialise, refine_guesses, context.confidence, registry,
+                                   context.reinit_positions,
+                                   model_reinit_for(config.reinit_model) if detector else None,
+                                   court_reinit if config.court_reinit and context.reinit_positions is None else None,
+                                   chain=self.chain)
         self.out_dir = Path(out_dir)
         self.writer = TrackWriter(self.out_dir, self.W, self.H, also_960x540=config.write_960x540,
-                                  run_info={**(run_info or {}), "mode": config.mode, "config": asdict(config)})
-        self.keep_observations = keep_observations
+                                  run_info={**(context.run_info or {}), "mode": config.mode, "config": asdict(config)})
         self.kept: dict[int, FrameObservations] = {}
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
-        self._lost = True
-        self._carried = 0  # frames in a row carried on the motion prior alone
-        self._chain_confident = False  # a frame of the current chain reached the confidence threshold
-        self._reinit_continues = False  # the frame's re-initialisation continues a confident camera's chain
-        self._trust_at = config.confidence_threshold  # the confidence that makes the chain trusted
         self.cuts = 0  # cuts that broke the chain
-        self.camera_id: str | None = None  # the camera id of the current chain (None: not known yet)
         self.shot_index: int | None = None  # the current shot (None: no shot information)
         self.shot_camera_ids: dict[int, str] = {}  # shot index -> the camera id of its first confident frame
         self.backfill = None
-        if backfill and detector is not None and hasattr(detector, "name") and config.recover_max_frames > 0:
-            self.backfill = Backfill(detector.name, confidence, self.pitch, self.curves, self.sampling,
+        if context.backfill and detector is not None and hasattr(detector, "name") and config.recover_max_frames > 0:
+            self.backfill = Backfill(detector.name, self.confidence, self.pitch, self.curves, self.sampling,
                                      self.graph_config, config.confidence_threshold, config.recover_max_frames,
                                      lambda camera_id: self.online_tripod.by_camera(self.solver).get(camera_id))
         # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
-        # in the thread that decodes the frames (overlapping the stages here; see track.passes.run_loop).
+        # in the thread that decodes the frames (overlapping the stages here; see track.feed.run_loop).
         self.timings = {"backfill_s": 0.0, "detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0, "markings_ahead_s": 0.0}
-        self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, mask_paths or {}, self.timings)
+        self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, context.mask_paths or {},
+                                      self.timings)
         self.records = RecordQueue(self.writer, lambda camera, observations, detections: self.confidence(
             camera, observations, detections, self.curves, self.sampling),
             None if self.backfill is None else self.backfill.final, self.timings)
@@ -147,8 +120,8 @@ class TrackingRun:
         if self.backfill is not None:
             self.backfill.note(frame)
         handed, detections = self._process(frame)
-        if self.on_frame_done is not None:
-            self.on_frame_done(frame, handed, detections)
+        if self.context.on_frame_done is not None:
+            self.context.on_frame_done(frame, handed, detections)
 
     def _process(self, frame: FrameInput) -> tuple[FrameObservations | None, Detections | None]:
         """Returns (the observations handed to the solver or None, the frame's detections or None)."""
@@ -160,35 +133,35 @@ class TrackingRun:
         shot = frame.shot
         if shot is not None:
             if shot.cut and shot.shot_index > 0:
-                self._break_chain()  # nothing is linked across a cut
+                self._end_chain()  # nothing is linked across a cut
                 self.cuts += 1
             if shot.cut or shot.shot_index != self.shot_index:
-                self.policy.new_stretch()  # a new shot: its camera is not known yet, searched at once
-                self.camera_id = None
+                self.chain.new_stretch()  # a new shot: its camera is not known yet ...
+                self.policy.new_stretch()  # ... and searched at once
             self.shot_index = shot.shot_index
             if shot.is_other_view:
                 self.records.emit_now(frame, FrameStatus.OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
-                self._break_chain()
+                self._end_chain()
                 return None, None
-        predicted = None if self._lost else predicted_camera(self._history, self._last_std, self.W)
+        lost = self.chain.lost
+        predicted = None if lost else predicted_camera(self._history, self._last_std, self.W)
         try:
-            observations, detections = self.observer.observe(frame, predicted, None if self._lost or not self._history
+            observations, detections = self.observer.observe(frame, predicted, None if lost or not self._history
                                                              else self._history[-1])
         except ValueError as exc:
             self.records.emit_now(frame, FrameStatus.FAILED, f"detector: {exc}")
-            self._break_chain()
+            self._end_chain()
             return None, None
         if self.observer.shows_no_pitch(observations, detections):
-            if detections is None and not self._lost and self._history \
-                    and self._carried < self.config.max_motion_prior_frames:
+            if detections is None and self._history and self.chain.carry():
                 # A detections-file frame with (almost) nothing: carried on the motion prior, no camera claimed.
-                self._carried += 1
                 return self._track(frame, observations, None, note=f"no detections; carried by the motion prior "
-                                   f"({self._carried} of at most {self.config.max_motion_prior_frames}); no camera")
+                                   f"({self.chain.carried} of at most {self.config.max_motion_prior_frames}); "
+                                   "no camera")
             status = FrameStatus.NO_PITCH if detections is not None else FrameStatus.NO_DETECTIONS
             reason = "no pitch in view" if detections is not None else "no detections for this frame"
             self.records.emit_now(frame, status, reason)
-            self._break_chain()
+            self._end_chain()
             return None, detections
         return self._track(frame, observations, detections)
 
@@ -197,20 +170,18 @@ class TrackingRun:
         """Solve one frame with something to see; returns (observations handed to the solver or None, detections)."""
         reinitialised = False
         guess = None
-        trust_previous = not self._lost
-        self._reinit_continues = False
-        if self._lost:
+        trust_previous = not self.chain.lost
+        if self.chain.lost:
             decision = self._decide(observations, detections, image=frame.image)
             if decision.camera is None:
                 self.records.emit_now(frame, FrameStatus.UNPLACED if detections is not None else FrameStatus.NO_DETECTIONS,
                                       f"no camera found: {decision.reason}")
-                self._break_chain()
+                self._end_chain()
                 return None, detections
-            self._adopt(decision)
-            guess, self._reinit_continues = decision.camera, decision.continues_chain
-            if self.camera_id is not None and self.camera_id not in self.policy.registry.untrusted:
+            self.chain.start(decision)
+            guess, reinitialised = decision.camera, True
+            if self.chain.camera_id is not None and self.chain.camera_id not in self.policy.registry.untrusted:
                 self.solver.hold_position_next()  # a known camera's place: not moved by one frame's few markings
-            reinitialised = True
             observations, detections = self.observer.named_by(frame, observations, detections, guess)
         started = time.perf_counter()
         fallback = self._history[-1] if self._history else None
@@ -222,11 +193,11 @@ class TrackingRun:
         if note is not None:
             entry.status, entry.suppress_camera = FrameStatus.MOTION_PRIOR, True
         else:
-            self._carried = 0
+            self.chain.observed()
         self.records.add(entry)
-        if self.keep_observations:
+        if self.context.keep_observations:
             self.kept[frame.frame_index] = replace(observations, marking_mask=None)
-        self._check_confidence(entry, current, reinitialised)
+        self._judge(entry, current, reinitialised, carried=note is not None)
         for estimate in released:
             self.records.resolve(estimate)
         self.records.flush()
@@ -237,30 +208,15 @@ class TrackingRun:
         """The re-initialisation policy's decision for this frame (its time counted; image: for the field model)."""
         started = time.perf_counter()
         decision = self.policy.decide(observations, detections, self.pitch, self.curves, self.sampling, held,
-                                      held_confidence, self._chain_confident, image)
+                                      held_confidence, image)
         self.timings["reinit_s"] += time.perf_counter() - started
         if decision.camera is not None and not self.config.estimate_k1:
             decision = replace(decision, camera=decision.camera.replace(k1=0.0))
         return decision
 
-    def _adopt(self, decision: ReinitDecision) -> None:
-        """Restarting from the decision's camera: its camera id (and that camera's tripod) from now on."""
-        if decision.camera_id is not None and decision.camera_id != self.camera_id:
-            self._set_camera(decision.camera_id)
-        elif decision.camera_id is None and self.camera_id is None:
-            self.online_tripod.release(self.solver)  # not identified yet (untrusted): no other camera's tripod
-        if not decision.continues_chain:  # a new camera's chain is trusted from a frame confident by the margin
-            self.online_tripod.new_chain(self.solver, decision.camera, self.policy.registry)  # (not elsewhere's)
-            bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
-            self._trust_at = bar if self._chain_confident else max(self._trust_at, bar)  # (see low below)
-
-    def _set_camera(self, camera_id: str) -> None:  # the camera's tripod and guesses from now on
-        self.online_tripod.switch(self.solver, camera_id)
-        self.policy.switch(camera_id)
-        self.camera_id = camera_id
-
-    def _check_confidence(self, entry: PendingFrame, current: FrameEstimate, reinitialised: bool) -> None:
-        """Score the frame's camera; re-initialise it when low; mark it lost or extend the chain."""
+    def _judge(self, entry: PendingFrame, current: FrameEstimate, reinitialised: bool, carried: bool) -> None:
+        """Score the frame's camera and apply the judge's verdict (:func:`~broadtrack_graph.track.judge.judge`):
+        re-initialise it when asked, then write it, hold it back, or end the chain."""
         observations, detections = entry.observations, entry.detections
         camera = current.camera
         confidence = None
@@ -268,72 +224,54 @@ class TrackingRun:
             started = time.perf_counter()
             confidence = self.confidence(camera, observations, detections, self.curves, self.sampling)
             self.timings["confidence_s"] += time.perf_counter() - started
-        low = confidence is not None and confidence < (self.config.confidence_threshold if self._chain_confident
-                                                       else self._trust_at)  # a new camera's untrusted chain too
-        lost_now = reinitialised and confidence is not None and confidence < self.config.lost_confidence
-        continues_chain = reinitialised and self._reinit_continues
+        facts = FrameFacts(confidence, camera is not None, self.chain.trusted, self.chain.trust_at, reinitialised,
+                           from_marking_map=detections is not None and detections.marking_mask is not None,
+                           carried=carried)
+        verdict = judge(facts, self.config)
         replaced = False  # the solved camera was replaced by the decision's
-        if camera is None or (low and not reinitialised):
+        if verdict.action is Action.REINITIALISE:
             # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
             decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
             if decision.camera is not None:
-                self._adopt(decision)
+                self.chain.start(decision)
                 self.solver.replace_last(decision.camera)
-                entry.reinitialised = True
-                entry.status = FrameStatus.REINITIALISED
+                entry.reinitialised, entry.status = True, FrameStatus.REINITIALISED
                 entry.override_camera = decision.camera
-                camera, confidence = decision.camera, decision.confidence
-                continues_chain, replaced = decision.continues_chain, True
-            elif camera is None or (confidence or 0.0) < self.config.lost_confidence:
-                lost_now = True
+                camera, confidence, replaced = decision.camera, decision.confidence, True
+            verdict = judge(replace(facts, confidence=confidence, has_camera=camera is not None, asked=True,
+                                    replaced=replaced, chain_trusted=self.chain.trusted,
+                                    trust_at=self.chain.trust_at), self.config)
         entry.confidence, entry.confidence_camera = confidence, camera
-        if entry.reinitialised and not continues_chain:
-            # A new chain starts at this frame (a refined guess, a confident camera moved onto this
-            # frame, continues the chain it came from).
-            self._chain_confident = False
-        if confidence is not None and confidence >= (0.0 if self._chain_confident else self._trust_at) and \
-                confidence >= self.config.confidence_threshold:
-            self._chain_confident = True
-        elif (not lost_now and camera is not None and confidence is not None and not self._chain_confident
-              and detections is not None and detections.marking_mask is not None):
-            # A chain started from the unlabelled marking map without one confident frame since: the camera
-            # seeds the next frame, it is not written (a map search can settle on a wrong camera that still
-            # explains part of the map; labelled lines and keypoints name what they show).
-            entry.status = FrameStatus.FAILED
-            entry.reason = (f"confidence {confidence:.2f} below {self._trust_at:.2f} and no "
-                            "confident frame since the re-initialisation; camera not written")
-            entry.suppress_camera = True
-        if lost_now and camera is not None and confidence is not None:
-            entry.status = FrameStatus.FAILED
-            entry.reason = f"confidence {confidence:.2f} below {self.config.lost_confidence:.2f} and re-initialisation failed"
+        if verdict.withholds_camera:
+            entry.status, entry.reason, entry.suppress_camera = FrameStatus.FAILED, verdict.reason, True
             entry.override_camera = None
-            entry.suppress_camera = True
-        if lost_now or camera is None:
-            self._break_chain()
+        if verdict.action is Action.LOST:
+            self._end_chain()
         else:
-            if replaced and not continues_chain:
+            if replaced and not self.chain.continued:
                 self._history.clear()  # a new chain: the replaced chain's motion is not its motion
             self._history.append(camera)
             self._last_std = current.std
-            self._lost = False
-            if confidence is not None and confidence >= self.config.confidence_threshold and not entry.suppress_camera:
-                if self.camera_id is None:
-                    self._set_camera(self.policy.registry.identify(camera.position_m, camera.R_cw[2]))
+            self.chain.goes_on()
+            if verdict.trusted:
+                self.chain.trust(entry.frame.frame_index)
+            if verdict.confident:
+                self.chain.identify_at(camera)
                 self.policy.confident(entry.frame.frame_index, camera)
                 if self.shot_index is not None:
-                    self.shot_camera_ids.setdefault(self.shot_index, self.camera_id)
-        self.online_tripod.update(self.solver, None if (lost_now or entry.suppress_camera) else camera, confidence)
-        entry.camera_id = self.camera_id
-        if self.camera_id is not None and self.solver.tripod is not None and not self.online_tripod.provisional:
-            self.policy.tripod(self.camera_id, self.solver.tripod.T_w)  # the fitted tripod identifies the camera
+                    self.shot_camera_ids.setdefault(self.shot_index, self.chain.camera_id)
+        written = verdict.action is not Action.LOST and not entry.suppress_camera
+        self.online_tripod.update(self.solver, camera if written else None, confidence)
+        entry.camera_id = self.chain.camera_id
+        tripod = self.chain.settled_tripod()
+        if tripod is not None:
+            self.policy.tripod(self.chain.camera_id, tripod.T_w)  # the fitted tripod identifies the camera
 
-    def _break_chain(self) -> None:
+    def _end_chain(self) -> None:
         """The next frame is not linked to the previous one (no flow, re-initialise)."""
-        self._lost, self._trust_at = True, self.config.confidence_threshold
+        self.chain.end()
         self.observer.unlink()
         self._history.clear()
-        self._carried = 0
-        self._chain_confident = False
 
     def finish(self, extra_summary: dict | None = None) -> RunResult:
         """Release the smoother's last frames, write the tripod and close the run."""

@@ -41,11 +41,15 @@ class OnlineTripod:
         known_tripod: a tripod given to the run; the policy then does nothing.
         known_tripods: tripods given per camera id (the shot step's ids); a camera with one is not fitted.
 
-    One tripod per camera: when the shots switch to another camera (:meth:`switch`), the
+    One tripod per camera: when the shots switch to another camera (:meth:`switch`, told by the run's
+    :class:`~broadtrack_graph.track.chain.Chain`, the one owner of the chain's camera id), the
     tripod fitted or given for the camera left is kept, and the one of the camera coming
     back is put in the solver (or a new fit starts for a camera seen the first time).
 
     Attributes:
+        held_id: the camera id whose tripod the solver holds or is fitting (None: no identified camera's). Not the
+            chain's camera id: after a cut the chain's camera is unknown while its tripod stays held, so a camera
+            returning after a close-up keeps its tripod and the cameras collected for it.
         info: what the last provisional tripod or fit reported (written to the run summary
             and ``tripod.json``), or None.
         provisional: the solver's tripod is the provisional one (to be replaced by the fit).
@@ -56,7 +60,7 @@ class OnlineTripod:
                  known_tripod: Tripod | None, known_tripods: dict[str, Tripod] | None = None) -> None:
         self.config = config
         self.tripods: dict[str, Tripod] = dict(known_tripods or {})  # camera id -> its tripod
-        self.camera_id: str | None = None
+        self.held_id: str | None = None
         self.graph = graph
         self.pitch = pitch
         self.known_tripod = known_tripod
@@ -66,13 +70,13 @@ class OnlineTripod:
 
     def switch(self, solver, camera_id: str) -> None:
         """The shots moved to camera ``camera_id``: keep the tripod of the camera left, put this one's in the solver."""
-        if camera_id == self.camera_id:
+        if camera_id == self.held_id:
             return
-        if self.camera_id is not None and solver.tripod is not None and not self.provisional:
-            self.tripods[self.camera_id] = solver.tripod
-        if self.camera_id is None and not self.tripods and self.known_tripod is not None:
+        if self.held_id is not None and solver.tripod is not None and not self.provisional:
+            self.tripods[self.held_id] = solver.tripod
+        if self.held_id is None and not self.tripods and self.known_tripod is not None:
             self.tripods[camera_id] = self.known_tripod  # a run given one tripod without camera ids: the first camera's
-        self.camera_id = camera_id
+        self.held_id = camera_id
         tripod = self.tripods.get(camera_id)
         if tripod is not None or self.config.use_tripod:
             solver.tripod = tripod if self.config.use_tripod else None
@@ -81,13 +85,13 @@ class OnlineTripod:
         self.cameras = []
 
     def release(self, solver) -> None:
-        """A camera not identified yet took over from camera ``camera_id``: keep that camera's tripod, hold none in the
+        """A camera not identified yet took over from camera ``held_id``: keep that camera's tripod, hold none in the
         solver (another camera's tripod would pull this one to where that camera stands)."""
-        if self.camera_id is None:
+        if self.held_id is None:
             return  # nothing identified yet: a tripod given to the run stays for the first camera
         if solver.tripod is not None and not self.provisional:
-            self.tripods[self.camera_id] = solver.tripod
-        self.camera_id, self.known_tripod, self.provisional, self.cameras = None, None, False, []
+            self.tripods[self.held_id] = solver.tripod
+        self.held_id, self.known_tripod, self.provisional, self.cameras = None, None, False, []
         solver.tripod = None
 
     def new_chain(self, solver, camera: Camera, registry: CameraRegistry) -> None:
@@ -112,8 +116,8 @@ class OnlineTripod:
     def by_camera(self, solver) -> dict[str, Tripod]:
         """Every camera's tripod so far (fitted or given; the current camera's as the solver holds it)."""
         out = dict(self.tripods)
-        if self.camera_id is not None and solver.tripod is not None:
-            out[self.camera_id] = solver.tripod
+        if self.held_id is not None and solver.tripod is not None:
+            out[self.held_id] = solver.tripod
         return out
 
     def write(self, solver, folder, summary: dict) -> tuple[Tripod | None, dict[str, Tripod]]:

@@ -12,6 +12,10 @@ Both offline modes then give a camera to the frames the forward pass could not l
 the opening), and smooth them with their neighbours: batch mode refines them with the whole
 track; fixed-lag mode refines each recovered stretch with up to ``lag_frames`` good frames on
 either side (only the recovered frames' cameras are replaced). The online mode stays causal.
+
+Each pass is a :class:`~broadtrack_graph.track.frame_loop.TrackingRun` fed by
+:func:`~broadtrack_graph.track.feed.run_loop`; what a run is given travels as one
+:class:`~broadtrack_graph.track.run_context.RunContext`.
 """
 
 from __future__ import annotations
@@ -20,31 +24,26 @@ import logging
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
-from typing import Callable
 
-from tqdm import tqdm
-
-from broadtrack_graph.detect.flow import flow_candidates, flow_keep_mask, prepare
-from broadtrack_graph.detect.graphics import GraphicsConfig, mask_graphics
-from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.detect.graphics import GraphicsConfig
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
-from broadtrack_graph.io.prefetch import prefetch
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
-from broadtrack_graph.io.track_writer import RecordWritten, TrackWriter
+from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.chunked import refined_record
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.feed import run_loop
 from broadtrack_graph.track.frame_loop import TrackingRun
-from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.recover import recover_gaps
 from broadtrack_graph.track.result import RunResult, std_fields
+from broadtrack_graph.track.run_context import RecordObserver, RunContext
 from broadtrack_graph.track.shot_stream import ShotStream
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.shot import MAIN_CAMERA_ID, NO_PITCH_KINDS, place_shot
@@ -58,19 +57,9 @@ _WRITER_KEYS = ("complete", "started_utc", "updated_utc", "width_px", "height_px
                 "elapsed_s", "fps", "files", "run")
 """Summary keys a TrackWriter computes itself (the rest of a summary is carried over on a rewrite)."""
 
-RecordObserver = Callable[[Path, int, int], RecordWritten]
-"""Called with (run folder, width_px, height_px) whenever a pass starts writing a run folder (the online or
-fixed-lag pass, batch mode's ``pass1/``, a rewrite of the folder); returns the observer of the records written
-there (:data:`~broadtrack_graph.io.track_writer.RecordWritten`). The last folder it is called with holds the run's
-final records."""
 
-
-def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, config: TrackingConfig = TrackingConfig(),
-               detector=None, tripod: Tripod | None = None, pitch: PitchTemplate | None = None,
-               run_info: dict | None = None, progress: bool = True, total: int | None = None,
-               graph_config: GraphConfig | None = None, reinit_positions=None,
-               mask_paths: dict | None = None, on_frame_done=None,
-               tripods: dict[str, Tripod] | None = None, record_observer: RecordObserver | None = None) -> RunResult:
+def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, context: RunContext = RunContext(),
+               total: int | None = None) -> RunResult:
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
     In batch mode this is the paper's two-pass offline workflow: an online first pass (written to
@@ -82,48 +71,43 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
     optical axis on the 16m preset, and the fit of such a track put T metres off (the figures:
     docs/BENCHMARKS.md, "Why the defaults").
 
-    ``on_frame_done`` observes every processed frame of the (first) pass
-    (:data:`~broadtrack_graph.track.frame_loop.FrameDone`), e.g. to collect the detector's player boxes.
+    The context (:class:`~broadtrack_graph.track.run_context.RunContext`) says the rest: its ``on_frame_done``
+    observes every processed frame of the (first) pass, e.g. to collect the detector's player boxes; its
+    ``record_observer`` sees every record of every run folder as it is written (e.g. to put the players on the
+    pitch as the run goes). ``total``: the frames expected (for the progress bar), or None.
 
     With a detector (image input), the shot step runs on the frames as they are decoded
     (:class:`~broadtrack_graph.track.shot_stream.ShotStream`): ``shots.json`` is written to the run
     folder, and a clip with no shot of the main camera says so in one line (summary ``note``).
-    ``tripods``: known tripods by camera id (see :class:`TrackingRun`). ``record_observer``
-    (:data:`RecordObserver`) sees every record of every run folder as it is written (e.g. to put
-    the players on the pitch as the run goes).
     """
+    config = context.config
     out_dir = Path(out_dir)
     RunFolder(out_dir).clear()  # nothing of an earlier run into this folder survives (tripod.json, pass1/, ...)
     recover = config.mode != "online" and config.recover_max_frames > 0
     given: dict[int, FrameObservations] = {}  # the observations a detections file brought (for the recovery)
     frames = _capturing(frames, given) if recover else frames
     stream = None
-    if detector is not None and (config.detect_shots or config.mask_graphics):
+    if context.detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
         stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,
                             GraphicsConfig() if config.mask_graphics else None)
         frames = stream
     if config.mode != "batch":  # fixed-lag keeps no observations of its own (a long run would grow without bound)
-        run = TrackingRun(width_px, height_px, out_dir, config, detector, tripod, pitch, graph_config, run_info,
-                          reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
-                          tripods=tripods, backfill=recover)
-        _observe(run.writer, record_observer)
-        run_loop(run, frames, progress, total, config.mode)
+        run = TrackingRun(width_px, height_px, out_dir, replace(context, backfill=recover))
+        _observe(run.writer, context.record_observer)
+        run_loop(run, frames, total, config.mode)
         result = run.finish(_shots_summary(stream, out_dir, run.shot_camera_ids))
         if run.backfill is not None and run.backfill.recovered:
             result = _rewritten(result, _backfilled(result.records, run.backfill.recovered), width_px, height_px,
-                                config, run_info, record_observer, {"backfilled_frames": len(run.backfill.recovered)})
+                                context, {"backfilled_frames": len(run.backfill.recovered)})
         if not recover or not given:
             return result
-        return recover_fixed_lag(result, given, width_px, height_px, config, pitch, run_info,
-                                 graph_config_for(config, graph_config), record_observer)
+        return recover_fixed_lag(result, given, width_px, height_px, context)
     first = replace(config, mode="online")
-    run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path, first, detector, tripod, pitch,
-                      graph_config_for(first, graph_config), run_info, keep_observations=True,
-                      reinit_positions=reinit_positions, mask_paths=mask_paths, on_frame_done=on_frame_done,
-                      tripods=tripods, backfill=recover)
-    _observe(run.writer, record_observer)
-    run_loop(run, frames, progress, total, "pass 1 (online)")
+    run = TrackingRun(width_px, height_px, RunFolder(out_dir).pass1().path,
+                      replace(context, config=first, keep_observations=True, backfill=recover))
+    _observe(run.writer, context.record_observer)
+    run_loop(run, frames, total, "pass 1 (online)")
     pass1 = run.finish(_shots_summary(stream, out_dir, run.shot_camera_ids))
     if not any(r.camera is not None for r in pass1.records) and stream is not None and stream.shots:
         return pass1
@@ -135,13 +119,12 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, confi
                           _backfilled(pass1.records, run.backfill.recovered), pass1.tripod, pass1.tripods)
     if recover:
         observations = {**given, **run.kept}
-        recovery = recover_gaps(pass1.records, observations, pitch or PitchTemplate(), graph_config_for(config, graph_config),
-                                config.confidence_threshold, config.recover_max_frames, pass1.tripod or tripod,
-                                {**(pass1.tripods or {}), **(tripods or {})})
+        recovery = recover_gaps(pass1.records, observations, context.pitch, context.graph(),
+                                config.confidence_threshold, config.recover_max_frames, pass1.tripod or context.tripod,
+                                {**(pass1.tripods or {}), **(context.tripods or {})})
         pass1 = RunResult(pass1.out_dir, {**pass1.summary, "offline_recovery": recovery.info()}, recovery.records,
                           pass1.tripod, pass1.tripods)
-    return refine_run(pass1, observations, width_px, height_px, out_dir, config, tripod, pitch, run_info, progress,
-                      graph_config, record_observer, tripods)
+    return refine_run(pass1, observations, width_px, height_px, out_dir, context)
 
 
 def _observe(writer: TrackWriter, record_observer: RecordObserver | None) -> TrackWriter:
@@ -180,12 +163,11 @@ def _capturing(frames, store: dict[int, FrameObservations]):
 
 
 def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
-                      config: TrackingConfig, pitch: PitchTemplate | None, run_info: dict | None,
-                      graph: GraphConfig, record_observer: RecordObserver | None = None) -> RunResult:
+                      context: RunContext) -> RunResult:
     """Fixed-lag mode: recover the frames without a camera, smooth each recovered stretch with up to
     ``lag_frames`` good frames on either side (batch LM, tripod held), and rewrite the run folder
-    (``record_observer``: see :func:`run_frames`)."""
-    pitch = pitch or PitchTemplate()
+    (the context's ``record_observer`` sees the records: see :func:`run_frames`)."""
+    config, pitch, graph = context.config, context.pitch, context.graph()
     recovery = recover_gaps(result.records, observations, pitch, graph, config.confidence_threshold,
                             config.recover_max_frames, result.tripod, result.tripods)
     if not recovery.recovered:
@@ -216,8 +198,7 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
             obs = observations[estimate.frame_index]
             records[i] = replace(records[i], camera=estimate.camera, std=std_fields(estimate),
                                  confidence=frame_confidence(estimate.camera, obs, None, curves, sampling))
-    return _rewritten(result, records, width_px, height_px, config, run_info, record_observer,
-                      {"offline_recovery": recovery.info()})
+    return _rewritten(result, records, width_px, height_px, context, {"offline_recovery": recovery.info()})
 
 
 def _backfilled(records: list[TrackRecord], recovered: dict) -> list[TrackRecord]:
@@ -234,12 +215,12 @@ def _backfilled(records: list[TrackRecord], recovered: dict) -> list[TrackRecord
     return out
 
 
-def _rewritten(result: RunResult, records: list[TrackRecord], width_px: int, height_px: int, config: TrackingConfig,
-               run_info: dict | None, record_observer: RecordObserver | None, extra: dict) -> RunResult:
+def _rewritten(result: RunResult, records: list[TrackRecord], width_px: int, height_px: int, context: RunContext,
+               extra: dict) -> RunResult:
     """The run folder written again with these records (offline recovery, back-fill); the summary keeps its fields."""
     kept = {k: v for k, v in result.summary.items() if k not in _WRITER_KEYS}
-    writer = _observe(TrackWriter(result.out_dir, width_px, height_px, also_960x540=config.write_960x540,
-                                  run_info=result.summary.get("run", run_info or {})), record_observer)
+    writer = _observe(TrackWriter(result.out_dir, width_px, height_px, also_960x540=context.config.write_960x540,
+                                  run_info=result.summary.get("run", context.run_info or {})), context.record_observer)
     for record in records:
         writer.write(record)
     summary = writer.close({**kept, **extra})
@@ -247,15 +228,12 @@ def _rewritten(result: RunResult, records: list[TrackRecord], width_px: int, hei
 
 
 def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], width_px: int, height_px: int,
-               out_dir: str | Path, config: TrackingConfig, tripod: Tripod | None = None,
-               pitch: PitchTemplate | None = None, run_info: dict | None = None, progress: bool = True,
-               graph_config: GraphConfig | None = None, record_observer: RecordObserver | None = None,
-               tripods: dict[str, Tripod] | None = None) -> RunResult:
+               out_dir: str | Path, context: RunContext) -> RunResult:
     """Second pass: fit the tripod to the first pass and refine the whole track by batch LM, one camera
-    (camera id) at a time with its own tripod (``record_observer``: see :func:`run_frames`;
-    ``tripods``: known tripods by camera id)."""
-    pitch = pitch or PitchTemplate()
-    graph = graph_config_for(config, graph_config)
+    (camera id) at a time with its own tripod (the context's ``tripod`` and ``tripods`` are the known ones; its
+    ``record_observer``: see :func:`run_frames`)."""
+    config, pitch, graph = context.config, context.pitch, context.graph()
+    tripod, tripods = context.tripod, context.tripods
     tracked = [r for r in pass1.records if r.camera is not None and r.frame_index in observations]
     if not tracked:
         raise RuntimeError("the first pass tracked no frame; nothing to refine")
@@ -276,7 +254,7 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
             given = tripod
         start_tripod = given if given is not None else (pass1.tripod if single else pass1.tripod_of(camera_id))
         track, camera_tripod, info = _refine_camera(refiner, group, observations, config, graph, start_tripod, joint,
-                                                    progress, pass1.summary if single else {})
+                                                    context.progress, pass1.summary if single else {})
         by_index.update({e.frame_index: e for e in track.frames if e is not None})
         if info is not None:
             fit_infos[str(camera_id)] = info
@@ -292,8 +270,8 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     curves = fitting_curves(pitch)
     sampling = TemplateSampling(pitch)
     writer = _observe(TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
-                                  run_info={**(run_info or {}), "mode": "batch", "config": asdict(config)}),
-                      record_observer)
+                                  run_info={**(context.run_info or {}), "mode": "batch", "config": asdict(config)}),
+                      context.record_observer)
     records = []
     for record in pass1.records:
         new = refined_record(record, by_index.get(record.frame_index), observations.get(record.frame_index),
@@ -342,59 +320,3 @@ def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observatio
     elif joint and refiner.last_info.get("tripod_fit"):
         fit_info = refiner.last_info.get("tripod_fit")
     return track, fitted, fit_info
-
-
-FLOW_AHEAD_MIN_LEAD = 2
-"""The decoding thread tracks a frame's optical flow ahead only while it is at least this many frames ahead of the
-loop (it has time to spare: the loop is searching, say); else the loop does (the decoding thread is the slower)."""
-
-
-def run_loop(run: TrackingRun, frames, progress: bool = True, total: int | None = None, label: str = "") -> None:
-    """Feed frames to a run (prefetching them in a background thread), with a progress bar."""
-    flow_config = run.config.flow
-    find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
-    previous: list = [None, None]  # the last frame prepared ahead: its flow frame and keep mask (or Nones)
-    count = {"made": 0, "taken": 0}  # frames prepared ahead, and taken by the loop
-
-    def prepare_ahead(frame: FrameInput) -> FrameInput:
-        # In the background thread: what needs no camera, so it overlaps the tracking of the previous frames.
-        count["made"] += 1
-        if frame.image is None:
-            previous[:] = [None, None]
-            return frame
-        if run.config.use_flow and frame.flow_frame is None:
-            frame.flow_frame = prepare(frame.image, flow_config)
-        other_view = frame.shot is not None and frame.shot.is_other_view
-        keep = None
-        if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:
-            try:
-                frame.markings = find_markings(frame.image)
-                keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
-            except ValueError:
-                pass  # a bad image: the loop's own detection reports it on this frame
-        lead = count["made"] - 1 - count["taken"]  # frames ready before this one: how far ahead this thread is
-        if frame.flow_frame is not None and previous[0] is not None and keep is not None and \
-                lead >= FLOW_AHEAD_MIN_LEAD:
-            # The flow from the previous frame short of the previous camera's pitch check (the loop's, when it knows
-            # that camera): the loop's own matches (detect.flow.flow_candidates), computed here when there is time.
-            frame.flow_ahead = flow_candidates(previous[0], frame.flow_frame, frame.image.shape[1],
-                                               frame.image.shape[0], previous[1], flow_config)
-        previous[:] = [frame.flow_frame, keep] if keep is not None else [None, None]
-        return frame
-
-    bar = tqdm(prefetch(frames, prepare_ahead), total=total, desc=f"track {label}", unit="frame", disable=not progress)
-    try:
-        for frame in bar:
-            count["taken"] += 1
-            run.process(frame)
-            if progress:
-                bar.set_postfix(run.writer.progress_postfix() if hasattr(run.writer, "progress_postfix") else {},
-                                refresh=False)
-    except KeyboardInterrupt:
-        # Ctrl-C or SIGTERM (the command line turns it into KeyboardInterrupt): the summary tells the truth.
-        if hasattr(run.writer, "interrupt"):
-            run.writer.interrupt()
-        raise
-    finally:
-        bar.close()
-        run.policy.close()  # the search's workers: no search after the last frame

@@ -3,7 +3,9 @@
 The frame loop asks :meth:`ReinitPolicy.decide` once for a frame without a trusted camera
 (lost, or held at a confidence under the threshold) and gets one :class:`ReinitDecision`:
 the camera to restart the solver from (or None: keep what is held / nothing found), its
-confidence, the camera id it belongs to, and why. No I/O.
+confidence, the camera id it belongs to, and why. The current camera id and whether the chain is
+trusted are the run's :class:`~broadtrack_graph.track.chain.Chain`'s: the policy reads them there
+and keeps no copy. No I/O.
 
 What is tried, cheapest first:
 
@@ -75,6 +77,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.near_miss import best_along_line_of_sight, best_walked
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
 from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
@@ -104,11 +107,15 @@ class ReinitPolicy:
             instead of the default stages.
         model: a camera from the learned field model (:data:`ModelCamera`), or None.
         court: a camera from the marking map wherever it stands (:data:`CourtCamera`), or None.
+        chain: the run's chain (:class:`~broadtrack_graph.track.chain.Chain`), read for its camera id and its
+            trust, never copied (default: a chain of its own, on the registry: a new shot's, as the placement
+            benchmarks ask).
     """
 
     def __init__(self, config: TrackingConfig, search: Search, refine: Refiner, confidence: Confidence,
                  registry: CameraRegistry | None = None, search_positions=None,
-                 model: ModelCamera | None = None, court: CourtCamera | None = None) -> None:
+                 model: ModelCamera | None = None, court: CourtCamera | None = None,
+                 chain: Chain | None = None) -> None:
         self.config = config
         self.search = search
         self.stages = StageRunner(search, default_search_workers() if config.search_workers is None
@@ -116,10 +123,10 @@ class ReinitPolicy:
         self.refine = refine
         self.confidence = confidence
         self.registry = registry or CameraRegistry()
+        self.chain = chain or Chain(config, self.registry)
         self.search_positions = None if search_positions is None else [tuple(p) for p in search_positions]
         share = min(max(config.search_time_share, 1e-3), 1.0)
         self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
-        self.camera_id: str | None = None
         self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
         self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
         self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
@@ -133,21 +140,19 @@ class ReinitPolicy:
     # ----------------------------------------------------------------- what the loop tells
 
     def new_stretch(self) -> None:
-        """A cut or a view change: the camera is unknown (a never trusted id forgotten); the next search is paid now."""
+        """A cut or a view change (the chain's camera is unknown: :meth:`Chain.new_stretch`): a never trusted id is
+        forgotten; the next search is paid now."""
         self.registry.forget_untrusted()
-        self.camera_id, self._shot_start_confidences = None, None
+        self._shot_start_confidences = None
         self.budget.restart()
         self.tries.new_stretch()
         self.guess_schedule.new_stretch()
 
-    def switch(self, camera_id: str | None) -> None:
-        """The frames from now on are camera ``camera_id``'s."""
-        self.camera_id = camera_id
-
     def confident(self, frame_index: int, camera: Camera) -> None:
-        """A frame whose camera the tracker trusts: its camera id's guess from now on; the budget restarts."""
-        if self.camera_id is not None:
-            self.registry.trust(self.camera_id, frame_index, camera)
+        """A frame whose camera the tracker trusts: the guess of the chain's camera id from now on; the budget
+        restarts."""
+        if self.chain.camera_id is not None:
+            self.registry.trust(self.chain.camera_id, frame_index, camera)
         self.budget.restart()
         self.tries.confident()
         self.guess_schedule.confident()
@@ -159,13 +164,12 @@ class ReinitPolicy:
     # ----------------------------------------------------------------- the decision
 
     def decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
-               held_confidence: float | None = None, chain_trusted: bool = False,
-               image: np.ndarray | None = None) -> ReinitDecision:
+               held_confidence: float | None = None, image: np.ndarray | None = None) -> ReinitDecision:
         """A camera for a frame without a trusted one (module docstring; arguments: :meth:`_decide`)."""
-        decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence,
-                                chain_trusted, image)
+        decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image)
         points, margin = getattr(detections, "marking_points_px", None), self.config.reinit_switch_margin
-        if chain_trusted or decision.camera is None or decision.continues_chain or points is None or len(points) < 10 \
+        if self.chain.trusted or decision.camera is None or decision.continues_chain or points is None \
+                or len(points) < 10 \
                 or not (decision.searched or decision.confidence >= self.config.confidence_threshold + margin) \
                 or decision.confidence >= CERTAIN_CONFIDENCE:
             return decision
@@ -178,7 +182,7 @@ class ReinitPolicy:
                        reason=decision.reason + " (moved along its line of sight)")
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
-                held_confidence: float | None = None, chain_trusted: bool = False, image=None) -> ReinitDecision:
+                held_confidence: float | None = None, image=None) -> ReinitDecision:
         """The decision before a new camera is tried along its line of sight.
 
         Args:
@@ -186,9 +190,12 @@ class ReinitPolicy:
             pitch, curves, sampling: the template.
             held: the camera the solver holds for this frame (confidence under the threshold), None when lost.
             held_confidence: its confidence.
-            chain_trusted: the held camera's chain has had a confident frame (switching it costs smoothing).
             image: the frame (H, W, 3) BGR, for the field model; None: no model this frame.
+
+        The chain's camera id and its trust (a trusted chain's held camera costs smoothing to switch) are read from
+        :attr:`chain`.
         """
+        chain_id = self.chain.camera_id
         i = observations.frame_index
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         score = lambda camera: self.confidence(camera, observations, detections, curves, sampling)  # noqa: E731
@@ -196,10 +203,10 @@ class ReinitPolicy:
         if guess is not None and guess_confidence >= threshold:
             self.counts["guess_used"] += 1
             return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
-                                        "refined " + guess.reason, held, held_confidence, chain_trusted)
+                                        "refined " + guess.reason, held, held_confidence)
         with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
         # The shot's camera not trusted yet (no id, or an untrusted first camera's): judged as at the shot's start.
-        untrusted = self.camera_id is None or self.camera_id in self.registry.untrusted
+        untrusted = chain_id is None or chain_id in self.registry.untrusted
         new_camera = untrusted and self.search_positions is None and with_map
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
         candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True,
@@ -212,29 +219,27 @@ class ReinitPolicy:
             # wrong camera the solver held would block the search's.
             self.counts["court_used"] += 1
             return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
-                                  False, court.hypothesis, held, held_confidence, chain_trusted, new_camera)
+                                  False, court.hypothesis, held, held_confidence, new_camera)
         modelled, modelled_confidence = self.tries.model_camera(i, image, detections, curves, score)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
-            # distance trade-off of the right view can reach the margin (measured on a real 360p shot: 0.66,
-            # against 0.83 for the search's camera).
+            # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").
             if modelled_confidence >= (CERTAIN_CONFIDENCE if new_camera else threshold):
                 self.counts["model_used"] += 1
                 camera_id = self._camera_id_of(modelled, modelled_confidence)
                 return self._decision(modelled, modelled_confidence, camera_id, False, False, modelled.hypothesis,
-                                      held, held_confidence, chain_trusted, new_camera)
+                                      held, held_confidence, new_camera)
             if candidate is None or modelled_confidence > candidate.confidence:
                 # Its camera id is given only if it is taken (a new id is registered where it stands).
                 candidate = Candidate(modelled, None, modelled_confidence, False, modelled.hypothesis)
-        known = self.camera_id is not None and self.camera_id in self.registry.positions
+        known = chain_id is not None and chain_id in self.registry.positions
         if with_map and not self.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
             why = f"search budget: the next global search at frame {self.budget.next_frame(i, known)}"
             if candidate is not None:
-                return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, chain_trusted,
-                                                new_camera)
+                return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
-        plan = search_plan(self.registry.positions, self.camera_id, self.search_positions, with_map,
+        plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
                            self._shot_start_confidences)
         paid_before, shot_start = self._paid(), plan.new_shot and self._shot_start_confidences is None
         found, found_confidence, label, confidences = self._search(plan, observations, detections, pitch, curves,
@@ -251,44 +256,45 @@ class ReinitPolicy:
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
             # model's camera) stays unless the search's camera is clearly better.
             return self._candidate_decision(candidate, True, "; the search found nothing better", held,
-                                            held_confidence, chain_trusted, new_camera)
+                                            held_confidence, new_camera)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
         return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
-                              label, held, held_confidence, chain_trusted, new_camera)
+                              label, held, held_confidence, new_camera)
 
-    def _candidate_decision(self, candidate: Candidate, searched: bool, why: str, held, held_confidence, chain_trusted,
+    def _candidate_decision(self, candidate: Candidate, searched: bool, why: str, held, held_confidence,
                             new_camera: bool) -> ReinitDecision:
         """The decision for the best camera so far that is not confident, ``why`` appended to its label."""
         result, camera_id, confidence, continues, label = (candidate.result, candidate.camera_id, candidate.confidence,
                                                            candidate.continues_chain, candidate.label)
         camera_id = camera_id if continues else self._camera_id_of(result, confidence)
         return self._decision(result, confidence, camera_id, continues, searched, label + why, held, held_confidence,
-                              chain_trusted, new_camera and not continues)
+                              new_camera and not continues)
 
     def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
         """A found camera's id: the shot's, or by where it stands (a new id is provisional until trusted)."""
-        if self.camera_id is not None:
-            return self.camera_id  # a shot's camera does not change
+        if self.chain.camera_id is not None:
+            return self.chain.camera_id  # a shot's camera does not change
         if confidence >= self.config.confidence_threshold:
             return self.registry.identify(result.camera.position_m, result.camera.R_cw[2])
         return self.registry.nearest(result.camera.position_m, result.camera.R_cw[2])
 
     def _decision(self, result: ReinitResult, confidence: float, camera_id: str | None, continues_chain: bool,
                   searched: bool, reason: str, held: Camera | None, held_confidence: float | None,
-                  chain_trusted: bool, new_camera: bool) -> ReinitDecision:
+                  new_camera: bool) -> ReinitDecision:
         """:meth:`_switch_or_keep`, the decision marked ``new_camera`` when it switches to a new shot's camera."""
         decision = self._switch_or_keep(result, confidence, camera_id, continues_chain, searched, reason, held,
-                                        held_confidence, chain_trusted)
+                                        held_confidence)
         return replace(decision, new_camera=new_camera) if decision.camera is not None else decision
 
     def _switch_or_keep(self, result: ReinitResult, confidence: float, camera_id: str | None, from_guess: bool,
-                        searched: bool, reason: str, held: Camera | None, held_confidence: float | None,
-                        chain_trusted: bool) -> ReinitDecision:
-        """The new camera, or None when the held camera stays (the one margin, module docstring)."""
+                        searched: bool, reason: str, held: Camera | None,
+                        held_confidence: float | None) -> ReinitDecision:
+        """The new camera, or None when the held camera stays (the one margin, module docstring; a trusted chain's
+        held camera is switched only for a confident one or by the margin)."""
         if held is not None and held_confidence is not None:
-            needed = held_confidence + (self.config.reinit_switch_margin
-                                        if chain_trusted and confidence < self.config.confidence_threshold else 0.0)
+            by_margin = self.chain.trusted and confidence < self.config.confidence_threshold
+            needed = held_confidence + (self.config.reinit_switch_margin if by_margin else 0.0)
             if not confidence > needed:
                 return ReinitDecision(None, None, None, False, searched,
                                       f"kept the held camera ({held_confidence:.2f}): {reason} scored {confidence:.2f}")
@@ -300,10 +306,10 @@ class ReinitPolicy:
         """The best refined guess (result, its camera id, its confidence), or (None, None, 0). The shot's own camera's
         are tried on every frame, every known camera's (the shot's camera not known) on the guess schedule's."""
         best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
-        every_camera = self.camera_id is None
+        every_camera = self.chain.camera_id is None
         if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
             return best
-        guesses = self.registry.guesses(frame_index, self.camera_id, self.config.max_guess_age_frames)
+        guesses = self.registry.guesses(frame_index, self.chain.camera_id, self.config.max_guess_age_frames)
         calls = [([(label, camera)], detections) for _, label, camera in guesses]
         refined_guesses = self.stages.mapped(self.refine, calls, curves)  # the next ones on the search's workers
         for (camera_id, label, camera), refined in zip(guesses, refined_guesses):

@@ -1,6 +1,6 @@
 """Annotate the loop's frames with their shot (cut, view, camera id) and the static graphics mask.
 
-Runs where the frames are decoded (the prefetch thread of :func:`~broadtrack_graph.track.passes.run_loop`
+Runs where the frames are decoded (the prefetch thread of :func:`~broadtrack_graph.track.feed.run_loop`
 iterates it), one frame at a time in order, so it adds no latency: both the shot step and
 the graphics mask look only at the current and past frames.
 """

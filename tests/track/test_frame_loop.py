@@ -15,6 +15,7 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.run_context import RunContext
 from broadtrack_graph.types.observations import FlowMatches, FrameObservations
 
 W, H = 1920, 1080
@@ -113,8 +114,9 @@ NO_BUDGET = TrackingConfig(search_cost_frames=0.0)  # every lost frame may searc
 
 
 def run_of(tmp_path, solver, script, config=NO_BUDGET, **kwargs) -> TrackingRun:
-    return TrackingRun(W, H, tmp_path / "run", config, solver_factory=lambda *args: solver,
-                       reinitialise=script.reinitialise, confidence=script.confidence, **kwargs)
+    return TrackingRun(W, H, tmp_path / "run", RunContext(config, solver_factory=lambda *args: solver,
+                                                          reinitialise=script.reinitialise,
+                                                          confidence=script.confidence, **kwargs))
 
 
 def statuses(tmp_path):
@@ -279,16 +281,16 @@ def test_frames_without_detections_are_motion_prior_then_dropped(tmp_path):
 def test_interrupted_loop_leaves_a_truthful_summary(tmp_path):
     import json
 
-    from broadtrack_graph.track.passes import run_loop
+    from broadtrack_graph.track.feed import run_loop
 
     def frames():
         for i in range(5):
             yield frame(i)
         raise KeyboardInterrupt
 
-    run = run_of(tmp_path, FakeSolver(), Scripted())
+    run = run_of(tmp_path, FakeSolver(), Scripted(), progress=False)
     with pytest.raises(KeyboardInterrupt):
-        run_loop(run, frames(), progress=False)
+        run_loop(run, frames())
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     lines = (tmp_path / "run" / "track.jsonl").read_text().splitlines()
     assert summary["interrupted"] is True and summary["complete"] is False
@@ -326,9 +328,9 @@ def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_
 
     def run_with(with_map: bool, folder):
         solver = FakeSolver()
-        run = TrackingRun(W, H, folder, TrackingConfig(use_flow=False), detector=FakeDetector(with_map=with_map),
-                          solver_factory=lambda *args: solver, reinitialise=script.reinitialise,
-                          confidence=script.confidence)
+        run = TrackingRun(W, H, folder, RunContext(TrackingConfig(use_flow=False), FakeDetector(with_map=with_map),
+                                                   solver_factory=lambda *args: solver,
+                                                   reinitialise=script.reinitialise, confidence=script.confidence))
         for i in range(5):
             run.process(frame(i, observations=False, image=np.full((4, 4, 3), i, np.uint8)))
         run.finish()

@@ -141,7 +141,7 @@ def test_a_camera_not_identified_yet_is_solved_without_the_tripod_of_the_camera_
     online.switch(solver, "main")
     solver.tripod = main  # (as a fit would set it)
     online.release(solver)  # a new shot's camera without an id yet: not pulled to where the main camera stands
-    assert solver.tripod is None and online.camera_id is None
+    assert solver.tripod is None and online.held_id is None
     online.switch(solver, "cam2")  # identified: a new camera, fitted from its own frames
     assert solver.tripod is None
     solver.tripod = other

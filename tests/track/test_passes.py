@@ -20,6 +20,7 @@ from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import frames_from_source
 from broadtrack_graph.track.passes import run_frames
+from broadtrack_graph.track.run_context import RunContext
 
 FRAMES = 24
 
@@ -70,15 +71,15 @@ def test_markings_found_ahead_in_the_decoding_thread_change_no_camera(clip, tmp_
 
 
 def test_flow_tracked_ahead_in_the_decoding_thread_changes_no_camera(clip, tmp_path, monkeypatch):
-    from broadtrack_graph.track import observe, passes
+    from broadtrack_graph.track import feed, observe
 
     used = []
     monkeypatch.setattr(observe, "on_pitch", lambda *args: used.append(1) or on_pitch(*args))
-    monkeypatch.setattr(passes, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
+    monkeypatch.setattr(feed, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
     track_input(clip, tmp_path / "ahead", TrackingConfig(mode="online"), progress=False)
     ahead_uses = len(used)
     assert ahead_uses >= FRAMES - 2  # every frame with a previous camera but the first
-    monkeypatch.setattr(passes, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
+    monkeypatch.setattr(feed, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
     track_input(clip, tmp_path / "loop", TrackingConfig(mode="online"), progress=False)
     assert len(used) == ahead_uses
     files = sorted((tmp_path / "ahead" / "cameras").glob("*.json"))
@@ -116,7 +117,8 @@ def test_interrupted_run_keeps_every_frame_written(clip, tmp_path):
             yield frame
 
     with pytest.raises(KeyboardInterrupt):
-        run_frames(interrupted(), 1920, 1080, tmp_path / "cut", TrackingConfig(), detector=_detector(), progress=False)
+        run_frames(interrupted(), 1920, 1080, tmp_path / "cut",
+                   RunContext(TrackingConfig(), _detector(), progress=False))
     track = read_track(tmp_path / "cut")
     assert [r.frame_index for r in track.records] == list(range(10))
     assert all(c is not None for c in track.cameras.values())
@@ -190,7 +192,7 @@ def test_a_rerun_clears_what_the_earlier_run_left(tmp_path):
     (out / "cameras" / "camera_000099.json").write_text("{}", encoding="utf-8")
     for name in ("tripod.json", "shots.json", "notes.txt"):
         (out / name).write_text("{}", encoding="utf-8")
-    result = run_frames([], 960, 540, out, TrackingConfig(), progress=False)
+    result = run_frames([], 960, 540, out, RunContext(TrackingConfig(), progress=False))
     assert sorted(p.name for p in out.iterdir()) == ["cameras", "notes.txt", "summary.json", "track.jsonl"]
     assert list((out / "cameras").iterdir()) == [] and result.summary["frames_written"] == 0
 

@@ -60,8 +60,16 @@ def _policy(fakes, **config):
 WITH_MAP = SimpleNamespace(marking_mask=np.ones((9, 16), bool))  # detections with a marking map: the costly search
 
 
-def _decide(policy, i, detections=WITH_MAP, **kw):
+def _decide(policy, i, detections=WITH_MAP, chain_trusted=False, **kw):
+    if chain_trusted:
+        policy.chain.trust(i)  # (the chain's trust, as the judge gives it)
     return policy.decide(FrameObservations(i, W, H), detections, None, None, None, **kw)
+
+
+def _cut(policy):
+    """A cut, as the frame loop tells it: the chain's camera is unknown, and the policy's stretch starts over."""
+    policy.chain.new_stretch()
+    policy.new_stretch()
 
 
 def test_a_new_shot_is_searched_through_every_stage_and_the_best_camera_wins():
@@ -81,7 +89,7 @@ def test_a_new_shot_is_searched_through_every_stage_and_the_best_camera_wins():
 def test_mid_shot_the_first_confident_stage_ends_the_search():
     fakes = Fakes({((0.0, 55.0, -12.0),): (MAIN, 0.3), None: (MAIN, 0.6)})
     policy = _policy(fakes)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.tripod("main", (0.0, 55.0, -12.0))
     decision = _decide(policy, 5)
     assert decision.camera is MAIN and decision.camera_id == "main"
@@ -107,7 +115,7 @@ def test_a_later_stage_must_be_confident_and_better_by_the_one_margin():
 def test_a_confident_guess_skips_the_search_and_continues_the_chain():
     fakes = Fakes({None: (MAIN, 0.9)}, guess_confidence=0.7)
     policy = _policy(fakes)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(10, MAIN)
     decision = _decide(policy, 12)
     assert decision.camera is MAIN and decision.continues_chain and decision.camera_id == "main"
@@ -117,11 +125,11 @@ def test_a_confident_guess_skips_the_search_and_continues_the_chain():
 def test_a_returning_camera_is_recognised_by_its_guess_after_a_cut():
     fakes = Fakes(guess_confidence=0.75)
     policy = _policy(fakes)
-    policy.switch("high-corner-1")
+    policy.chain.identify("high-corner-1")
     policy.confident(5, CORNER)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(50, MAIN)
-    policy.new_stretch()  # a cut: the camera is unknown, every known camera is guessed
+    _cut(policy)  # a cut: the camera is unknown, every known camera is guessed
     decision = _decide(policy, 60)
     assert decision.camera_id in ("main", "high-corner-1") and decision.continues_chain
     assert set(fakes.refined) == {"last confident camera of high-corner-1 (frame 5)",
@@ -132,9 +140,9 @@ def test_a_shot_no_known_camera_explains_tries_their_guesses_on_its_first_frames
     fakes = Fakes(guess_confidence=0.2)  # the known cameras' guesses explain little: another camera's shot
     policy = _policy(fakes)
     for camera_id, camera, frame in (("high-corner-1", CORNER, 5), ("main", MAIN, 50)):
-        policy.switch(camera_id)
+        policy.chain.identify(camera_id)
         policy.confident(frame, camera)
-    policy.new_stretch()
+    _cut(policy)
     tried = []
     for i in range(100, 140):
         before = len(fakes.refined)
@@ -143,7 +151,7 @@ def test_a_shot_no_known_camera_explains_tries_their_guesses_on_its_first_frames
     assert tried == list(range(11)) + [11, 13, 17, 25, 33]  # two refinements each, then 1, 2, 4, 8 frames apart
     assert len(fakes.refined) == 2 * len(tried)
     # The shot's own camera, once known, is guessed on every frame (its chain's continuation).
-    policy.switch("main")
+    policy.chain.identify("main")
     before = len(fakes.refined)
     for i in range(140, 145):
         _decide(policy, i)
@@ -177,7 +185,7 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     # Each retry (one stage) doubles the price, up to 8: gaps of 80, 160, then 160 frames.
     assert searched == [40, 120, 280, 440, 600]
     assert fakes.searched[stages:] == [None] * 5 and policy.counts["deep_stages"] == len(FALLBACK_STAGES)
-    policy.new_stretch()
+    _cut(policy)
     assert _decide(policy, 700).searched and len(fakes.searched) == 5 + 2 * stages  # a new shot: every stage again
 
 
@@ -243,7 +251,7 @@ def test_without_a_marking_map_one_cheap_search_and_no_budget():
 def test_no_guesses_without_cheap_reinit():
     fakes = Fakes({None: (MAIN, 0.6)})
     policy = _policy(fakes, cheap_reinit=False)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(0, MAIN)
     assert _decide(policy, 1).searched and fakes.refined == []
 
@@ -261,15 +269,15 @@ def test_at_a_shot_start_a_guess_that_moved_to_another_camera_is_not_that_camera
     fakes.refine = lambda guesses, detections, curves: ReinitResult(
         lower, LabelledScore(0.75, 0, 0, 0, 0.0, 0.0), "fake fit")
     policy = _policy(fakes)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(50, MAIN)
     policy.tripod("main", (0.0, 55.0, -12.0))
-    policy.new_stretch()
+    _cut(policy)
     decision = _decide(policy, 60)
     assert decision.camera is not lower and fakes.searched  # the guess is dropped, the stages are searched
     # Mid-shot the shot's own camera may move (its first lock was off): the guess stands.
     policy = _policy(fakes)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(50, MAIN)
     decision = _decide(policy, 52)
     assert decision.camera is lower and decision.camera_id == "main" and decision.continues_chain
@@ -307,7 +315,7 @@ def test_the_fallback_stages_are_searched_only_while_no_stage_is_confident_by_th
     # Mid-shot (the shot's camera is known) there is no fallback.
     policy = _policy(fakes := Fakes({lower_stage: (lower, 0.95)}))
     policy.tripod("main", (0.0, 55.0, -12.0))
-    policy.switch("main")
+    policy.chain.identify("main")
     assert _decide(policy, 0).camera is None and lower_stage not in fakes.searched
 
 
@@ -346,7 +354,7 @@ def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_b
     # Mid-shot searches walk nothing either; a camera under 0.3 explains too little to be walked.
     policy = _policy(Fakes({((0.0, 55.0, -12.0),): (near, 0.45)}))
     policy.tripod("main", (0.0, 55.0, -12.0))
-    policy.switch("main")
+    policy.chain.identify("main")
     assert _decide(policy, 0, detections=points).camera is near and walks == []
     assert decided({None: (near, 0.25)}, 0.9)[0].camera is near and walks == []
     # A search that finds nothing confident pays for its walks as for stages: the next one waits that much longer.
@@ -385,22 +393,22 @@ def test_a_new_camera_s_id_is_provisional_until_its_chain_is_trusted():
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.camera_id == "main" and decision.new_camera
     assert policy.registry.untrusted == {"main"}
-    policy.switch("main")  # (as the frame loop does on adopting the decision)
+    policy.chain.identify("main")  # (as the frame loop does on adopting the decision)
     fakes.searched.clear()
     decision = _decide(policy, 1)
     assert fakes.searched[0] == ((0.0, 55.0, -12.0),)  # searched about where it stands, as mid-shot ...
     assert decision.camera_id == "main" and decision.new_camera  # ... and judged as a new shot's camera
-    policy.new_stretch()  # a cut: the id of a camera never trusted is forgotten
+    _cut(policy)  # a cut: the id of a camera never trusted is forgotten
     assert policy.registry.positions == {} and policy.registry.untrusted == set()
     # Trusted once (a confident frame), the id is kept across cuts and judged as a known camera's mid-shot.
     fakes = Fakes({None: (MAIN, 0.55), ((0.0, 55.0, -12.0),): (MAIN, 0.55)}, guess_confidence=0.3)
     policy = _policy(fakes, search_time_share=1.0)
     _decide(policy, 0)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(3, MAIN)
     decision = _decide(policy, 4)  # its guess is not confident: searched
     assert decision.searched and decision.camera_id == "main" and not decision.new_camera
-    policy.new_stretch()
+    _cut(policy)
     assert set(policy.registry.positions) == {"main"} and policy.registry.untrusted == set()
 
 
@@ -410,7 +418,7 @@ def test_a_provisional_camera_s_searches_back_off_until_one_is_trusted():
     fakes = Fakes({None: (MAIN, 0.55), ((0.0, 55.0, -12.0),): (MAIN, 0.55)}, guess_confidence=0.3)
     policy = _policy(fakes)
     _decide(policy, 0)
-    policy.switch("main")
+    policy.chain.identify("main")
     searched = [i for i in range(1, 40) if _decide(policy, i).searched]
     assert searched == [1, 2, 4, 8, 16, 32]
     # A search that gives a camera trusted from its frame (0.6, a new shot's trust) restarts the gaps.
@@ -464,7 +472,7 @@ def test_a_new_shot_takes_the_model_camera_at_once_only_when_certain():
 def test_mid_shot_a_model_camera_above_the_threshold_is_taken_for_the_shots_camera():
     fakes = Fakes({None: (MAIN, 0.9)})
     policy, _ = _with_model(fakes, MAIN, 0.55, cheap_reinit=False)
-    policy.switch("main")
+    policy.chain.identify("main")
     decision = _decide(policy, 3, image=IMAGE)
     assert decision.camera is MAIN and decision.camera_id == "main" and not decision.searched
 
@@ -487,7 +495,7 @@ def test_the_model_tries_a_shot_s_first_frames_one_by_one_then_backs_off_and_res
     assert policy.counts["model_tried"] == 16
     policy.confident(40, MAIN)  # a loss after a confident frame: the gaps start again at 1, no run of tries
     assert tried(range(41, 50)) == [41, 42, 44, 48]
-    policy.new_stretch()  # a cut: the new shot's first frames one by one again
+    _cut(policy)  # a cut: the new shot's first frames one by one again
     assert tried(range(50, 62)) == [*range(50, 60), 60, 61]
 
 
@@ -539,9 +547,9 @@ def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_be
     fakes = Fakes({None: (MAIN, 0.62)}, guess_confidence=0.62)
     fakes.confidences[id(further)] = 0.8
     policy = _policy(fakes)
-    policy.switch("main")
+    policy.chain.identify("main")
     policy.confident(0, MAIN)
-    policy.new_stretch()
+    _cut(policy)
     tried.clear()
     decision = _decide(policy, 5, detections=points)
     assert decision.continues_chain and decision.camera is MAIN and tried == []
@@ -695,5 +703,5 @@ def test_two_frames_whose_court_cameras_agree_place_the_camera_under_the_bar():
     assert _decide(policy, 0).camera is None and _decide(policy, 1).camera is None
     policy, _ = _court_policy(Fakes(), CORNER, between)
     _decide(policy, 0)
-    policy.new_stretch()  # a cut between the two frames: no agreement across it
+    _cut(policy)  # a cut between the two frames: no agreement across it
     assert _decide(policy, 1).camera is None

@@ -9,6 +9,7 @@ import numpy as np
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import FrameInput
 from broadtrack_graph.track.passes import run_frames
+from broadtrack_graph.track.run_context import RunContext
 
 
 class NeverCalled:
@@ -23,8 +24,8 @@ def test_a_clip_of_crowd_only_writes_no_camera_and_says_so(tmp_path):
         image = rng.integers(0, 255, (90, 160, 3)).astype(np.uint8)
         image[..., 1] //= 3  # stands: little green
         frames.append(FrameInput(i, f"{i + 1:06d}", i / 25.0, image=image))
-    result = run_frames(frames, 160, 90, tmp_path / "run", TrackingConfig(mode="online"), detector=NeverCalled(),
-                        progress=False)
+    result = run_frames(frames, 160, 90, tmp_path / "run", RunContext(TrackingConfig(mode="online"), NeverCalled(),
+                                                                      progress=False))
     assert result.summary["note"].startswith("no shot of a pitch camera")
     assert result.summary["status_counts"]["other-view"] == 8
     assert not any((tmp_path / "run" / "cameras").glob("*.json"))

@@ -1,0 +1,103 @@
+"""The judge of a solved frame: from the facts, a verdict (write, hold back, re-initialise, lost) and why.
+
+The frame loop scores the frame's camera with the tracker's confidence and asks :func:`judge`; it applies the
+:class:`Verdict` (:meth:`~broadtrack_graph.track.frame_loop.TrackingRun.process`). The rules, with ``T`` the
+confidence threshold, ``L`` the lost confidence and the chain's bar ``T`` once the chain is trusted, else its
+``trust_at`` (:class:`~broadtrack_graph.track.chain.Chain`):
+
+1. **Re-initialise** a frame the solver gave no camera, or one under the bar that was not re-initialised before
+   it was solved (the policy is asked once; the judge is then asked again with what it found).
+2. **Lost**: no camera even after the policy; or a camera under ``L`` that was re-initialised before it was solved,
+   or that the policy could not replace. The chain ends; a camera is not written.
+3. **Write** a camera at ``T`` and at the chain's bar: the chain is trusted from it.
+4. **Hold back** a camera of a chain started from the unlabelled marking map that has had no frame at its bar:
+   it seeds the next frame, it is not written (a map search can settle on a wrong camera that still explains part
+   of the map; labelled lines and keypoints name what they show).
+5. **Write** any other camera (mid-chain under ``T``: the policy found no better one).
+
+A written camera at ``T`` (not a frame carried on the motion prior) is its camera id's guess from now on
+(:attr:`Verdict.confident`). Pure: no I/O, no solver.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+from broadtrack_graph.track.config import TrackingConfig
+
+
+class Action(Enum):
+    """What the frame loop does with the frame's camera."""
+
+    WRITE = "write"  # written; the next frame is linked to it
+    HOLD_BACK = "hold back"  # seeds the next frame, not written
+    REINITIALISE = "re-initialise"  # ask the re-initialisation policy, then the judge again
+    LOST = "lost"  # not written; the chain ends, the next frame is re-initialised
+
+
+@dataclass(frozen=True)
+class FrameFacts:
+    """What the judge weighs for one frame."""
+
+    confidence: float | None  # the tracker's confidence of the frame's camera (None: no camera, or not scored)
+    has_camera: bool  # the frame has a camera (the solver's, or the re-initialisation's)
+    chain_trusted: bool  # the chain has had a frame at its bar (Chain.trusted)
+    trust_at: float  # the bar of a chain not trusted yet (Chain.trust_at)
+    reinitialised: bool = False  # the frame began lost: its camera was re-initialised before it was solved
+    asked: bool = False  # the re-initialisation policy was asked for the solved frame ...
+    replaced: bool = False  # ... and its camera replaced the solver's
+    from_marking_map: bool = False  # the frame's detections carry the unlabelled marking map
+    carried: bool = False  # the frame is carried on the motion prior: it claims no camera
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The judge's verdict on one frame.
+
+    action: what the frame loop does (:class:`Action`).
+    reason: one line, why.
+    withholds_camera: the frame's record gets no camera, the status ``failed`` and ``reason`` as its reason
+        (otherwise the record keeps its status and reason: the solver's for a frame without a camera).
+    trusted: the chain is trusted from this frame.
+    confident: a written camera at the threshold: its camera id's guess from now on (the search budget restarts).
+    """
+
+    action: Action
+    reason: str
+    withholds_camera: bool = False
+    trusted: bool = False
+    confident: bool = False
+
+
+def judge(facts: FrameFacts, config: TrackingConfig) -> Verdict:
+    """The verdict on a frame's camera (the rules: module docstring).
+
+    Args:
+        facts: the frame's camera, its confidence and the chain's trust.
+        config: the thresholds (``confidence_threshold``, ``lost_confidence``).
+    """
+    threshold, lost_at = config.confidence_threshold, config.lost_confidence
+    confidence = facts.confidence
+    bar = threshold if facts.chain_trusted else facts.trust_at
+    if not facts.asked:
+        if not facts.has_camera:
+            return Verdict(Action.REINITIALISE, "no camera from the solver")
+        if confidence is not None and confidence < bar and not facts.reinitialised:
+            return Verdict(Action.REINITIALISE, f"confidence {confidence:.2f} below {bar:.2f}")
+    if not facts.has_camera:
+        return Verdict(Action.LOST, "no camera and re-initialisation failed")
+    if (facts.reinitialised or facts.asked) and not facts.replaced and confidence is not None \
+            and confidence < lost_at:
+        return Verdict(Action.LOST, f"confidence {confidence:.2f} below {lost_at:.2f} and re-initialisation failed",
+                       withholds_camera=True)
+    if confidence is not None and confidence >= max(threshold, 0.0 if facts.chain_trusted else facts.trust_at):
+        return Verdict(Action.WRITE, f"confidence {confidence:.2f} at the bar {max(bar, threshold):.2f}",
+                       trusted=True, confident=not facts.carried)
+    if confidence is not None and not facts.chain_trusted and facts.from_marking_map:
+        return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {facts.trust_at:.2f} and no confident "
+                       "frame since the re-initialisation; camera not written", withholds_camera=True)
+    reason = "not scored" if confidence is None else \
+        f"confidence {confidence:.2f} below the bar {max(bar, threshold):.2f}"
+    return Verdict(Action.WRITE, reason, confident=confidence is not None and confidence >= threshold
+                   and not facts.carried)
