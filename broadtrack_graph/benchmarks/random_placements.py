@@ -19,7 +19,8 @@ thread), from the weight-free detector's markings (detection is timed apart):
   cannot be imported.
 
 Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin``
-confident (what a new shot's chain needs to be written); **found** = written and its ground template
+confident (what a new shot's chain needs to be written; the court route: at least
+``court_accept_confidence``, the bar the tracker takes its camera at); **found** = written and its ground template
 within ``--success-px`` (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off
 (``twin``: of those, the truth's half turn about the centre spot, the view the markings cannot tell
 apart); **near-written** = written, between the two; **none** = not written. Shares are of the counted

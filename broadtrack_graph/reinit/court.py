@@ -58,7 +58,8 @@ class CourtConfig:
     """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
 
     lines: CourtLineConfig = CourtLineConfig()  # the hypotheses of the straight markings (and their gates)
-    circle: CourtCircleConfig = CourtCircleConfig()  # the hypotheses of the centre circle with the halfway line
+    # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
+    circle: CourtCircleConfig = CourtCircleConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
     # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of

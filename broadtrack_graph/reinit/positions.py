@@ -19,8 +19,7 @@ the few positions that cover its usual range. Where the numbers come from:
   published ranges above allow up to about 27 deg), and a guess 3 deg off in elevation can miss
   a tight view. Tried, in turn, while nothing else gives a camera confident by the margin:
   (0, 75, -12) m (9.1 deg), (0, 55, -16) m (16.2 deg), (0, 65, -24) m (20.3 deg) and
-  (0, 75, -27) m (19.8 deg). Of 27 views rendered from main cameras 55-85 m back at 18-26 deg,
-  the search alone finds 8 without them and 23 with them (``bench placements``).
+  (0, 75, -27) m (19.8 deg); ``bench placements`` measures what they add.
 - ``high-16m``: the cameras of the main stand level with the penalty areas' 16.5 m lines,
   x = +-36 m, on the main camera's gantry.
 - ``high-behind``: high behind a goal, on the pitch's long axis: (-65, 0, -15) and (-75, 0, -24) m

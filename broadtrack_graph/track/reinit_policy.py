@@ -17,7 +17,8 @@ What is tried, cheapest first:
    still stands where its camera stands): this is how a camera returning after a close-up or a
    replay is recognised. Every known camera's guesses are tried on the frames of
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`, as the field model is.
-2. **The court model** (a marking map): a camera from the straight markings alone, wherever it stands
+2. **The court model** (a marking map): a camera from the markings alone (straight lines, a circle with the line
+   across it, the centre circle with a touchline), wherever it stands
    (:func:`~broadtrack_graph.reinit.court.court_reinit`, :class:`~broadtrack_graph.track.frame_tries.FrameTries`):
    taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), or confident by the
    margin when the court camera of a frame shortly before stood in the same place, with the id of where it stands
