@@ -37,14 +37,16 @@ def run_reliability(run_dir: Path, truth_dir: Path, tau_px: float = RIGHT_TAU_PX
         true_camera = true_by_frame.get(record.frame_id)
         if true_camera is None:
             continue
-        if line_disagreement_px(true_camera, true_camera, sampling) is None:
-            continue  # the true camera shows (almost) no marking: nothing to judge
+        # The camera judged against the truth, or the truth against itself for a frame without a camera (None: the
+        # true camera shows (almost) no marking, nothing to judge).
+        error = line_disagreement_px(record.camera or true_camera, true_camera, sampling)
+        if error is None:
+            continue
         determinable += 1
         if record.camera is None:
             continue
-        error = line_disagreement_px(record.camera, true_camera, sampling)
         confidence.append(float("nan") if record.confidence is None else record.confidence)
-        right.append(error is not None and error < tau_px)
+        right.append(error < tau_px)
     summary = reliability_summary(confidence, right)
     summary["determinable_frames"] = determinable
     summary["written_share"] = round(len(right) / determinable, 4) if determinable else None

@@ -76,6 +76,11 @@ class Chain:
         if self.camera_id is None:
             self.identify(self.registry.identify(camera.position_m, camera.R_cw[2]))
 
+    @property
+    def place_known(self) -> bool:
+        """The chain's camera id is known and trusted: where that camera stands is known (a restart holds it there)."""
+        return self.camera_id is not None and self.camera_id not in self.registry.untrusted
+
     def settled_tripod(self) -> Tripod | None:
         """The tripod of the chain's camera once fitted or given (not the provisional one), or None."""
         if self.camera_id is None or self._tripod is None or self._tripod.provisional:

@@ -180,7 +180,7 @@ class TrackingRun:
                 return None, detections
             self.chain.start(decision)
             guess, reinitialised = decision.camera, True
-            if self.chain.camera_id is not None and self.chain.camera_id not in self.policy.registry.untrusted:
+            if self.chain.place_known:
                 self.solver.hold_position_next()  # a known camera's place: not moved by one frame's few markings
             observations, detections = self.observer.named_by(frame, observations, detections, guess)
         started = time.perf_counter()

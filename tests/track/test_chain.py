@@ -82,3 +82,15 @@ def test_the_online_tripod_is_told_of_a_new_camera_id_through_the_chain():
     assert solver.tripod is None and tripod.held_id is None
     chain.identify_at(MAIN)  # a confident frame names it by where it stands
     assert chain.camera_id is not None
+
+
+def test_a_camera_s_place_is_known_once_its_id_is_trusted():
+    registry = CameraRegistry()
+    chain = Chain(CONFIG, registry)
+    assert not chain.place_known  # no id yet
+    chain.start(decision(registry.identify(MAIN.position_m, MAIN.R_cw[2])))
+    assert chain.camera_id == "main" and not chain.place_known  # a new id, provisional
+    registry.trust("main", 3, MAIN)
+    assert chain.place_known
+    chain.new_stretch()
+    assert not chain.place_known
