@@ -9,7 +9,7 @@ On rendered clips (synth presets, 1920x1080 by default), one thread for OpenCV:
 * re-initialisation from a lost state (no usable previous camera): for frames showing at
   least 3 marking classes, as the tracker does at a new shot: the learned field model's camera
   (``--reinit-model``, the shipped one by default), refined on the weight-free marking map and taken
-  when certain (``CERTAIN_CONFIDENCE``, as the tracker takes a new shot's camera without a search), else
+  when certain (``TrackingConfig.certain_confidence``, as the tracker takes a new shot's camera without a search), else
   :func:`reinit_from_mask` on the map (the weight-free global search);
   success = median reprojection error of the visible template below ``--success-px``;
   its time per frame (median and 90th percentile, wall clock and CPU time of the process:
@@ -63,7 +63,7 @@ def run(args) -> dict:
     from broadtrack_graph.reinit.frame import plausible_position
     from broadtrack_graph.reinit.mask import reinit_from_mask
     from broadtrack_graph.synth.clip import render_clip
-    from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE
+    from broadtrack_graph.track.config import TrackingConfig
 
     cv2.setNumThreads(1)
     pitch = PitchTemplate()
@@ -73,7 +73,7 @@ def run(args) -> dict:
     ground_samples = np.vstack([p for n, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(n)])
     rng = np.random.default_rng(args.seed)
     model = model_reinit_for(args.reinit_model)
-    model_accept = CERTAIN_CONFIDENCE  # a new shot's camera, as the tracker takes the model's without a search
+    model_accept = TrackingConfig().certain_confidence  # a new shot's camera, as the tracker takes the model's without a search
 
     def reinitialise(image, det):
         """(result, found by the model): the model's camera when confident, else the weight-free search's."""

@@ -9,7 +9,8 @@ the one before (flow, motion prior). A cut, a frame without a pitch, a failed de
 - whether it is **trusted** (a frame reached the bar) and since which frame, and the **bar** itself: the
   confidence threshold, or more for a new shot's camera (a first frame can be explained, nearly as well, by a
   wrong camera);
-- whether its re-initialisation **continued** a confident camera's chain (a refined guess: the trust goes on);
+- whether its re-initialisation **continued** a confident camera's chain (a refined guess: the trust goes on; a
+  better camera of the same id replacing a trusted chain's held camera mid-shot keeps the trust too);
 - whether the run is **lost** (the next frame is re-initialised) and how many frames in a row were **carried** on
   the motion prior alone.
 
@@ -94,8 +95,12 @@ class Chain:
 
         A decision that does not continue a confident camera's chain starts a new chain: not trusted, its bar the
         threshold, plus the margin for a new shot's camera (:attr:`ReinitDecision.new_camera`); a bar raised for
-        the chain it replaces stays raised while that chain was never trusted.
+        the chain it replaces stays raised while that chain was never trusted. Except mid-shot: a camera of the
+        trusted chain's own camera id that replaces its held camera (the policy switches only to a better one)
+        keeps the trust, since the held camera's frames were being written.
         """
+        replaces_trusted = (self.trusted and not self.lost and not decision.new_camera
+                            and decision.camera_id is not None and decision.camera_id == self.camera_id)
         if decision.camera_id is not None and decision.camera_id != self.camera_id:
             self.identify(decision.camera_id)
         elif decision.camera_id is None and self.camera_id is None and self._tripod is not None:
@@ -103,9 +108,10 @@ class Chain:
         if not decision.continues_chain:
             if self._tripod is not None:  # the cameras collected for a tripod elsewhere are dropped
                 self._tripod.new_chain(self._solver, decision.camera, self.registry)
-            bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
-            self.trust_at = bar if self.trusted else max(self.trust_at, bar)
-            self.trusted, self.trusted_since = False, None
+            if not replaces_trusted:
+                bar = self.config.confidence_threshold + self.config.reinit_switch_margin * decision.new_camera
+                self.trust_at = bar if self.trusted else max(self.trust_at, bar)
+                self.trusted, self.trusted_since = False, None
         self.continued = decision.continues_chain
 
     def trust(self, frame_index: int) -> None:

@@ -38,6 +38,9 @@ class TrackingConfig:
     # ... or from the margin when the court model's camera of a frame at most this many frames before, in the same
     # stretch, stood in the same place (two frames agreeing; 0: never)
     court_agreement_frames: int = 5
+    # A new shot's camera this confident is certain: the search stops at it (the later stages cannot do better by
+    # the margin) and the field model's camera is taken without a search; below it, every stage is searched.
+    certain_confidence: float = 0.9
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each
@@ -83,6 +86,8 @@ class TrackingConfig:
             raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
         if not 0.0 <= self.confidence_threshold <= 1.0:
             raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
+        if not 0.0 <= self.certain_confidence <= 1.0:
+            raise ValueError(f"certain_confidence must be in [0, 1], got {self.certain_confidence}")
         if not 0.0 <= self.court_accept_confidence <= 1.0:
             raise ValueError(f"court_accept_confidence must be in [0, 1], got {self.court_accept_confidence}")
         if self.max_motion_prior_frames < 0:

@@ -26,7 +26,7 @@ What is tried, cheapest first:
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`.
 3. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
-   map. Taken when confident (a new shot's camera: when certain, :data:`CERTAIN_CONFIDENCE`), with
+   map. Taken when confident (a new shot's camera: when certain, ``certain_confidence``), with
    the id of where it stands; else a candidate the search must beat. It tries every frame of a shot's first
    frames it cannot place (up to 10), then waits 1, 2, 4, ... frames after each
    (:class:`~broadtrack_graph.track.search_budget.TrySchedule`): a shot it cannot place costs little.
@@ -37,7 +37,7 @@ What is tried, cheapest first:
      these gives a camera confident by the margin, the main camera at other elevations (fitted deep,
      :mod:`~broadtrack_graph.track.search_stages`), then the stages' near misses walked
      (:func:`~broadtrack_graph.reinit.near_miss.walk_wide`). Every stage is searched (a view of one camera can be
-     explained, less well, by a camera elsewhere) until a camera reaches :data:`CERTAIN_CONFIDENCE` or a known
+     explained, less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known
      camera is found at its own position confident by the margin (a camera returning after a cut): each camera's
      first appearance costs a full search (a shot's later searches: the budget's stages). A chain's first camera
      that is not certain nor a refined guess, when searched for or about to be trusted, is also tried nearer and
@@ -83,7 +83,7 @@ from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
 from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import SearchBudget, TrySchedule
-from broadtrack_graph.track.search_stages import CERTAIN_CONFIDENCE, DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
+from broadtrack_graph.track.search_stages import DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
@@ -172,7 +172,7 @@ class ReinitPolicy:
         if self.chain.trusted or decision.camera is None or decision.continues_chain or points is None \
                 or len(points) < 10 \
                 or not (decision.searched or decision.confidence >= self.config.confidence_threshold + margin) \
-                or decision.confidence >= CERTAIN_CONFIDENCE:
+                or decision.confidence >= self.config.certain_confidence:
             return decision
         # A chain's first camera (a refined guess stands where its camera stood): nearer or further along its sight?
         confidence, camera = best_along_line_of_sight(decision.camera, lambda c: self.confidence(
@@ -225,7 +225,7 @@ class ReinitPolicy:
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
             # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").
-            if modelled_confidence >= (CERTAIN_CONFIDENCE if new_camera else threshold):
+            if modelled_confidence >= (self.config.certain_confidence if new_camera else threshold):
                 self.counts["model_used"] += 1
                 camera_id = self._camera_id_of(modelled, modelled_confidence)
                 return self._decision(modelled, modelled_confidence, camera_id, False, False, modelled.hypothesis,
@@ -341,7 +341,7 @@ class ReinitPolicy:
         """
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         # When it ends, which stages it reads: the module docstring (the fallback stages and walks: while unsure).
-        enough = CERTAIN_CONFIDENCE if plan.new_shot else threshold
+        enough = self.config.certain_confidence if plan.new_shot else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         found = []  # (confidence, result, stage label) of every stage's camera
         unsure = lambda: best_confidence < threshold + margin  # noqa: E731

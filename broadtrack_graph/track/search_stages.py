@@ -47,11 +47,6 @@ DEEP_STAGE_COST = 3
 KNOWN_CAMERAS = "known cameras"
 """The label of the stage that searches the known cameras' positions."""
 
-CERTAIN_CONFIDENCE = 0.9
-"""A camera found this confident at a shot's start is not searched past (the later stages cannot do better by
-the margin); below it, every stage is searched."""
-
-
 class SearchPlan(NamedTuple):
     """One search's stages: (label, positions) in order; the fallback stages, searched after them only while none gave
     a camera confident by the margin; how many of the first stages are the likely ones (their best camera wins

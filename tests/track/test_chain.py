@@ -39,11 +39,23 @@ def test_a_new_shot_s_camera_is_trusted_only_from_a_frame_at_the_raised_bar():
     chain.trust(7)
     chain.trust(9)
     assert chain.trusted and chain.trusted_since == 7 and not chain.lost
-    # A re-initialisation that does not continue it starts a new chain at the new bar; one that does keeps its trust.
+    # A re-initialisation that continues it keeps its trust; so does one that replaces its camera mid-shot by a
+    # better camera of the same id (the held camera's frames were written: the better one's are too).
     chain.start(decision("main", continues=True))
     assert chain.trusted and chain.continued and chain.trusted_since == 7
     chain.start(decision("main"))
-    assert not chain.trusted and chain.trusted_since is None and chain.trust_at == pytest.approx(0.5)
+    assert chain.trusted and not chain.continued and chain.trusted_since == 7
+    # A new shot's camera, or another camera's, starts a new chain at its bar.
+    chain.start(decision("main", new_camera=True))
+    assert not chain.trusted and chain.trusted_since is None and chain.trust_at == pytest.approx(0.6)
+    chain.trust(11)
+    chain.start(decision("high"))
+    assert not chain.trusted and chain.trust_at == pytest.approx(0.5)
+    # After the chain ended (lost), a re-initialisation starts untrusted whatever its id.
+    chain.trust(12)
+    chain.end()
+    chain.start(decision("high"))
+    assert not chain.trusted
 
 
 def test_a_raised_bar_stays_raised_while_its_chain_was_never_trusted():
