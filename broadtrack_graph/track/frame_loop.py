@@ -229,6 +229,11 @@ class TrackingRun:
                            carried=carried)
         verdict = judge(facts, self.config)
         replaced = False  # the solved camera was replaced by the decision's
+        if verdict.action is Action.REINITIALISE and camera is not None and self.chain.trusted \
+                and confidence is not None and confidence >= self.config.lost_confidence \
+                and not self.policy.asks_about_held(entry.frame.frame_index):
+            # A trusted chain's camera under the threshold, tried a frame or a few before: kept till the next try.
+            verdict = judge(replace(facts, asked=True), self.config)
         if verdict.action is Action.REINITIALISE:
             # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
             decision = self._decide(observations, detections, camera, confidence, entry.frame.image)

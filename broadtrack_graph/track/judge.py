@@ -6,7 +6,10 @@ confidence threshold, ``L`` the lost confidence and the chain's bar ``T`` once t
 ``trust_at`` (:class:`~broadtrack_graph.track.chain.Chain`):
 
 1. **Re-initialise** a frame the solver gave no camera, or one under the bar that was not re-initialised before
-   it was solved (the policy is asked once; the judge is then asked again with what it found).
+   it was solved (the policy is asked once; the judge is then asked again with what it found). A trusted chain's
+   camera is asked about on the frames the policy's schedule gives
+   (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.asks_about_held`); on the others the frame loop
+   judges it as asked, with nothing found.
 2. **Lost**: no camera even after the policy; or a camera under ``L`` that was re-initialised before it was solved,
    or that the policy could not replace. The chain ends; a camera is not written.
 3. **Write** a camera at ``T`` and at the chain's bar: the chain is trusted from it.

@@ -130,6 +130,7 @@ class ReinitPolicy:
         self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
         self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
         self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
+        self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
         self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
                        "global": 0, "stages": 0, "deep_stages": 0, "walks": 0, "skipped_by_budget": 0}
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
@@ -148,6 +149,7 @@ class ReinitPolicy:
         self.budget.restart()
         self.tries.new_stretch()
         self.guess_schedule.new_stretch()
+        self.held_schedule.new_stretch()
 
     def confident(self, frame_index: int, camera: Camera) -> None:
         """A frame whose camera the tracker trusts: the guess of the chain's camera id from now on; the budget
@@ -157,6 +159,7 @@ class ReinitPolicy:
         self.budget.restart()
         self.tries.confident()
         self.guess_schedule.confident()
+        self.held_schedule.confident()
 
     def tripod(self, camera_id: str, T_w) -> None:
         """A tripod fitted or given for a camera: its position identifies the camera from now on."""
@@ -164,10 +167,18 @@ class ReinitPolicy:
 
     # ----------------------------------------------------------------- the decision
 
+    def asks_about_held(self, frame_index: int) -> bool:
+        """Whether a trusted chain's camera under the threshold is tried on this frame. After a try that does not
+        replace it, the next waits 1, 2, 4, up to 8 frames (:class:`TrySchedule`); a confident frame, a replacement
+        or a cut restarts the wait. Frames between are written as solved (the chain is trusted)."""
+        return self.held_schedule.allows(frame_index)
+
     def decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                held_confidence: float | None = None, image: np.ndarray | None = None) -> ReinitDecision:
         """A camera for a frame without a trusted one (module docstring; arguments: :meth:`_decide`)."""
         decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image)
+        if held is not None and self.chain.trusted:
+            self.held_schedule.tried(observations.frame_index, decision.camera is not None)
         points, margin = getattr(detections, "marking_points_px", None), self.config.reinit_switch_margin
         if self.chain.trusted or decision.camera is None or decision.continues_chain or points is None \
                 or len(points) < 10 \

@@ -396,3 +396,21 @@ def test_each_shot_gets_its_camera_s_id_and_a_returning_camera_its_own(tmp_path)
     camera_file = json.loads((tmp_path / "run" / "cameras" / "camera_000005.json").read_text())  # re-initialised
     assert camera_file["camera_id"] == "high-corner-1" and camera_file["position_meters"] == [53.0, 70.0, -22.0]
     assert result.summary["cuts"] == 2
+
+
+def test_a_trusted_chain_s_camera_under_the_threshold_is_tried_after_growing_waits(tmp_path):
+    # Frames 1-20 are solved at 0.4: under the threshold, over the lost confidence, in a trusted chain. The
+    # re-initialisation finds nothing better (0.3), so the held camera stays and the next try waits 1, 2, 4, 8 frames.
+    solver = FakeSolver()
+    low = {i: 0.4 for i in range(1, 21)}
+    script = Scripted(confidence=low, reinit_confidence={i: 0.3 for i in range(1, 21)})
+    run = run_of(tmp_path, solver, script)
+    for i in range(21):
+        run.process(frame(i))
+    run.finish()
+    tried = [i for i in script.reinit_calls if i > 0]
+    assert sorted(set(tried)) == [1, 2, 4, 8, 16]
+    records = read_track(tmp_path / "run").records
+    # Every frame is written (the chain is trusted), as solved: no frame between tries is replaced or held back.
+    assert all(r.camera is not None and r.status == "tracked" for r in records[1:])
+    assert solver.replaced == []
