@@ -52,17 +52,30 @@ def custom_factor(keys: Sequence[int], sizes: Sequence[int], dim: int, fn: Resid
     if dim <= 0:
         raise ValueError(f"a factor needs at least one residual, got dim={dim}")
 
+    # GTSAM often evaluates a factor again at the values it last saw (iSAM2 relinearising, the smoother
+    # marginalising): the last evaluation is kept and handed out again for the same values and the same path
+    # (fn is a pure function of the vectors; GTSAM copies what it is given).
+    last: list = [None, None, None]  # [(vectors' bytes, Jacobians wanted), residual, Jacobians]
+
     def error_function(this: gtsam.CustomFactor, values: gtsam.Values, H) -> np.ndarray:
         vectors = [values.atVector(k) for k in keys]
-        residual, jacobians = fn(vectors, H is not None)
-        residual = np.ascontiguousarray(residual, dtype=float)
-        if residual.shape != (dim,):
-            raise FactorShapeError(f"residual shape {residual.shape}, expected ({dim},)")
+        seen = (b"".join(v.tobytes() for v in vectors), H is not None)
+        if seen == last[0]:
+            residual, jacobians = last[1], last[2]
+        else:
+            residual, jacobians = fn(vectors, H is not None)
+            residual = np.ascontiguousarray(residual, dtype=float)
+            if residual.shape != (dim,):
+                raise FactorShapeError(f"residual shape {residual.shape}, expected ({dim},)")
+            if H is not None:
+                jacobians = [np.ascontiguousarray(J, dtype=float) for J in jacobians]
+                for i, J in enumerate(jacobians):
+                    if J.shape != (dim, sizes[i]):
+                        raise FactorShapeError(f"Jacobian {i} shape {J.shape}, expected ({dim}, {sizes[i]})")
+            last[:] = [seen, residual, jacobians]
         if H is not None:
             for i, J in enumerate(jacobians):
-                if J.shape != (dim, sizes[i]):
-                    raise FactorShapeError(f"Jacobian {i} shape {J.shape}, expected ({dim}, {sizes[i]})")
-                H[i] = np.ascontiguousarray(J, dtype=float)
+                H[i] = J
         return residual
 
     return gtsam.CustomFactor(gtsam.noiseModel.Unit.Create(dim), keys, error_function)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.geometry.distortion import undistort_normalized
-from broadtrack_graph.geometry.state import STATE_SIZE, project_state, project_state_dX, rotation_and_derivatives
+from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_and_derivatives
 from factors.custom import Residuals, custom_factor
 from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
@@ -104,7 +104,9 @@ def flow_residuals(state_prev, state_cur, uv_prev_px, uv_cur_px, width_px, heigh
         return Residuals(residual, None, valid)
     J_prev = None
     if not previous_fixed:
-        J_prev = project_state_dX(state_cur, points_w) @ dX
+        # d uv / d X_w is minus the position columns of J_cur (project_state_dX's numbers, negated exactly;
+        # J_cur's rows behind camera t are zero, and those matches are not valid).
+        J_prev = -(np.ascontiguousarray(J_cur[:, :, 5:8]) @ dX)
         J_prev[~valid] = 0.0
     J_cur[~valid] = 0.0
     return Residuals(residual, [J_prev, J_cur], valid)

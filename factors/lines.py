@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
-from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_and_derivatives
+from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_from_angles
 from factors.custom import Residuals, custom_factor
 from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
 
@@ -50,6 +50,36 @@ CULL_MARGIN_FRACTION = 0.5
 skipped (unless a class has no segment left, then all its segments are used)."""
 
 
+@dataclass(frozen=True)
+class LineSetup:
+    """What :func:`line_residuals` needs of a factor's points and classes whatever the camera (made once per factor).
+
+    present: (C,) int, the classes observed, ascending; rows: per present class, the (n_j,) ascending rows of its
+    points; u, v: per present class, its points' (n_j, 1) pixel columns.
+    vertices_w: (M, 3) metres, the present classes' polyline vertices stacked in that order; seg_start: (S,) int,
+    the first vertex of each segment (consecutive vertices of one class); seg_class: (S,) int, its class.
+    """
+
+    present: np.ndarray
+    rows: tuple[np.ndarray, ...]
+    u: tuple[np.ndarray, ...]
+    v: tuple[np.ndarray, ...]
+    vertices_w: np.ndarray
+    seg_start: np.ndarray
+    seg_class: np.ndarray
+
+    @classmethod
+    def of(cls, uv_px: np.ndarray, class_index: np.ndarray, polylines: MarkingPolylines) -> "LineSetup":
+        """The setup of (N, 2) pixels and their (N,) class indices (N >= 1)."""
+        present = np.unique(class_index)
+        rows = tuple(np.flatnonzero(class_index == j) for j in present)
+        blocks = [polylines.vertices_w[j] for j in present]
+        vertex_class = np.repeat(present, np.array([len(b) for b in blocks]))
+        seg_start = np.flatnonzero(vertex_class[:-1] == vertex_class[1:])
+        return cls(present, rows, tuple(uv_px[r, 0][:, None] for r in rows), tuple(uv_px[r, 1][:, None] for r in rows),
+                   np.concatenate(blocks), seg_start, vertex_class[seg_start])
+
+
 def line_residuals(
     state: np.ndarray,
     uv_px: np.ndarray,
@@ -58,6 +88,7 @@ def line_residuals(
     width_px: int,
     height_px: int,
     want_jacobian: bool = True,
+    setup: LineSetup | None = None,
 ) -> Residuals:
     """Signed pixel distance of each observed point to its class's projected polyline.
 
@@ -68,6 +99,8 @@ def line_residuals(
         polylines: the sampled 3D elements.
         width_px, height_px: image size.
         want_jacobian: False skips the Jacobian.
+        setup: ``LineSetup.of(uv_px, class_index, polylines)`` when the caller keeps it (a factor evaluated at
+            many states); made here when None.
 
     Returns:
         residual_px: (N,) signed distance in pixels (0 for invalid points).
@@ -84,28 +117,25 @@ def line_residuals(
     valid = np.zeros(count, dtype=bool)
     if count == 0:
         return _line_result(residual, J, valid)
-    present = np.unique(class_index)
-    blocks = [polylines.vertices_w[j] for j in present]
-    vertices_w = np.concatenate(blocks)
+    setup = setup if setup is not None else LineSetup.of(uv_px, class_index, polylines)
+    vertices_w = setup.vertices_w
     proj_uv, _, in_front = project_state(state, vertices_w, width_px, height_px, want_jacobian=False)
-    R, _ = rotation_and_derivatives(state[2], state[3], state[4])
+    R = rotation_from_angles(state[2], state[3], state[4])
     points_c = (vertices_w - state[5:8]) @ R.T
     depth = np.where(in_front, points_c[:, 2], 1.0)
     r2 = (points_c[:, 0] ** 2 + points_c[:, 1] ** 2) / depth**2
     vertex_ok = in_front & (1.0 + 3.0 * state[1] * r2 > 0.05)
     # Segments: consecutive vertices of the same class.
-    sizes = np.array([len(b) for b in blocks])
-    vertex_class = np.repeat(present, sizes)
-    seg_start = np.flatnonzero(vertex_class[:-1] == vertex_class[1:])
-    seg_class = vertex_class[seg_start]
+    seg_start, seg_class = setup.seg_start, setup.seg_class
     seg_ok = vertex_ok[seg_start] & vertex_ok[seg_start + 1]
     mx, my = CULL_MARGIN_FRACTION * width_px, CULL_MARGIN_FRACTION * height_px
     u, v = proj_uv[:, 0], proj_uv[:, 1]
     near = (u > -mx) & (u < width_px + mx) & (v > -my) & (v < height_px + my)
     seg_near = seg_ok & (near[seg_start] | near[seg_start + 1])
     # Classes with no segment near the image keep all their valid segments (far-off starts).
-    classes_near = np.unique(seg_class[seg_near])
-    keep = seg_near | (seg_ok & ~np.isin(seg_class, classes_near))
+    class_near = np.zeros(int(setup.present[-1]) + 1, dtype=bool)
+    class_near[seg_class[seg_near]] = True
+    keep = seg_near | (seg_ok & ~class_near[seg_class])
     seg_start, seg_class = seg_start[keep], seg_class[keep]
     if len(seg_start) == 0:
         return _line_result(residual, J, valid)
@@ -115,18 +145,23 @@ def line_residuals(
     best = np.zeros(count, dtype=int)
     t_best = np.zeros(count)
     order = np.argsort(seg_class, kind="stable")
-    seg_bounds = np.searchsorted(seg_class[order], present, side="left"), np.searchsorted(seg_class[order], present, side="right")
-    for j, lo, hi in zip(present, *seg_bounds):
+    sorted_class = seg_class[order]
+    seg_bounds = (np.searchsorted(sorted_class, setup.present, side="left"),
+                  np.searchsorted(sorted_class, setup.present, side="right"))
+    for rows, pu, pv, lo, hi in zip(setup.rows, setup.u, setup.v, *seg_bounds):
         if hi == lo:
             continue
-        rows = np.flatnonzero(class_index == j)
         segs = order[lo:hi]
-        dx = uv_px[rows, 0][:, None] - ax[segs]
-        dy = uv_px[rows, 1][:, None] - ay[segs]
-        t = np.clip((dx * ex[segs] + dy * ey[segs]) * inv_e2[segs], 0.0, 1.0)
-        dx -= t * ex[segs]
-        dy -= t * ey[segs]
-        pick = np.argmin(dx * dx + dy * dy, axis=1)
+        sx, sy = ex[segs], ey[segs]
+        dx = pu - ax[segs]
+        dy = pv - ay[segs]
+        t = np.minimum(np.maximum((dx * sx + dy * sy) * inv_e2[segs], 0.0), 1.0)
+        dx -= t * sx
+        dy -= t * sy
+        dx *= dx
+        dy *= dy
+        dx += dy
+        pick = np.argmin(dx, axis=1)
         best[rows] = segs[pick]
         t_best[rows] = t[np.arange(len(rows)), pick]
         valid[rows] = True
@@ -142,9 +177,14 @@ def line_residuals(
     sign = np.where(signed >= 0.0, 1.0, -1.0)
     residual = np.where(valid, np.where(interior, signed, sign * end_dist), 0.0)
     if want_jacobian:
+        # The Jacobians of the segment ends the points use, each vertex projected once.
         ia = seg_start[best]
-        _, Jab, _ = project_state(state, np.concatenate([vertices_w[ia], vertices_w[ia + 1]]), width_px, height_px)
-        Ja, Jb = Jab[:count], Jab[count:]
+        used = np.zeros(len(vertices_w), dtype=bool)
+        used[ia] = True
+        used[ia + 1] = True
+        slot = np.cumsum(used) - 1  # vertex -> its row among the used ones
+        _, J_used, _ = project_state(state, vertices_w[used], width_px, height_px)
+        Ja, Jb = J_used[slot[ia]], J_used[slot[ia + 1]]
         dq = (1.0 - t_best)[:, None, None] * Ja + t_best[:, None, None] * Jb  # (N, 2, 8)
         direction = np.where(interior[:, None], normal, sign[:, None] * to_q / np.maximum(end_dist, 1e-12)[:, None])
         J = -np.einsum("nk,nks->ns", direction, dq)
@@ -169,9 +209,11 @@ def make_line_factor(
     """CustomFactor on one camera state: all line points of a frame (residual length N)."""
     uv_px = np.ascontiguousarray(uv_px, dtype=float)
     class_index = np.asarray(class_index, dtype=int)
+    setup = LineSetup.of(uv_px, class_index, polylines) if len(uv_px) else None
 
     def fn(vectors, want_jacobian):
-        r, Js, valid = line_residuals(vectors[0], uv_px, class_index, polylines, width_px, height_px, want_jacobian)
+        r, Js, valid = line_residuals(vectors[0], uv_px, class_index, polylines, width_px, height_px, want_jacobian,
+                                      setup)
         r = np.where(valid, r / sigma_px, INVALID_RESIDUAL_SIGMAS)[:, None]
         Js = None if Js is None else [(Js[0] / sigma_px)[:, None, :]]
         r, Js = cauchy_rows(r, Js, cauchy_scale)

@@ -89,6 +89,11 @@ class WeightFreeConfig:
     goal_margin_m: float = 0.5
 
 
+def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
+    """Indices in [-1, size] mapped into [0, size) as OpenCV's BORDER_REFLECT_101 pads (-1 -> 1, size -> size - 2)."""
+    return (size - 1) - np.abs((size - 1) - np.abs(index)) if size > 1 else np.zeros_like(index)
+
+
 def presmooth_sigma(frame_width_px: int, work_width_px: int, sigma_px: float) -> float:
     """Extra Gaussian (working pixels) for a frame reduced by frame/work: full at <= 1x, none at >= 2x.
 
@@ -122,6 +127,9 @@ class WeightFreeDetector:
         g = 2 * config.grass_reach_px + 1
         self._reach_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (g, g))
         self._close_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (7, 7))
+        # GaussianBlur's kernel for a float image: size round(8 sigma + 1), odd.
+        sigma = config.ridge_sigma_px
+        self._ridge_kernel = cv2.getGaussianKernel(int(round(sigma * 8 + 1)) | 1, sigma, cv2.CV_32F)
 
     # ----------------------------------------------------------------- steps
 
@@ -162,7 +170,7 @@ class WeightFreeDetector:
         boxes = 2.0 * np.column_stack([x, y, x + bw, y + bh])[keep]
         if not keep.any():
             return np.zeros((0, 4)), np.zeros((h, w), np.uint8)
-        mask = cv2.resize(keep_lut[labels].astype(np.uint8) * 255, (w, h), interpolation=cv2.INTER_NEAREST)
+        mask = cv2.resize(np.take(keep_lut.astype(np.uint8) * 255, labels), (w, h), interpolation=cv2.INTER_NEAREST)
         if c.player_margin_px > 0:
             mask = cv2.dilate(mask, self._margin_kernel)
         return boxes.astype(float).reshape(-1, 4), mask
@@ -191,14 +199,16 @@ class WeightFreeDetector:
         found = found.reshape(-1, 2)
         xs, ys = found[:, 0], found[:, 1]
         h, w = grey.shape
-        smooth = cv2.GaussianBlur(tophat.astype(np.float32), (0, 0), c.ridge_sigma_px)
-        padded = cv2.copyMakeBorder(smooth, 1, 1, 1, 1, cv2.BORDER_REFLECT_101)
-        flat = padded.ravel()
-        stride = w + 2
-        base = (ys + 1) * stride + (xs + 1)
+        # GaussianBlur's own float kernel and border, filtered straight from the uint8 top-hat (the same numbers
+        # without converting the image first).
+        smooth = cv2.sepFilter2D(tophat, cv2.CV_32F, self._ridge_kernel, self._ridge_kernel)
+        flat = smooth.ravel()
+        # The 3x3 neighbours' flat indices, reflected at the image border as BORDER_REFLECT_101 pads (no padded copy).
+        near_rows = {dy: _reflect_101(ys + dy, h) * w for dy in (-1, 0, 1)}
+        near_cols = {dx: _reflect_101(xs + dx, w) for dx in (-1, 0, 1)}
 
         def at(dy, dx):
-            return flat[base + dy * stride + dx]
+            return flat[near_rows[dy] + near_cols[dx]]
 
         # The 3x3 Sobel derivatives at the candidate pixels only (same numbers as full-image Sobel filters).
         n = {(dy, dx): at(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1)}
@@ -228,7 +238,8 @@ class WeightFreeDetector:
         # adjacent ones.
         k = c.support_window_px
         n_bins = max(1, c.orientation_bins)
-        bins = (np.floor((np.arctan2(ny, nx) % np.pi) / (np.pi / n_bins)).astype(int)) % n_bins
+        bins = (np.floor((np.arctan2(ny, nx) % np.pi) / (np.pi / n_bins)).astype(int)) % n_bins if n_bins > 1 \
+            else np.zeros(len(xs), int)  # one bin: every point's (no orientation needed)
         support = np.zeros(len(xs), np.int32)
         for b in range(n_bins):
             centre = np.zeros_like(candidates)

@@ -39,8 +39,11 @@ def write_json_atomic(path: str | Path, data, indent: int | None = None) -> None
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     try:
+        # One string, then one write: json.dump streams through the pure-Python encoder, json.dumps without an
+        # indent runs the C one (the same text, several times faster; a camera file is written every frame).
+        text = json.dumps(data, indent=indent, allow_nan=False, default=_json_default)
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            json.dump(data, handle, indent=indent, allow_nan=False, default=_json_default)
+            handle.write(text)
         os.chmod(tmp, 0o644)  # mkstemp creates 0600; results are for everyone to read
         os.replace(tmp, path)
     except BaseException:
