@@ -49,14 +49,19 @@ class CameraRegistry:
         self.last_confident: dict[str, tuple[int, object]] = {}  # camera id -> (frame index, Camera)
         self._counts: dict[str, int] = {}
 
-    def identify(self, position_w, sight_w=None) -> str:
+    def identify(self, position_w, sight_w=None, fits=None) -> str:
         """The id of the camera standing at position_w (a new id when no known camera is there).
 
         sight_w: (3,) the camera's optical axis in the pitch frame (``Camera.R_cw[2]``), or None to
         judge by distance alone.
+        fits: ``camera id -> bool``, whether the frame is explained as well by a camera at that known camera's
+        position (None: standing there is enough). A camera that stands near a known one but whose view the known
+        tripod does not explain (another stadium's camera at a similar place) gets a new id.
         """
         p = np.asarray(position_w, float).reshape(3)
         nearest = self.nearest(p, sight_w)
+        if nearest is not None and fits is not None and not fits(nearest):
+            nearest = None
         if nearest is not None:
             return nearest
         kind, _ = camera_kind(p)

@@ -1,6 +1,6 @@
-"""The single-frame tries of a re-initialisation: the court model and the learned field model, each on its own
-:class:`~broadtrack_graph.track.search_budget.TrySchedule` (a frame neither places makes them wait 1, 2, 4, ...
-frames). Each returns its camera, refined or twinned as the run's cameras decide, with the tracker's confidence.
+"""The single-frame tries of a re-initialisation: the known cameras' refined guesses, the court model and the learned
+field model, each on its own :class:`~broadtrack_graph.track.search_budget.TrySchedule` (a frame none places makes
+them wait 1, 2, 4, ... frames). Each returns its camera, refined or twinned as the run's cameras decide, with the tracker's confidence.
 The decision that takes or passes them is :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`'s. No I/O.
 """
 
@@ -29,7 +29,7 @@ class FrameTries:
     Args:
         config: the run's thresholds (``confidence_threshold``).
         registry: the run's cameras by id (the twin of a court camera is taken where a known camera stands).
-        refine: refines a camera on the frame's marking map (the field model's cameras).
+        refine: refines a camera on the frame's marking map (the guesses, the field model's cameras).
         model, court: the two single-frame calibrators, each None when not used.
         counts: the policy's counters (``model_tried``, ``court_tried``), updated here.
     """
@@ -39,18 +39,49 @@ class FrameTries:
         self.config, self.registry, self.refine = config, registry, refine
         self.model, self.court, self.counts = model, court, counts
         self.model_schedule, self.court_schedule = TrySchedule(), TrySchedule()
+        self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
         self._last_court: tuple[int, object] | None = None  # (frame, camera) of the stretch's last court camera
+        self._first_court_frame: int | None = None  # the stretch's first frame with a court camera confident by the margin
 
     def new_stretch(self) -> None:
         """A cut or a view change: the shot's first frames are tried one by one."""
         self.model_schedule.new_stretch()
         self.court_schedule.new_stretch()
+        self.guess_schedule.new_stretch()
         self._last_court = None
+        self._first_court_frame = None
 
     def confident(self) -> None:
         """A confident frame: a later loss is tried after 1, 2, 4, ... frames."""
         self.model_schedule.confident()
         self.court_schedule.confident()
+        self.guess_schedule.confident()
+
+    def refined_guess(self, frame_index: int, camera_id: str | None, detections, curves, score,
+                      mapped) -> tuple[ReinitResult | None, str | None, float]:
+        """The best refined guess (result, its camera id, its confidence), or (None, None, 0): the last confident
+        camera of ``camera_id`` (the chain's) on every frame, or, with no camera id (a shot's camera not known), every
+        known camera's on the guess schedule's frames. ``mapped(function, calls, curves)`` runs the refinements (the
+        search's workers)."""
+        best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
+        every_camera = camera_id is None
+        if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
+            return best
+        guesses = self.registry.guesses(frame_index, camera_id, self.config.max_guess_age_frames)
+        refined_guesses = mapped(self.refine, [([(label, camera)], detections) for _, label, camera in guesses], curves)
+        for (guess_id, label, camera), refined in zip(guesses, refined_guesses):
+            if refined.camera is None:
+                continue
+            if every_camera and guess_id in self.registry.positions and not self.registry.stands_at(
+                    guess_id, refined.camera.position_m, refined.camera.R_cw[2]):
+                continue  # at a shot's start, a known camera's guess that moved elsewhere: another camera's view
+            # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
+            confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
+            if confidence is not None and (best[0] is None or confidence > best[2]):
+                best = (refined, guess_id, float(confidence))
+        if every_camera and guesses:
+            self.guess_schedule.tried(frame_index, best[2] >= self.config.confidence_threshold)
+        return best
 
     def model_camera(self, frame_index: int, image, detections, curves, score) -> tuple[ReinitResult | None, float]:
         """The field model's camera for the frame, refined on the marking map, and its confidence; (None, 0) when
@@ -95,4 +126,13 @@ class FrameTries:
             agrees = last is not None and 0 < i - last[0] <= self.config.court_agreement_frames \
                 and self.registry.same_place(last[1].position_m, camera.position_m, camera.R_cw[2])
             self._last_court = (i, camera)
+            if self._first_court_frame is None:
+                self._first_court_frame = i
         return replace(result, camera=camera, twin=twin), confidence, agrees
+
+    def court_may_agree(self, frame_index: int) -> bool:
+        """Whether a court camera confident by the margin, on this frame or one before in the stretch, can still be
+        confirmed by the next frames' (within ``court_agreement_frames`` of the stretch's first such frame): a new
+        shot's global search waits for them."""
+        first = self._first_court_frame
+        return first is not None and 0 <= frame_index - first < self.config.court_agreement_frames

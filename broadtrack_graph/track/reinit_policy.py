@@ -23,7 +23,8 @@ What is tried, cheapest first:
    taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), or confident by the
    margin when the court camera of a frame shortly before stood in the same place, with the id of where it stands
    (its twin when a known camera stands there); otherwise dropped. On its own
-   :class:`~broadtrack_graph.track.search_budget.TrySchedule`.
+   :class:`~broadtrack_graph.track.search_budget.TrySchedule`. A new shot's court camera confident by the margin
+   defers the shot's global search for ``court_agreement_frames``: the next frames' court cameras confirm it or not.
 3. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
    map. Taken when confident (a new shot's camera: when certain, ``certain_confidence``), with
@@ -32,25 +33,20 @@ What is tried, cheapest first:
    (:class:`~broadtrack_graph.track.search_budget.TrySchedule`): a shot it cannot place costs little.
 4. **The global search** in stages, when the search budget allows.
 
-   * A shot whose camera is not known yet: the known cameras' positions, the default positions (main, 16 m,
-     behind the goal), the main camera further back, each low gantry, the other camera kinds, and while none of
-     these gives a camera confident by the margin, the main camera at other elevations (fitted deep,
-     :mod:`~broadtrack_graph.track.search_stages`), then the stages' near misses walked
-     (:func:`~broadtrack_graph.reinit.near_miss.walk_wide`). Every stage is searched (a view of one camera can be
-     explained, less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known
-     camera is found at its own position confident by the margin (a camera returning after a cut): each camera's
-     first appearance costs a full search (a shot's later searches: the budget's stages). A chain's first camera
-     that is not certain nor a refined guess, when searched for or about to be trusted, is also tried nearer and
-     further along its line of sight (:func:`~broadtrack_graph.reinit.near_miss.along_line_of_sight`) and moved
-     there when better by the margin.
-   * A shot whose camera is known (a re-initialisation mid-shot: the camera has not moved):
-     that camera's position, then its kind's stage (the main camera's: the default positions,
-     in case its position came from a provisional tripod); the first confident stage ends it.
+   * A shot whose camera is not known yet: the stages of :mod:`~broadtrack_graph.track.search_stages` (the known
+     cameras, the default positions, the other camera kinds; while unsure, the fallback stages fitted deep and
+     the near misses walked, :mod:`~broadtrack_graph.reinit.near_miss`), every one (a view of one camera can be
+     explained, less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known camera
+     is found at its own position confident by the margin. A chain's first camera that is not certain nor a
+     refined guess is also tried along its line of sight and moved there when better by the margin.
+   * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then its kind's
+     stage; the first confident stage ends it.
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is identified by where it
 stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known
-camera's id, or a new id when it is confident and stands where no known camera stands; provisional until its chain
-is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
+camera's id when the frame, refined with the focal point at that camera's position, is explained within the margin
+(a tripod; another stadium's camera at a similar place is not), else a new id when it is confident; provisional
+until its chain is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
 
 **One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
 held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
@@ -128,8 +124,8 @@ class ReinitPolicy:
         self.search_positions = None if search_positions is None else [tuple(p) for p in search_positions]
         share = min(max(config.search_time_share, 1e-3), 1.0)
         self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
+        self._frame = None  # (detections, curves, score) of the frame decided on
         self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
-        self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
         self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
         self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
                        "global": 0, "stages": 0, "deep_stages": 0, "walks": 0, "skipped_by_budget": 0}
@@ -148,7 +144,6 @@ class ReinitPolicy:
         self._shot_start_confidences = None
         self.budget.restart()
         self.tries.new_stretch()
-        self.guess_schedule.new_stretch()
         self.held_schedule.new_stretch()
 
     def confident(self, frame_index: int, camera: Camera) -> None:
@@ -158,7 +153,6 @@ class ReinitPolicy:
             self.registry.trust(self.chain.camera_id, frame_index, camera)
         self.budget.restart()
         self.tries.confident()
-        self.guess_schedule.confident()
         self.held_schedule.confident()
 
     def tripod(self, camera_id: str, T_w) -> None:
@@ -211,7 +205,9 @@ class ReinitPolicy:
         i = observations.frame_index
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         score = lambda camera: self.confidence(camera, observations, detections, curves, sampling)  # noqa: E731
-        guess, guess_id, guess_confidence = self._refined_guess(i, detections, curves, score)
+        self._frame = (detections, curves, score)  # the frame whose cameras are identified (_fits_known)
+        guess, guess_id, guess_confidence = self.tries.refined_guess(i, chain_id, detections, curves, score,
+                                                                     self.stages.mapped)
         if guess is not None and guess_confidence >= threshold:
             self.counts["guess_used"] += 1
             return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
@@ -244,6 +240,10 @@ class ReinitPolicy:
             if candidate is None or modelled_confidence > candidate.confidence:
                 # Its camera id is given only if it is taken (a new id is registered where it stands).
                 candidate = Candidate(modelled, None, modelled_confidence, False, modelled.hypothesis)
+        if new_camera and self.tries.court_may_agree(i):
+            # A court camera confident by the margin is confirmed (or not) by the next frames' before a search is paid.
+            return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
+                                  f"cameras to agree ({court_confidence:.2f} on this frame)")
         known = chain_id is not None and chain_id in self.registry.positions
         if with_map and not self.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
@@ -287,9 +287,24 @@ class ReinitPolicy:
         """A found camera's id: the shot's, or by where it stands (a new id is provisional until trusted)."""
         if self.chain.camera_id is not None:
             return self.chain.camera_id  # a shot's camera does not change
+        camera = result.camera
         if confidence >= self.config.confidence_threshold:
-            return self.registry.identify(result.camera.position_m, result.camera.R_cw[2])
-        return self.registry.nearest(result.camera.position_m, result.camera.R_cw[2])
+            return self.registry.identify(camera.position_m, camera.R_cw[2], fits=lambda camera_id: self._fits_known(
+                camera_id, camera, confidence))
+        return self.registry.nearest(camera.position_m, camera.R_cw[2])
+
+    def _fits_known(self, camera_id: str, camera: Camera, confidence: float) -> bool:
+        """Whether the frame's view, moved to the known camera's position and refined there, is still explained within
+        the margin of ``confidence`` (the frame's marking map: :attr:`_frame`)."""
+        detections, curves, score = self._frame
+        if getattr(detections, "marking_mask", None) is None:
+            return True  # labelled detections: where it stands decides
+        moved = camera.replace(position_m=self.registry.positions[camera_id])
+        refined = self.refine([(f"at the position of {camera_id}", moved)], detections, curves)
+        if refined.camera is None:
+            return False
+        fitted = refined.score.jaccard if refined.score is not None else score(refined.camera)
+        return fitted is not None and fitted >= confidence - self.config.reinit_switch_margin
 
     def _decision(self, result: ReinitResult, confidence: float, camera_id: str | None, continues_chain: bool,
                   searched: bool, reason: str, held: Camera | None, held_confidence: float | None,
@@ -313,30 +328,6 @@ class ReinitPolicy:
         return ReinitDecision(result.camera, confidence, camera_id, from_guess, searched, reason)
 
     # ----------------------------------------------------------------- guesses and the search
-
-    def _refined_guess(self, frame_index, detections, curves, score) -> tuple[ReinitResult | None, str | None, float]:
-        """The best refined guess (result, its camera id, its confidence), or (None, None, 0). The shot's own camera's
-        are tried on every frame, every known camera's (the shot's camera not known) on the guess schedule's."""
-        best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
-        every_camera = self.chain.camera_id is None
-        if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
-            return best
-        guesses = self.registry.guesses(frame_index, self.chain.camera_id, self.config.max_guess_age_frames)
-        calls = [([(label, camera)], detections) for _, label, camera in guesses]
-        refined_guesses = self.stages.mapped(self.refine, calls, curves)  # the next ones on the search's workers
-        for (camera_id, label, camera), refined in zip(guesses, refined_guesses):
-            if refined.camera is None:
-                continue
-            if every_camera and camera_id in self.registry.positions and not self.registry.stands_at(
-                    camera_id, refined.camera.position_m, refined.camera.R_cw[2]):
-                continue  # at a shot's start, a known camera's guess that moved elsewhere: another camera's view
-            # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
-            confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
-            if confidence is not None and (best[0] is None or confidence > best[2]):
-                best = (refined, camera_id, float(confidence))
-        if every_camera and guesses:
-            self.guess_schedule.tried(frame_index, best[2] >= self.config.confidence_threshold)
-        return best
 
     def _paid(self) -> int:
         """Stages paid so far (the budget's unit): a walk costs up to one, a stage fitted deep about DEEP_STAGE_COST."""

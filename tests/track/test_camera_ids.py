@@ -79,3 +79,17 @@ def test_the_guesses_are_each_id_s_last_trusted_camera_and_that_camera_at_its_tr
     assert camera is main and label == "last confident camera of main (frame 10)"
     assert moved_label.endswith("at its tripod") and np.allclose(moved.position_m, (0.0, 57.0, -13.0))
     assert moved.pan_rad == main.pan_rad and moved.focal_px == main.focal_px
+
+
+def test_a_camera_near_a_known_one_whose_view_its_tripod_does_not_explain_gets_a_new_id():
+    asked = []
+
+    def fits(camera_id):
+        asked.append(camera_id)
+        return False  # the frame, refined at the known tripod, is explained much worse: another stadium's camera
+
+    registry = CameraRegistry(known={"main": (0.0, 60.0, -18.0)})
+    assert registry.identify((0.5, 61.0, -18.5), fits=fits) == "main-1" and asked == ["main"]
+    registry = CameraRegistry(known={"main": (0.0, 60.0, -18.0)})
+    assert registry.identify((0.5, 61.0, -18.5), fits=lambda camera_id: camera_id == "main") == "main"
+    assert registry.identify((0.0, -60.0, -18.0), fits=fits) != "main" and asked == ["main"]  # nowhere near: not asked

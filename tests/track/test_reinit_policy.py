@@ -671,11 +671,32 @@ def test_an_unconfident_court_camera_is_dropped_and_the_search_decides():
 def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():
     config = TrackingConfig()
     fakes = Fakes({None: (MAIN, config.confidence_threshold - 0.02)})
-    policy, _ = _court_policy(fakes, CORNER, config.court_accept_confidence - 0.02)
+    unsure = config.confidence_threshold + config.reinit_switch_margin - 0.02  # not confident by the margin
+    policy, _ = _court_policy(fakes, CORNER, unsure)
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
     policy, _ = _court_policy(Fakes(), CORNER, 0.8, court_accept_confidence=0.85)
     assert _decide(policy, 0).camera is None
+
+
+def test_a_new_shots_search_waits_for_the_next_frames_court_cameras():
+    config = TrackingConfig()
+    between = config.confidence_threshold + config.reinit_switch_margin + 0.02  # confident by the margin only
+    fakes = Fakes({None: (MAIN, 0.62)})
+    policy, answers = _court_policy(fakes, CORNER, between, court_agreement_frames=3)
+    decision = _decide(policy, 0)
+    assert decision.camera is None and not decision.searched and "waiting" in decision.reason
+    assert fakes.searched == []
+    policy.tries.court = lambda detections, frame_size, curves: ReinitResult(None, None, "", "nothing")
+    assert _decide(policy, 1).camera is None and _decide(policy, 2).camera is None and fakes.searched == []
+    decision = _decide(policy, 3)  # the window is over: the search is paid
+    assert decision.searched and decision.camera is MAIN
+    # A chain whose camera is known (mid-shot) does not wait.
+    fakes = Fakes({None: (MAIN, 0.62)})
+    policy, _ = _court_policy(fakes, CORNER, between)
+    policy.chain.identify("main")
+    policy.registry.positions["main"] = MAIN.position_m
+    assert _decide(policy, 0, chain_trusted=True).searched
 
 
 def test_a_known_camera_standing_where_the_twin_stands_decides_the_twin():
@@ -705,3 +726,15 @@ def test_two_frames_whose_court_cameras_agree_place_the_camera_under_the_bar():
     _decide(policy, 0)
     _cut(policy)  # a cut between the two frames: no agreement across it
     assert _decide(policy, 1).camera is None
+
+
+@pytest.mark.parametrize("at_tripod, camera_id", [(0.3, "main-1"), (0.9, "main")])
+def test_a_new_shot_s_camera_takes_a_known_id_only_when_that_tripod_explains_the_frame(at_tripod, camera_id):
+    from broadtrack_graph.track.camera_ids import CameraRegistry
+
+    fakes = Fakes({None: (MAIN, 0.95)}, guess_confidence=at_tripod)  # the frame refined at the known tripod
+    registry = CameraRegistry(known={"main": MAIN.position_m + np.array([0.0, 2.0, 0.0])})
+    policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence, registry)
+    decision = _decide(policy, 0)
+    assert decision.camera is MAIN and decision.camera_id == camera_id
+    assert any("at the position of main" in label for label in fakes.refined)
