@@ -48,9 +48,10 @@ camera's id when the frame, refined with the focal point at that camera's positi
 (a tripod; another stadium's camera at a similar place is not), else a new id when it is confident; provisional
 until its chain is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
 
-**One margin**, ``reinit_switch_margin``: a camera that is not confident replaces another (the
-held camera of a trusted chain, a refined guess, or the best camera of an earlier, likelier
-search stage) only when it is that much more confident; a confident camera replaces an
+**One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
+replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
+in a blurred sweep is as often wrong as the held one); a camera that is not confident replaces a refined guess or
+the best camera of an earlier, likelier search stage only by the margin, a confident camera replaces an
 unconfident one (a later stage's camera must also be better by the margin); the chain of a
 new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
 All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
@@ -317,11 +318,10 @@ class ReinitPolicy:
     def _switch_or_keep(self, result: ReinitResult, confidence: float, camera_id: str | None, from_guess: bool,
                         searched: bool, reason: str, held: Camera | None,
                         held_confidence: float | None) -> ReinitDecision:
-        """The new camera, or None when the held camera stays (the one margin, module docstring; a trusted chain's
-        held camera is switched only for a confident one or by the margin)."""
+        """The new camera, or None when the held camera stays (the one margin, module docstring: a trusted chain's
+        held camera is switched only by the margin)."""
         if held is not None and held_confidence is not None:
-            by_margin = self.chain.trusted and confidence < self.config.confidence_threshold
-            needed = held_confidence + (self.config.reinit_switch_margin if by_margin else 0.0)
+            needed = held_confidence + (self.config.reinit_switch_margin if self.chain.trusted else 0.0)
             if not confidence > needed:
                 return ReinitDecision(None, None, None, False, searched,
                                       f"kept the held camera ({held_confidence:.2f}): {reason} scored {confidence:.2f}")

@@ -158,14 +158,16 @@ def test_a_shot_no_known_camera_explains_tries_their_guesses_on_its_first_frames
     assert fakes.refined[before:] == ["last confident camera of main (frame 50)"] * 5
 
 
-def test_the_held_camera_stays_unless_the_new_one_is_confident_or_better_by_the_margin():
+def test_a_trusted_chain_s_held_camera_stays_unless_the_new_one_is_better_by_the_margin():
     fakes = Fakes({None: (MAIN, 0.45)})
     held = MAIN.replace(pan_rad=0.3)
     kept = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=True)
     assert kept.camera is None and "kept the held camera" in kept.reason
     untrusted = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=False)
     assert untrusted.camera is MAIN  # a chain not trusted yet takes any better camera
-    fakes = Fakes({None: (MAIN, 0.55)})
+    fakes = Fakes({None: (MAIN, 0.55)})  # confident, but not the margin better than the held 0.48
+    assert _decide(_policy(fakes), 0, held=held, held_confidence=0.48, chain_trusted=True).camera is None
+    fakes = Fakes({None: (MAIN, 0.59)})
     assert _decide(_policy(fakes), 0, held=held, held_confidence=0.48, chain_trusted=True).camera is MAIN
 
 
