@@ -32,8 +32,8 @@ class TrackingConfig:
     # the field model and the global search; taken when its chain can be trusted from it (False: not tried)
     court_reinit: bool = True
     # ... its camera is taken (the field model and the search skipped) only from this confidence, and dropped under
-    # it: a camera from nothing that skips the search must be surer than the margin (on random placements the
-    # court model's wrong cameras scored 0.61-0.68, its right ones 0.67-1.00: docs/BENCHMARKS.md)
+    # it: a camera from nothing that skips the search must be surer than the margin (docs/BENCHMARKS.md, "Why the
+    # defaults")
     court_accept_confidence: float = 0.7
     # ... or from the margin when the court model's camera of a frame at most this many frames before, in the same
     # stretch, stood in the same place (two frames agreeing; 0: never)

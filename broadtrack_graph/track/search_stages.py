@@ -40,8 +40,8 @@ FALLBACK_STAGES: tuple[tuple[str, tuple], ...] = tuple(
 margin; fitted deep (:data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`)."""
 
 DEEP_STAGE_COST = 3
-"""A stage fitted deep costs about this many stages (the search budget pays it so): measured 0.62-0.91 s against
-0.18-0.40 s for the same stage fitted as usual, on a real 360p and a real 720p frame, four positions each."""
+"""A stage fitted deep costs about this many stages (the search budget pays it so; docs/BENCHMARKS.md, "Why the
+defaults")."""
 
 
 KNOWN_CAMERAS = "known cameras"
