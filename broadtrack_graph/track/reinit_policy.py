@@ -220,7 +220,11 @@ class ReinitPolicy:
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
         candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True,
                                                          "refined " + guess.reason)
-        court, court_confidence, court_agrees = self.tries.court_camera(observations, detections, curves, score)
+        # A trusted chain's held camera is re-examined by what knows its camera (the refined guess, the search at its
+        # position); the single-frame calibrators, which place a camera from nothing, are for a chain's start.
+        from_nothing = not (held is not None and self.chain.trusted)
+        court, court_confidence, court_agrees = self.tries.court_camera(
+            observations, detections, curves, score) if from_nothing else (None, 0.0, False)
         accept = max(self.config.court_accept_confidence, threshold + (margin if new_camera else 0.0))
         if court is not None and (court_confidence >= accept or court_agrees):
             # The primary route: a camera from the markings alone, taken when sure enough to skip the search (or
@@ -229,7 +233,8 @@ class ReinitPolicy:
             self.counts["court_used"] += 1
             return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
                                   False, court.hypothesis, held, held_confidence, new_camera)
-        modelled, modelled_confidence = self.tries.model_camera(i, image, detections, curves, score)
+        modelled, modelled_confidence = self.tries.model_camera(i, image if from_nothing else None, detections, curves,
+                                                                score)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
             # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").

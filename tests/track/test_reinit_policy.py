@@ -740,3 +740,16 @@ def test_a_new_shot_s_camera_takes_a_known_id_only_when_that_tripod_explains_the
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.camera_id == camera_id
     assert any("at the position of main" in label for label in fakes.refined)
+
+
+def test_a_trusted_chain_s_held_camera_is_not_tried_by_the_calibrators_from_nothing():
+    fakes = Fakes({None: (MAIN, 0.3)})
+    policy, calls = _court_policy(fakes, CORNER, 0.95)
+    policy.chain.identify("main")
+    policy.registry.positions["main"] = MAIN.position_m
+    held = MAIN.replace(pan_rad=0.3)
+    decision = _decide(policy, 0, held=held, held_confidence=0.45, chain_trusted=True)
+    assert calls == [] and policy.counts["court_tried"] == 0 and decision.camera is None
+    # Lost (no held camera), the court model is tried again.
+    decision = _decide(policy, 1)
+    assert calls == [(W, H)] and decision.camera is CORNER
