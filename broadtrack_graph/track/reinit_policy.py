@@ -7,7 +7,8 @@ confidence, the camera id it belongs to, and why. The current camera id and whet
 trusted are the run's :class:`~broadtrack_graph.track.chain.Chain`'s: the policy reads them there
 and keeps no copy. No I/O.
 
-What is tried, cheapest first:
+What is tried, cheapest first (for a trusted chain's held camera, the guesses and the search only: the court and
+field models place a camera from nothing, for a chain's start or a lost chain):
 
 1. **Guesses**: the last confident camera of the current camera id (and the same camera
    moved to that camera's known position) or, when the camera id is not known yet (a new
