@@ -57,7 +57,9 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 class CourtConfig:
     """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
 
-    lines: CourtLineConfig = CourtLineConfig()  # the hypotheses of the straight markings (and their gates)
+    # the hypotheses of the straight markings (and their gates); 8 second directions to each first: a banner's or a
+    # board's two edges meet in a point that outvotes the pitch's own second direction
+    lines: CourtLineConfig = CourtLineConfig(second_candidates=8)
     # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
     circle: CourtCircleConfig = CourtCircleConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
