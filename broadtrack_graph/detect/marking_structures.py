@@ -22,6 +22,12 @@ class MarkingStructureConfig:
     line_work_width_px: int = 960  # the map is reduced to at most this width to find lines and ellipses
     # Straight markings (marking_lines).
     max_lines: int = 12  # at most this many straight markings, strongest first
+    # Lines taken from the map before a hatch's are dropped (0: max_lines, no hatch dropped): a goal net's strands or
+    # a board's pattern, many lines side by side, would otherwise crowd the pitch lines out of the max_lines kept.
+    candidate_lines: int = 0
+    hatch_min_lines: int = 4  # this many parallel lines side by side are a hatch, not markings ...
+    hatch_angle_deg: float = 4.0  # ... (within this angle of each other ...
+    hatch_spacing_per_width: float = 0.03  # ... their centres within this share of the width across)
     line_min_support_px: float = 30.0  # a straight marking has at least this many map pixels
     line_band_px: float = 1.5  # map pixels this close to a line belong to it
     line_max_gap_px: float = 6.0  # a line's pixels split into runs at gaps longer than this ...
@@ -40,6 +46,10 @@ class MarkingStructureConfig:
     ellipse_min_inside: float = 0.6  # share of its outline inside the image; fewer: an arc at the border (its axes
     #                                  are poorly determined: asked for separately, see marking_ellipses)
     ellipse_max_tilt_deg: float = 30.0  # major axis within this of the image horizontal (roll about 0)
+    # The pieces are cut where the straight markings with at least this many map pixels cross them (0: not cut): an
+    # arc meeting its line (a penalty arc and its 16.5 m line) would otherwise be one piece with it, and no ellipse fits
+    ellipse_cut_line_px: float = 0.0
+    ellipse_cut_band_px: float = 2.0  # ... map pixels this close to such a line are cut off
 
 
 @dataclass(frozen=True)
@@ -80,6 +90,9 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
         marking_mask: (h, w) bool map (any size of the frame's aspect ratio).
         frame_width_px: the frame width the lines are returned in.
 
+    With ``candidate_lines`` above ``max_lines``, that many lines are taken, the lines of a hatch
+    (:func:`hatched`) dropped, and the ``max_lines`` best supported of the others returned.
+
     Returns:
         Up to ``max_lines`` lines, strongest first.
     """
@@ -111,7 +124,8 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
     band = config.line_band_px * unit
     scale = frame_width_px / w
     lines: list[ImageLine] = []
-    for _ in range(3 * config.max_lines):
+    pool = max(config.max_lines, config.candidate_lines)
+    for _ in range(3 * pool):
         k = int(np.argmax(acc))
         if acc[k] < min_support:
             break
@@ -141,9 +155,34 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
         centre_px = (centre + [w / 2.0, h / 2.0]) * scale
         lines.append(ImageLine(normal, float(-normal @ centre_px), centre_px, direction,
                                (float(lo * scale), float(hi * scale)), float(support * scale)))
-        if len(lines) >= config.max_lines:
+        if len(lines) >= pool:
             break
+    if pool > config.max_lines and lines:
+        crowded = hatched(lines, frame_width_px, config.hatch_min_lines, config.hatch_angle_deg,
+                          config.hatch_spacing_per_width)
+        kept = [line for line, out in zip(lines, crowded) if not out]
+        lines = sorted(kept, key=lambda line: -line.support_px)[:config.max_lines]
     return lines
+
+
+def hatched(lines: list[ImageLine], width_px: float, min_lines: int, angle_deg: float,
+            spacing_per_width: float) -> np.ndarray:
+    """(L,) bool: the lines of a hatch, with at least ``min_lines - 1`` others within ``angle_deg`` of their direction
+    whose centres lie side by side within ``spacing_per_width`` of the width (a goal net, a striped kit, a board's
+    pattern), unless twice as long as the hatch's typical line (a marking beside a net, the goal line under it). The
+    pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
+    directions = np.array([line.direction for line in lines])
+    centres = np.array([line.centre_px for line in lines])
+    halves = np.array([0.5 * (line.extent_px[1] - line.extent_px[0]) for line in lines])
+    parallel = np.abs(directions @ directions.T) > math.cos(math.radians(angle_deg))
+    offset = centres[None, :, :] - centres[:, None, :]
+    across = np.abs(offset[..., 0] * directions[:, None, 1] - offset[..., 1] * directions[:, None, 0])
+    along = np.abs(np.einsum("jki,ji->jk", offset, directions))
+    side_by_side = parallel & (across < spacing_per_width * width_px) & (along < halves[:, None] + halves[None, :])
+    support = np.array([line.support_px for line in lines])
+    typical = np.array([np.median(support[row]) for row in side_by_side])
+    # A long marking beside a net (the goal line under it) stands out of the hatch by its length.
+    return (side_by_side.sum(axis=1) >= min_lines) & (support < 2.0 * typical)  # itself included
 
 
 @dataclass(frozen=True)
@@ -166,7 +205,7 @@ class ImageEllipse:
 
 
 def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig(),
-                     at_border: bool = False) -> list[ImageEllipse]:
+                     at_border: bool = False, lines: list[ImageLine] = ()) -> list[ImageEllipse]:
     """Ellipses through pieces of the marking map: the image of a pitch circle (centre circle, penalty arcs).
 
     Connected pieces of the map are fitted in pairs (and the long ones alone) with an ellipse;
@@ -174,12 +213,22 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     of its outline in the image, and many map pixels lie on it; the best ``max_ellipses``
     distinct ones are returned, most supported first. By default only ellipses mostly inside
     the image (``ellipse_min_inside``); with ``at_border`` only the others (arcs at the image
-    border: a tight zoom's centre circle, or a penalty arc, whose fitted axes are less sure).
+    border: a tight zoom's centre circle, or a penalty arc, whose fitted axes are less sure). The pieces are
+    cut along the long straight markings of ``lines`` (frame pixels; ``ellipse_cut_line_px``); the support is
+    counted on the whole map.
     """
     marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
     h, w = marking_mask.shape
     unit = w / 960.0
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(marking_mask.astype(np.uint8), connectivity=8)
+    pieces_map = marking_mask.astype(np.uint8)
+    if config.ellipse_cut_line_px > 0:
+        to_work = w / frame_width_px
+        thickness = max(1, int(round(2 * config.ellipse_cut_band_px * unit)) + 1)
+        for line in lines:
+            if line.support_px * to_work >= config.ellipse_cut_line_px * unit:
+                ends = [np.rint((line.centre_px + e * line.direction) * to_work).astype(int) for e in line.extent_px]
+                cv2.line(pieces_map, tuple(int(v) for v in ends[0]), tuple(int(v) for v in ends[1]), 0, thickness)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(pieces_map, connectivity=8)
     areas = stats[1:, cv2.CC_STAT_AREA]
     pieces = [1 + k for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= config.ellipse_min_piece_px * unit]
     if not pieces:
@@ -190,6 +239,9 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     for label in pieces:
         own = pixels[labels[ys, xs] == label]
         piece_pixels[label] = own[np.linspace(0, len(own) - 1, min(len(own), 40)).astype(int)]
+    if config.ellipse_cut_line_px > 0:  # the support is counted on the whole map, the cut pixels too
+        ys, xs = np.nonzero(marking_mask)
+        pixels = np.column_stack([xs, ys]).astype(np.float32)
     every = max(1, len(pixels) // config.ellipse_check_pixels)
     pixels = pixels[::every]  # support is counted on at most about ellipse_check_pixels map pixels
     trials = [(a,) for a in pieces if areas[a - 1] >= 60 * unit] + list(itertools.combinations(pieces, 2))

@@ -57,15 +57,20 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 class CourtConfig:
     """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
 
-    lines: CourtLineConfig = CourtLineConfig()  # the hypotheses of the straight markings (and their gates)
+    # the hypotheses of the straight markings (and their gates); 8 second directions to each first: a banner's or a
+    # board's two edges meet in a point that outvotes the pitch's own second direction
+    lines: CourtLineConfig = CourtLineConfig(second_candidates=8)
     # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
     circle: CourtCircleConfig = CourtCircleConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
     # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of
     # sight, so the fit holds it loosely.
-    search: MaskSearchConfig = MaskSearchConfig(structures=MarkingStructureConfig(max_lines=24), position_sigma_m=25.0,
-                                                max_fit_points=250)
+    # A goal net's strands are dropped from 48 lines before the 24 best supported are kept, and the map's pieces are
+    # cut along the long straight markings before ellipses are fitted to them (an arc meets its line).
+    search: MaskSearchConfig = MaskSearchConfig(
+        structures=MarkingStructureConfig(max_lines=24, candidate_lines=48, ellipse_cut_line_px=160.0),
+        position_sigma_m=25.0, max_fit_points=250)
     min_marking_points: int = 10  # fewer marking points: no camera, said at once
     max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
     refine_top_k: int = 3  # the best distinct hypotheses fitted

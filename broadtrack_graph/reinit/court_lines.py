@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageLine
+from broadtrack_graph.detect.marking_structures import ImageLine, hatched
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.state import angles_from_rotations
 
@@ -156,22 +156,9 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
 
 
 def _hatched(lines: list[ImageLine], width_px: int, config: CourtLineConfig) -> np.ndarray:
-    """(L,) the lines of a hatch: with at least ``hatch_min_lines - 1`` others of about the same direction whose
-    centres lie side by side within ``hatch_spacing_per_width`` of the width (a goal net, a striped kit, a board's
-    pattern), unless twice as long as the hatch's typical line (a marking beside a net, the goal line under it). The
-    pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
-    directions = np.array([line.direction for line in lines])
-    centres = np.array([line.centre_px for line in lines])
-    halves = np.array([0.5 * (line.extent_px[1] - line.extent_px[0]) for line in lines])
-    parallel = np.abs(directions @ directions.T) > math.cos(math.radians(config.hatch_angle_deg))
-    offset = centres[None, :, :] - centres[:, None, :]
-    across = np.abs(offset[..., 0] * directions[:, None, 1] - offset[..., 1] * directions[:, None, 0])
-    along = np.abs(np.einsum("jki,ji->jk", offset, directions))
-    side_by_side = parallel & (across < config.hatch_spacing_per_width * width_px) & (along < halves[:, None] + halves[None, :])
-    support = np.array([line.support_px for line in lines])
-    typical = np.array([np.median(support[row]) for row in side_by_side])
-    # A long marking beside a net (the goal line under it) stands out of the hatch by its length.
-    return (side_by_side.sum(axis=1) >= config.hatch_min_lines) & (support < 2.0 * typical)  # itself included
+    """(L,) the lines of a hatch (:func:`~broadtrack_graph.detect.marking_structures.hatched` with this config's
+    ``hatch_*`` settings)."""
+    return hatched(lines, width_px, config.hatch_min_lines, config.hatch_angle_deg, config.hatch_spacing_per_width)
 
 
 def _distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:

@@ -206,12 +206,13 @@ class MapStructures:
 
     def ellipses(self) -> list:
         if self._ellipses is None:
-            self._ellipses = marking_ellipses(self._mask, self._W, self._config.structures)
+            self._ellipses = marking_ellipses(self._mask, self._W, self._config.structures, lines=self.lines)
         return self._ellipses
 
     def border_ellipses(self) -> list:
         if self._border is None:
-            self._border = marking_ellipses(self._mask, self._W, self._config.structures, at_border=True)
+            self._border = marking_ellipses(self._mask, self._W, self._config.structures, at_border=True,
+                                            lines=self.lines)
         return self._border
 
 
