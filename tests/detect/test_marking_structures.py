@@ -83,3 +83,45 @@ def test_an_arc_at_the_image_border_is_not_returned_as_an_ellipse():
     # Asked for separately (the re-initialisation does when nothing else fits), the border arc is found.
     border = marking_ellipses(mask.astype(bool), 960, at_border=True)
     assert len(border) == 1 and np.linalg.norm(border[0].centre_px - (1100, 300)) < 15
+
+
+def test_a_hatch_does_not_crowd_the_markings_out_of_the_lines_kept():
+    """A goal net's strands (12 parallel lines 12 px apart, 400 px long) and two shorter markings; 4 lines kept: with
+    candidate_lines the strands are dropped (the two at the hatch's edges, with fewer neighbours, may stay) and both
+    markings kept, without it the strands take the places."""
+    from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+
+    mask = np.zeros((540, 960), np.uint8)
+    for k in range(12):
+        cv2.line(mask, (300, 200 + 12 * k), (700, 206 + 12 * k), 1, 1)
+    markings = [((20, 40), (260, 60)), ((60, 520), (260, 420))]
+    for a, b in markings:
+        cv2.line(mask, a, b, 1, 1)
+    config = MarkingStructureConfig(max_lines=4)
+
+    def kept(lines):
+        return [any(abs(line.normal @ np.array(a, float) + line.offset_px) < 2.0
+                    and abs(line.normal @ np.array(b, float) + line.offset_px) < 2.0 for line in lines)
+                for a, b in markings]
+
+    assert all(kept(marking_lines(mask > 0, 960, MarkingStructureConfig(max_lines=4, candidate_lines=24))))
+    assert len(marking_lines(mask > 0, 960, MarkingStructureConfig(max_lines=4, candidate_lines=24))) <= 4
+    assert not all(kept(marking_lines(mask > 0, 960, config)))
+
+
+def test_an_arc_meeting_its_line_is_found_once_the_pieces_are_cut_along_the_line():
+    """A penalty arc's image (half an ellipse) whose ends touch a long straight marking: one piece with it, no ellipse;
+    cut along the line (ellipse_cut_line_px), the arc's ellipse."""
+    from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+
+    mask = np.zeros((540, 960), np.uint8)
+    centre, axes = (480, 300), (260, 110)
+    cv2.ellipse(mask, centre, axes, 0.0, 180.0, 360.0, 1, 1)  # the upper half, ends on y = 300
+    cv2.line(mask, (20, 300), (940, 300), 1, 1)
+    lines = marking_lines(mask > 0, 960)
+    assert not marking_ellipses(mask > 0, 960, MarkingStructureConfig(ellipse_min_coverage=0.3), lines=lines)
+    cut = MarkingStructureConfig(ellipse_min_coverage=0.3, ellipse_cut_line_px=160.0)
+    found = marking_ellipses(mask > 0, 960, cut, lines=lines)
+    assert found
+    np.testing.assert_allclose(found[0].centre_px, centre, atol=4.0)
+    np.testing.assert_allclose(found[0].semi_axes_px, axes, atol=6.0)
