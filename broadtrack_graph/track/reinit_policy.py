@@ -234,8 +234,8 @@ class ReinitPolicy:
             self.counts["court_used"] += 1
             return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
                                   False, court.hypothesis, held, held_confidence, new_camera)
-        modelled, modelled_confidence = self.tries.model_camera(i, image if from_nothing else None, detections, curves,
-                                                                score)
+        modelled, modelled_confidence = self.tries.model_camera(
+            i, image, detections, curves, score) if from_nothing else (None, 0.0)
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
             # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").
