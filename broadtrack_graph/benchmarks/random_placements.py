@@ -6,7 +6,7 @@ of the centre spot, 5-60 m up, looking at a random point of the pitch, 8-70 deg 
 a broadcast lens's k1; a view with under a quarter of the image on the pitch is redrawn), and each frame is
 rendered with players under a look drawn from ``--looks`` (:mod:`broadtrack_graph.synth.named_looks`:
 clean, lower-league, graphics, shadows, blur). A frame **counts** when its visible markings determine a
-camera (:mod:`broadtrack_graph.benchmarks.determinable`: two lines of each of the pitch's directions over
+camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of each of the pitch's directions over
 60 px each, or a circle or arc 40 % visible and one line); frames that do not count are reported apart.
 
 Each route (``--routes``) is asked for the frame's camera on one core (``search_workers=0``, OpenCV on one
@@ -126,7 +126,7 @@ def run(args) -> dict:
     import cv2
     from tqdm import tqdm
 
-    from broadtrack_graph.benchmarks.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
+    from broadtrack_graph.geometry.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -196,11 +196,13 @@ def run(args) -> dict:
                 result_row = {"outcome": outcome(confidence, error, written_at_by_route[route], args.success_px),
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason}
-                if result_row["outcome"] == "wrong":
+                if camera is not None and error is not None and error > args.success_px:
                     from broadtrack_graph.reinit.court import twin_camera  # only here: the route may be skipped
 
                     twin_error = _median_error(camera, twin_camera(truth), ground)
-                    result_row["twin"] = twin_error is not None and twin_error <= args.success_px
+                    result_row["twin_error_px"] = _round(twin_error, 2)  # written or not
+                    if result_row["outcome"] == "wrong":
+                        result_row["twin"] = twin_error is not None and twin_error <= args.success_px
                 row["routes"][route] = result_row
             rows.append(row)
     finally:

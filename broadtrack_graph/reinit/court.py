@@ -8,7 +8,9 @@ principal point at the image centre and gated on plausibility). All hypotheses a
 on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
 found in the map and the map explained by the template); the best distinct few are fitted with the
 label-and-fit rounds (:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point
-free) and the best fit is returned with its confidence.
+free) and the best fit is returned with its confidence, when the markings it explains fix it
+(:func:`~broadtrack_graph.geometry.determinable.fixes_camera`: as many constraints as the camera has unknowns,
+counted on the map); a camera that only lays one line on the one marking in view is not returned.
 
 The twin: the markings are unchanged by a half turn about the centre spot, so every hypothesis has
 a twin that explains the map as well (the same view from the other end). The rule that decides
@@ -28,6 +30,7 @@ import numpy as np
 
 from broadtrack_graph.detect.marking_structures import MarkingStructureConfig, outline_in_image
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
@@ -146,6 +149,10 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         if best[0] >= search.accept_fit_score:
             break  # a fit this good is not beaten by a worse-scoring hypothesis
     camera = _main_side(best[1], config.twin_tie_m)
+    fixed = determinability(camera, pitch, explained_by=marking_mask)
+    if not fixes_camera(fixed):
+        return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "
+                                            f"{fixed.y_lines} lines, {len(fixed.curves)} circles)", tried=len(hypotheses))
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
     position = tuple(round(float(v)) for v in camera.position_m)
     return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0),

@@ -81,3 +81,20 @@ def test_a_frame_full_of_lines_is_bounded_in_time():
     started = time.perf_counter()
     reinit_from_court(mask > 0, points, (W, H), PITCH, CURVES)
     assert time.perf_counter() - started < 10.0  # a loose bound: the hypotheses are capped, not the clock
+
+
+def test_a_frame_whose_markings_do_not_fix_a_camera_gets_none_and_says_so():
+    """Frame 4 of ``bench placements --random --seed 3``: a close view of one straight marking. A camera laying that
+    line on any pitch line explains it (0.91 confident before this check, 900 px off); none is returned."""
+    from broadtrack_graph.benchmarks.random_placements import draw_frame
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.determinable import determinability
+    from broadtrack_graph.synth.named_looks import LOOK_NAMES
+
+    frame = draw_frame(3, 4, 1280, 720, list(LOOK_NAMES))
+    seen = determinability(frame["drawn"].camera, PITCH)
+    assert not seen.determinable and seen.x_lines + seen.y_lines == 1
+    det = WeightFreeDetector(PITCH).detect(frame["image"])
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert result.camera is None
+    assert "do not fix it" in result.reason

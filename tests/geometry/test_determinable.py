@@ -1,14 +1,16 @@
-"""``bench placements --random``: which frames' markings determine a camera (two lines of each direction, or a
-circle and a line)."""
+"""Which frames' markings determine a camera (two lines of each direction, or a circle and a line), and whether the
+markings a camera explains on a map fix it."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
+import pytest
 
-from broadtrack_graph.benchmarks.determinable import MIN_LINE_PX, determinability
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.determinable import MIN_LINE_PX, Determinability, determinability, fixes_camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.synth.field_cameras import aim_angles
 
 
@@ -63,3 +65,42 @@ def test_the_rule_reads_pixels_at_the_frame_size():
     small = determinability(camera((0.0, 68.0, -22.0), (0.0, 0.0, 0.0), 22.0, 320, 180))
     assert np.isclose(small.visible_px["Middle line"], full.visible_px["Middle line"] / 4, rtol=0.02)
     assert small.curve_shares == full.curve_shares
+
+
+def _marking_map(cam: Camera, names) -> np.ndarray:
+    """A detected marking map at the camera's size showing only the named markings (their projected samples)."""
+    import cv2
+
+    marks = np.zeros((cam.height_px, cam.width_px), np.uint8)
+    for name, points in PitchTemplate().sample_uniform(0.05, list(names)).items():
+        uv, front = cam.project(points)
+        uv = uv[front & cam.in_image(uv)]
+        cells = np.clip(np.round(uv).astype(int), 0, [cam.width_px - 1, cam.height_px - 1])
+        marks[cells[:, 1], cells[:, 0]] = 1
+    return cv2.dilate(marks, np.ones((2, 2), np.uint8)) > 0
+
+
+def test_only_the_markings_on_the_map_count_when_a_map_is_given():
+    wide = camera((0.0, 68.0, -22.0), (0.0, 0.0, 0.0), 50.0)
+    everything = determinability(wide, explained_by=_marking_map(wide, PitchTemplate().elements))
+    alone = determinability(wide)
+    assert (everything.x_lines, everything.y_lines) == (alone.x_lines, alone.y_lines)
+    assert fixes_camera(everything)
+    one_line = determinability(wide, explained_by=_marking_map(wide, ["Side line top"]))
+    assert (one_line.x_lines, one_line.y_lines) == (1, 0) and not one_line.determinable
+    assert not fixes_camera(one_line)
+
+
+@pytest.mark.parametrize("x_lines, y_lines, shares, fixed", [
+    (2, 2, {}, True),  # two of each direction: a homography
+    (2, 1, {}, False),  # one unknown left
+    (3, 1, {}, True),  # three and one: seven constraints with the principal point known
+    (4, 0, {}, False),  # one direction only: the camera slides along it
+    (2, 1, {"Circle central": 0.27}, True),  # an arc adds its place, size and bend
+    (1, 0, {"Circle central": 0.27}, False),
+    (1, 0, {"Circle central": 0.5}, True),  # a circle and a line
+    (0, 0, {"Circle central": 1.0}, False),  # a whole circle alone: its roll about the centre is free
+])
+def test_a_camera_is_fixed_by_as_many_constraints_as_it_has_unknowns(x_lines, y_lines, shares, fixed):
+    seen = Determinability(False, x_lines, y_lines, (), curve_shares=shares)
+    assert fixes_camera(seen) is fixed

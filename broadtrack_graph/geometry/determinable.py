@@ -1,8 +1,8 @@
-"""Does a frame's visible markings determine its camera? The rule of ``bench placements --random``.
+"""Do a frame's markings determine its camera? The rule of ``bench placements --random`` and of the court model.
 
 A camera is fixed by the ground-plane homography, which four line correspondences fix: two lines of each of
-the pitch's two directions, or a conic (a circle's image) and a line (DESIGN.md, "A camera from one frame").
-So a frame **counts** (is determinable) when, from its true camera and the pitch template:
+the pitch's two directions, or a conic (a circle's image) and a line. So a frame **counts** (is determinable)
+when, from its true camera and the pitch template:
 
 * at least two distinct straight ground markings parallel to the touchlines (the x direction: the
   touchlines and the long sides of the boxes) **and** at least two parallel to the goal lines (the y
@@ -15,7 +15,12 @@ So a frame **counts** (is determinable) when, from its true camera and the pitch
 (``y = 20.16``), which counts once. Only geometry decides: players and broadcast graphics hiding a marking
 do not change the rule. The markings are sampled every :data:`STEP_M` metres, projected in one call with
 the full distortion; a visible length is the sum of the image steps between consecutive samples that are
-both visible. No I/O here.
+both visible.
+
+Given a detected marking map (``explained_by``), only the samples on a detected marking count. Whether the
+markings a camera explains fix it (:func:`fixes_camera`) counts their constraints against the camera's
+unknowns: a camera laying one line on the only marking in view is not fixed by it, however well it explains
+that line. No I/O here.
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import lru_cache
 
+import cv2
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
@@ -33,6 +39,17 @@ MIN_LINE_PX = 60.0
 
 MIN_CURVE_SHARE = 0.4
 """Least visible share of a circle's or an arc's length that counts."""
+
+MIN_ARC_SHARE = 0.15
+"""Least share of a circle's length that constrains a camera as an arc (:func:`fixes_camera`)."""
+
+CAMERA_UNKNOWNS = 7
+"""Unknowns of a camera with its principal point at the image centre, lens distortion aside: f, three angles, the
+focal point."""
+
+EXPLAINED_PX = 2.5
+"""A sample within this of a detected marking pixel is on it (pixels at 960 px wide, the detector's and the
+confidence's working width)."""
 
 STEP_M = 0.25
 """Spacing of the marking samples, metres."""
@@ -88,11 +105,19 @@ def _samples(dimensions: PitchDimensions) -> _Samples:
     return _Samples(np.vstack([samples[n] for n in names]), index, names, np.array(family), np.array(offset))
 
 
-def determinability(camera: Camera, pitch: PitchTemplate | None = None) -> Determinability:
-    """The rule of the module docstring for a true camera (any size: its own image is meant)."""
+def determinability(camera: Camera, pitch: PitchTemplate | None = None,
+                     explained_by: np.ndarray | None = None) -> Determinability:
+    """The rule of the module docstring for a camera (any size: its own image is meant).
+
+    Args:
+        explained_by: optional (h, w) bool detected marking map of the camera's image (any size of its aspect
+            ratio): only the samples within :data:`EXPLAINED_PX` of a marking pixel count.
+    """
     s = _samples((pitch or PitchTemplate()).dimensions)
     uv, front = camera.project(s.points_w)
     visible = front & camera.in_image(uv)
+    if explained_by is not None:
+        visible &= _on_map(uv, visible, explained_by, camera.width_px)
     same_class = s.class_index[1:] == s.class_index[:-1]
     pair_seen = same_class & visible[1:] & visible[:-1]
     step_px = np.linalg.norm(np.where(pair_seen[:, None], uv[1:] - uv[:-1], 0.0), axis=1)
@@ -109,3 +134,31 @@ def determinability(camera: Camera, pitch: PitchTemplate | None = None) -> Deter
         determinable, x_lines, y_lines, curves,
         visible_px={n: round(float(v), 1) for n, v in zip(s.names, length_px)},
         curve_shares={n: round(float(v), 3) for n, f, v in zip(s.names, s.family, share) if f == 2})
+
+
+def _on_map(uv_px: np.ndarray, visible: np.ndarray, marking_map: np.ndarray, width_px: int) -> np.ndarray:
+    """(N,) whether each visible point (frame pixels) lies within EXPLAINED_PX of a pixel of the map."""
+    h, w = marking_map.shape
+    scale = w / float(width_px)
+    reach = max(1, int(np.ceil(EXPLAINED_PX * w / 960.0)))
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1, 2 * reach + 1))
+    near = cv2.dilate(marking_map.astype(np.uint8), kernel) > 0
+    cells = np.round(np.where(visible[:, None], uv_px, 0.0) * scale).astype(int)
+    cols, rows = np.clip(cells[:, 0], 0, w - 1), np.clip(cells[:, 1], 0, h - 1)
+    return visible & near[rows, cols]
+
+
+def fixes_camera(seen: Determinability) -> bool:
+    """Whether the markings counted in ``seen`` give a camera's unknowns as many constraints: 2 for each distinct
+    straight marking, 5 for a circle shown over MIN_CURVE_SHARE of its length (an ellipse), 3 for an arc over
+    MIN_ARC_SHARE (its place, size and bend), at least CAMERA_UNKNOWNS in all, with lines of both directions or a
+    circle among them (parallel lines alone leave the camera free to slide along them).
+
+    Two lines of each direction, or a circle and a line, as the rule of the module docstring; three lines of one
+    direction and one of the other also fix it; two and one do not (one unknown is left).
+    """
+    constraints = 2 * (seen.x_lines + seen.y_lines)
+    shares = list(seen.curve_shares.values())
+    constraints += sum(5 if share >= MIN_CURVE_SHARE else 3 if share >= MIN_ARC_SHARE else 0 for share in shares)
+    crossing = (seen.x_lines >= 1 and seen.y_lines >= 1) or any(share >= MIN_ARC_SHARE for share in shares)
+    return constraints >= CAMERA_UNKNOWNS and crossing
