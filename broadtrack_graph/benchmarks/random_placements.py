@@ -25,8 +25,10 @@ within ``--success-px`` (median) of the truth's; **wrong-written** = written and
 (``twin``: of those, the truth's half turn about the centre spot, the view the markings cannot tell
 apart); **near-written** = written, between the two; **none** = not written. Shares are of the counted
 frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by height
-(low: under 12 m); seconds per frame as median and 95th percentile. ``truth_written`` counts the frames
-whose true camera is itself confident enough to be written (no route can write more). Frame i of a seed
+(low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames
+whose detected markings, read on the true camera's projection, still determine it (the same rule on the marking
+map: what detection leaves a route); ``truth_written`` the frames whose true camera is itself confident enough
+to be written (no route can write more). Frame i of a seed
 is the same in every run (``--first K`` starts at frame K).
 """
 
@@ -171,11 +173,13 @@ def run(args) -> dict:
                 return frame_confidence(camera, FrameObservations(0, W, H), detections, curves, sampling)
 
             truth_confidence = confidence_of(truth)
+            found_markings = determinability(truth, pitch, explained_by=detections.marking_mask)
             row = {"frame": index, "camera": _camera_info(drawn), "look": frame["look_name"], "class": drawn.stand,
                    "height_m": round(drawn.height_m, 1), "low": drawn.low, "determinable": seen.determinable,
                    "markings": {"x_lines": seen.x_lines, "y_lines": seen.y_lines, "curves": list(seen.curves)},
                    "truth_confidence": _round(truth_confidence, 3),
                    "truth_written": (truth_confidence or 0.0) >= written_at,
+                   "markings_detected": found_markings.determinable,
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             for route in routes:
                 if route == "search":
@@ -242,6 +246,7 @@ def route_figures(rows: list[dict], route: str) -> dict:
     out["wrong_twin"] = sum(bool(r.get("twin")) for r in results)
     out["wrong_twin_pct"] = round(100.0 * out["wrong_twin"] / n, 1) if n else None
     out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
+    out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
     out["seconds"] = _seconds([r["seconds"] for r in results])
     return out
 
@@ -272,7 +277,7 @@ def summary_table(report: dict) -> str:
     lines = [f"{report['frames']} frames, {report['determinable']} determinable ({report['not_determinable']} apart); "
              f"render {report['render_s']['median']} s, detect {report['detect_s']['median']} s median"]
     lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'twin%':>6} {'near%':>6} "
-                 f"{'none%':>6} {'s med':>6} {'s p95':>6} {'truth ok':>8}")
+                 f"{'none%':>6} {'s med':>6} {'s p95':>6} {'marks ok':>8} {'truth ok':>8}")
     for route, figures in report["by_route"].items():
         groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
                   "not determinable": figures["not_determinable"]}
@@ -281,7 +286,8 @@ def summary_table(report: dict) -> str:
                    for o in ("found", "wrong", "wrong_twin", "near", "none")]
             seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
             lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
-                         f"{pct[4]:>6} {seconds[0]:>6} {seconds[1]:>6} {f['truth_written']:>8}")
+                         f"{pct[4]:>6} {seconds[0]:>6} {seconds[1]:>6} {f['markings_detected']:>8} "
+                         f"{f['truth_written']:>8}")
     for note in report["skipped_routes"].values():
         lines.append(note)
     return "\n".join(lines)

@@ -71,6 +71,11 @@ def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path,
         court = row["routes"]["court"]
         assert court["error_px"] == 0.0 and court["confidence"] == row["truth_confidence"]
         assert court["outcome"] == ("found" if row["truth_written"] else "none")
+        # what detection leaves a route: never more than the frame's markings determine
+        assert isinstance(row["markings_detected"], bool) and (row["determinable"] or not row["markings_detected"])
+    figures = report["by_route"]["court"]["determinable"]
+    assert figures["markings_detected"] == sum(r["markings_detected"] for r in report["frames_by_index"]
+                                               if r["determinable"])
 
 
 def test_a_court_route_that_cannot_be_imported_is_skipped_with_a_note(tmp_path, monkeypatch, capsys):
