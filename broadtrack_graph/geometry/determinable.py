@@ -117,7 +117,7 @@ def determinability(camera: Camera, pitch: PitchTemplate | None = None,
     uv, front = camera.project(s.points_w)
     visible = front & camera.in_image(uv)
     if explained_by is not None:
-        visible &= _on_map(uv, visible, explained_by, camera.width_px)
+        visible &= _on_map(uv, explained_by, camera.width_px)
     same_class = s.class_index[1:] == s.class_index[:-1]
     pair_seen = same_class & visible[1:] & visible[:-1]
     step_px = np.linalg.norm(np.where(pair_seen[:, None], uv[1:] - uv[:-1], 0.0), axis=1)
@@ -136,16 +136,18 @@ def determinability(camera: Camera, pitch: PitchTemplate | None = None,
         curve_shares={n: round(float(v), 3) for n, f, v in zip(s.names, s.family, share) if f == 2})
 
 
-def _on_map(uv_px: np.ndarray, visible: np.ndarray, marking_map: np.ndarray, width_px: int) -> np.ndarray:
-    """(N,) whether each visible point (frame pixels) lies within EXPLAINED_PX of a pixel of the map."""
+def _on_map(uv_px: np.ndarray, marking_map: np.ndarray, width_px: int) -> np.ndarray:
+    """(N,) whether each point (frame pixels; non-finite or outside: False) lies within EXPLAINED_PX of a pixel of
+    the map."""
     h, w = marking_map.shape
     scale = w / float(width_px)
     reach = max(1, int(np.ceil(EXPLAINED_PX * w / 960.0)))
     kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1, 2 * reach + 1))
     near = cv2.dilate(marking_map.astype(np.uint8), kernel) > 0
-    cells = np.round(np.where(visible[:, None], uv_px, 0.0) * scale).astype(int)
+    inside = np.all(np.isfinite(uv_px), axis=1)
+    cells = np.round(np.where(inside[:, None], uv_px, 0.0) * scale).astype(int)
     cols, rows = np.clip(cells[:, 0], 0, w - 1), np.clip(cells[:, 1], 0, h - 1)
-    return visible & near[rows, cols]
+    return inside & near[rows, cols]
 
 
 def fixes_camera(seen: Determinability) -> bool:

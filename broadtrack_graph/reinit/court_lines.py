@@ -117,7 +117,8 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     least-squares meeting point of its lines. A goal net's strands or a board's edges make vanishing
     points of their own: the pairs of the map's few best points are all kept, and the map decides.
     Lines drawn along less than ``min_line_coverage`` of their extent (a Hough line through scattered
-    specks) and lines of a hatch (:func:`_hatched`: a goal net's strands) join no family.
+    specks) and lines of a hatch (:func:`~broadtrack_graph.detect.marking_structures.hatched`: a goal net's strands)
+    join no family.
     """
     lines_n, s, centre = normalised_lines(lines, frame_size)
     L = len(lines_n)
@@ -126,7 +127,8 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
     lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
     support = np.array([line.support_px for line in lines])
-    solid = (support >= config.min_line_coverage * lengths_px) & ~_hatched(lines, frame_size[0], config)
+    crowded = hatched(lines, frame_size[0], config.hatch_min_lines, config.hatch_angle_deg, config.hatch_spacing_per_width)
+    solid = (support >= config.min_line_coverage * lengths_px) & ~crowded
     tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
                          math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
     i, j = np.triu_indices(L, 1)
@@ -153,12 +155,6 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
             family[first], family[second] = 0, 1
             out.append(LineFamilies(lines_n, family, vanishing, s, centre))
     return out
-
-
-def _hatched(lines: list[ImageLine], width_px: int, config: CourtLineConfig) -> np.ndarray:
-    """(L,) the lines of a hatch (:func:`~broadtrack_graph.detect.marking_structures.hatched` with this config's
-    ``hatch_*`` settings)."""
-    return hatched(lines, width_px, config.hatch_min_lines, config.hatch_angle_deg, config.hatch_spacing_per_width)
 
 
 def _distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:
