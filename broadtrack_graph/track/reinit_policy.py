@@ -40,8 +40,9 @@ field models place a camera from nothing, for a chain's start or a lost chain):
      explained, less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known camera
      is found at its own position confident by the margin. A chain's first camera that is not certain nor a
      refined guess is also tried along its line of sight and moved there when better by the margin.
-   * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then its kind's
-     stage; the first confident stage ends it.
+   * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, unless the
+     chain is trusted (its camera stands where its confident frames put it), its kind's stage; the first confident
+     stage ends it.
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is identified by where it
 stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known
@@ -259,7 +260,7 @@ class ReinitPolicy:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
         plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
-                           self._shot_start_confidences)
+                           self._shot_start_confidences, held_trusted=held is not None and self.chain.trusted)
         paid_before, shot_start = self._paid(), plan.new_shot and self._shot_start_confidences is None
         found, found_confidence, label, confidences = self._search(plan, observations, detections, pitch, curves,
                                                                    sampling, score)

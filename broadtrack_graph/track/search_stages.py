@@ -61,7 +61,7 @@ class SearchPlan(NamedTuple):
 
 
 def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool,
-                shot_start_confidences: dict[str, float] | None = None) -> SearchPlan:
+                shot_start_confidences: dict[str, float] | None = None, held_trusted: bool = False) -> SearchPlan:
     """The stages of one search (the policy's module docstring says why).
 
     Args:
@@ -76,8 +76,11 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         return SearchPlan([("the given positions", search_positions)], [], 1)
     if camera_id is not None and camera_id in known_positions:
         # Mid-shot: the camera has not moved; its own position, then its kind's stage (the main camera's default
-        # stage guards against a wrong provisional tripod, its position).
+        # stage guards against a wrong first camera's position) while the chain is not trusted. A trusted chain's
+        # camera stands where its confident frames put it: its own position alone.
         own_position = tuple(known_positions[camera_id])
+        if held_trusted:
+            return SearchPlan([(f"camera {camera_id}", [own_position])], [], 1)
         kind, _ = camera_kind(own_position)
         own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES else ())
         return SearchPlan([(f"camera {camera_id}", [own_position])] + list(own), [], 2)

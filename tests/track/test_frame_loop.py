@@ -148,8 +148,9 @@ def test_the_state_machine_frame_by_frame(tmp_path):
     assert solver.pushed == [(0, True, False, False), (1, False, True, True), (2, False, True, True),
                              (3, False, True, True), (5, False, True, True), (6, False, True, True),
                              (8, True, False, False), (9, False, True, True), (10, True, False, False)]
-    # A search that finds nothing confident at the known camera's position tries the default positions too.
-    assert script.reinit_calls == [0, 2, 6, 6, 7, 7, 8, 9, 9, 10]
+    # A search that finds nothing confident at the known camera's position tries the default positions too (the
+    # lost frames 6 and 7); the trusted chain's held camera (frame 9) is searched at its own position alone.
+    assert script.reinit_calls == [0, 2, 6, 6, 7, 7, 8, 9, 10]
     # Restarts of the known, trusted camera (frames 8 and 10, pushes 6 and 8) hold its focal point; the first
     # camera of the run (frame 0) is placed by its markings.
     assert solver.holds == [6, 8]

@@ -23,6 +23,9 @@ def test_a_new_shot_is_planned_through_every_stage_and_a_mid_shot_loss_through_i
     assert _labels(plan) == ([KNOWN_CAMERAS] + [s[0] for s in SEARCH_STAGES], [s[0] for s in FALLBACK_STAGES])
     mid_shot = search_plan(KNOWN, "main", None, with_map=True)
     assert not mid_shot.new_shot and _labels(mid_shot) == (["camera main", "default positions"], [])
+    # A trusted chain's camera dipping under the threshold stands where its confident frames put it.
+    held = search_plan(KNOWN, "main", None, with_map=True, held_trusted=True)
+    assert not held.new_shot and held.likely == 1 and _labels(held) == (["camera main"], [])
     assert _labels(search_plan(KNOWN, None, None, with_map=False)) == ([KNOWN_CAMERAS, "default positions"], [])
 
 
