@@ -57,18 +57,33 @@ def ellipse_conic_n(ellipse: ImageEllipse, frame_size) -> np.ndarray:
 
 def _homographies_from_points(image_h: np.ndarray, world_xy: np.ndarray) -> np.ndarray:
     """(K, 3, 3) H with ``H (x, y, 1) ~ image point`` from four correspondences each: image_h (K, 4, 3)
-    homogeneous, world_xy (K, 4, 2) metres; the direct linear transform, every K at once."""
+    homogeneous, world_xy (K, 4, 2) metres; every K at once, unit Frobenius norm (NaN where three of the four
+    points of either side are on one line).
+
+    Through the projective basis: B = [l1 p1, l2 p2, l3 p3] with [p1 p2 p3] l = p4 maps e1, e2, e3 and (1, 1, 1)
+    to the four points, so ``H = B_image B_world^-1``: two 3x3 solves a homography instead of an 8x9 SVD.
+    """
     K = len(image_h)
-    X = np.concatenate([world_xy, np.ones((K, 4, 1))], axis=2)  # (K, 4, 3)
-    rows = np.zeros((K, 8, 9))
-    u, v, w = image_h[..., 0], image_h[..., 1], image_h[..., 2]
-    for k in range(4):
-        rows[:, 2 * k, 3:6] = -w[:, k, None] * X[:, k]
-        rows[:, 2 * k, 6:9] = v[:, k, None] * X[:, k]
-        rows[:, 2 * k + 1, 0:3] = w[:, k, None] * X[:, k]
-        rows[:, 2 * k + 1, 6:9] = -u[:, k, None] * X[:, k]
-    _, _, vt = np.linalg.svd(rows)
-    return vt[:, -1].reshape(K, 3, 3)
+    world_h = np.concatenate([world_xy, np.ones((K, 4, 1))], axis=2)  # (K, 4, 3)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        B_image, B_world = _projective_basis(np.asarray(image_h, float)), _projective_basis(world_h)
+        H = B_image @ _inverse(B_world)
+        return H / np.linalg.norm(H, axis=(1, 2), keepdims=True)
+
+
+def _projective_basis(points_h: np.ndarray) -> np.ndarray:
+    """(K, 3, 3) the matrices mapping e1, e2, e3 and (1, 1, 1) to the four points (K, 4, 3) (NaN where degenerate)."""
+    first3 = np.swapaxes(points_h[:, :3], 1, 2)  # (K, 3, 3): the points as columns
+    weights = _inverse(first3) @ points_h[:, 3, :, None]  # (K, 3, 1)
+    return first3 * np.swapaxes(weights, 1, 2)
+
+
+def _inverse(M: np.ndarray) -> np.ndarray:
+    """(K, 3, 3) inverses by the adjugate (NaN or inf where singular): no exception for one degenerate item."""
+    a, b, c = M[:, 0], M[:, 1], M[:, 2]  # rows
+    adjugate_t = np.stack([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=1)  # rows of the cofactors
+    det = np.einsum("ki,ki->k", a, adjugate_t[:, 0])
+    return np.swapaxes(adjugate_t, 1, 2) / det[:, None, None]
 
 
 @dataclass(frozen=True)

@@ -179,40 +179,51 @@ class MapScorer:
         """
         dt, scale, config = self.dt, self.scale, self.config
         h, w = dt.shape
+        dt_flat = dt.ravel()
         samples = self.samples_w[::thin]
-        ground_h = np.column_stack([samples[:, :2], np.ones(len(samples))])  # (S, 3)
+        x, y = samples[:, 0], samples[:, 1]  # (S,) ground samples (metres)
         points = self.points_c[::thin] + [self.W / 2.0, self.H / 2.0]
-        pts_h = np.column_stack([points, np.ones(len(points))])
+        pu, pv = points[:, 0], points[:, 1]  # (M,) marking points (frame pixels)
+        grid_h, grid_w = self.nearest_xy.shape[:2]
+        nearest_flat = self.nearest_xy.reshape(-1, 2)
         tol2 = (point_px / scale) ** 2
         b2 = config.score_beta ** 2
         out = np.full(len(H_px), np.inf)
         for s in range(0, len(H_px), chunk):
             Hk, sg = H_px[s:s + chunk], sign[s:s + chunk, None]
-            uvw = np.einsum("kij,sj->kis", Hk, ground_h)  # (k, 3, S)
-            depth = sg * uvw[:, 2]
+            Hc = [[Hk[:, i, j, None] for j in range(3)] for i in range(3)]  # (k, 1) entries
+            # The template samples into the image: (k, S) homogeneous pixels.
+            uw = Hc[0][0] * x + Hc[0][1] * y + Hc[0][2]
+            vw = Hc[1][0] * x + Hc[1][1] * y + Hc[1][2]
+            zw = Hc[2][0] * x + Hc[2][1] * y + Hc[2][2]
+            depth = sg * zw
             front = depth > 1e-9
-            inv = np.where(front, 1.0 / np.where(front, uvw[:, 2], 1.0), 0.0)
-            u, v = uvw[:, 0] * inv * scale, uvw[:, 1] * inv * scale
+            inv = np.where(front, 1.0 / np.where(front, zw, 1.0), 0.0)
+            u, v = uw * inv * scale, vw * inv * scale
             inside = front & (u >= 0) & (u < w - 1) & (v >= 0) & (v < h - 1)
-            d = dt[np.where(inside, v, 0).astype(np.int32), np.where(inside, u, 0).astype(np.int32)]
+            d = dt_flat[np.where(inside, v, 0).astype(np.int32) * w + np.where(inside, u, 0).astype(np.int32)]
             length = np.where(inside, px_per_m_at_unit[s:s + chunk, None] * scale * config.score_template_step_m
                               * thin / np.where(front, depth, 1.0), 0.0)
             recall = np.sum(length * (d <= hit_px), axis=1) / np.maximum(np.sum(length, axis=1),
                                                                          config.score_min_template_px)
-            if len(pts_h):
+            if len(points):
                 # Marking points onto the pitch (H^-1), to their nearest painted marking, and back (H).
-                back = np.einsum("kij,mj->kim", np.linalg.inv(Hk), pts_h)  # (k, 3, M)
-                ahead = sg * back[:, 2] > 1e-12
-                wz = np.where(ahead, back[:, 2], 1.0)
-                col = np.rint((back[:, 0] / wz - self.origin[0]) / self.resolution).astype(np.int64)
-                row = np.rint((back[:, 1] / wz - self.origin[1]) / self.resolution).astype(np.int64)
-                on_grid = ahead & (col >= 0) & (col < self.nearest_xy.shape[1]) & (row >= 0) & (
-                    row < self.nearest_xy.shape[0])
-                near = self.nearest_xy[np.where(on_grid, row, 0), np.where(on_grid, col, 0)]  # (k, M, 2)
-                fwd = np.einsum("kij,kmj->kim", Hk, np.concatenate([near, np.ones(near.shape[:2] + (1,))], axis=2))
-                ok = on_grid & (sg * fwd[:, 2] > 1e-12)
-                fz = np.where(ok, fwd[:, 2], 1.0)
-                du, dv = fwd[:, 0] / fz - pts_h[:, 0], fwd[:, 1] / fz - pts_h[:, 1]
+                Hi = np.linalg.inv(Hk)
+                bx = Hi[:, 0, 0, None] * pu + Hi[:, 0, 1, None] * pv + Hi[:, 0, 2, None]
+                by = Hi[:, 1, 0, None] * pu + Hi[:, 1, 1, None] * pv + Hi[:, 1, 2, None]
+                bz = Hi[:, 2, 0, None] * pu + Hi[:, 2, 1, None] * pv + Hi[:, 2, 2, None]
+                ahead = sg * bz > 1e-12
+                wz = np.where(ahead, bz, 1.0)
+                col = np.rint((bx / wz - self.origin[0]) / self.resolution).astype(np.int64)
+                row = np.rint((by / wz - self.origin[1]) / self.resolution).astype(np.int64)
+                on_grid = ahead & (col >= 0) & (col < grid_w) & (row >= 0) & (row < grid_h)
+                near = nearest_flat[np.where(on_grid, row * grid_w + col, 0)]  # (k, M, 2)
+                nx, ny = near[..., 0], near[..., 1]
+                fz = Hc[2][0] * nx + Hc[2][1] * ny + Hc[2][2]
+                ok = on_grid & (sg * fz > 1e-12)
+                fz = np.where(ok, fz, 1.0)
+                du = (Hc[0][0] * nx + Hc[0][1] * ny + Hc[0][2]) / fz - pu
+                dv = (Hc[1][0] * nx + Hc[1][1] * ny + Hc[1][2]) / fz - pv
                 precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
             else:
                 precision = np.ones_like(recall)

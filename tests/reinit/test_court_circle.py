@@ -95,3 +95,19 @@ def test_the_centre_circle_and_a_touchline_give_the_camera_without_the_halfway_l
     cameras = cameras_from_homographies(H_n, (W, H), PITCH)
     gap = np.linalg.norm(cameras.C_w - truth.position_m, axis=1)
     assert len(cameras) and gap.min() < 0.5
+
+
+def test_four_correspondences_give_the_camera_s_homography_and_three_on_a_line_none():
+    from broadtrack_graph.reinit.court_circle import _homographies_from_points
+
+    camera = _centre_view()
+    K = np.array([[camera.focal_px, 0, W / 2], [0, camera.focal_px, H / 2], [0, 0, 1.0]])
+    R, t = camera.R_cw, -camera.R_cw @ camera.position_m
+    truth = K @ np.column_stack([R[:, 0], R[:, 1], t])
+    world = np.array([[[0.0, 9.15], [0.0, -9.15], [9.15, 0.0], [-9.15, 0.0]],
+                      [[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [5.0, 5.0]]])  # the second: three on one line
+    image = np.einsum("ij,kmj->kmi", truth, np.concatenate([world, np.ones((2, 4, 1))], axis=2))
+    found = _homographies_from_points(image * 3.0, world)  # any scale of the image points
+    expected = truth / np.linalg.norm(truth)
+    assert np.allclose(found[0] * np.sign(found[0, 2, 2] * expected[2, 2]), expected, atol=1e-9)
+    assert np.isnan(found[1]).all()

@@ -118,3 +118,29 @@ def test_polished_side_by_side_as_one_by_one_to_the_bit():
         assert (got.pan_rad, got.tilt_rad, got.focal_px, got.cost) == (pan, tilt, focal, cost)
         np.testing.assert_array_equal(got.position_w, h.position_w)
     assert sum(got.cost < h.cost for h, got in zip(hypotheses, polished)) >= 3
+
+
+def test_the_plane_score_of_a_camera_s_ground_homography_is_the_camera_s_score():
+    truth = Camera.from_degrees(1300.0, 0.0, 9.0, 77.0, 0.0, (0.0, 55.0, -12.0), W, H)
+    mask, points = _drawn_map(truth)
+    scorer = MapScorer(mask, points, (W, H), PITCH, CONFIG)
+    cameras = [truth, truth.replace(pan_rad=truth.pan_rad + math.radians(1.0)),
+               truth.replace(focal_px=1.1 * truth.focal_px)]
+    K = np.array([[truth.focal_px, 0.0, W / 2], [0.0, truth.focal_px, H / 2], [0.0, 0.0, 1.0]])
+    H_px = []
+    for camera in cameras:
+        K[0, 0] = K[1, 1] = camera.focal_px
+        R, t = camera.R_cw, -camera.R_cw @ camera.position_m
+        H_px.append(K @ np.column_stack([R[:, 0], R[:, 1], t]))  # (x, y, 1) -> pixels, third row the depth
+    H_px = np.array(H_px + [-H_px[0]])  # the last: the same camera with the homography's sign flipped
+    sign = np.array([1.0, 1.0, 1.0, -1.0])
+    focal = np.array([c.focal_px for c in cameras] + [truth.focal_px])
+    costs = scorer.plane_costs(H_px, sign, focal, CONFIG.score_hit_px, CONFIG.score_point_px, chunk=3)
+    for camera, cost in zip(cameras, costs):
+        assert scorer.camera_cost(camera, CONFIG.score_hit_px, CONFIG.score_point_px) == pytest.approx(cost, abs=0.02)
+    assert costs[0] < -0.9 and costs[0] < costs[1] and costs[0] < costs[2]
+    assert costs[3] == costs[0]  # a homography's scale, sign included, does not change the score
+    behind = scorer.plane_costs(H_px[:1], -sign[:1], focal[:1], CONFIG.score_hit_px, CONFIG.score_point_px)
+    assert behind[0] == math.inf  # the template behind the camera: nothing in the image
+    coarse = scorer.plane_costs(H_px, sign, focal, CONFIG.score_hit_px, CONFIG.score_point_px, thin=2)
+    assert coarse == pytest.approx(costs, abs=0.05)
