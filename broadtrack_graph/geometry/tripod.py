@@ -13,6 +13,7 @@ to T. No I/O here.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,3 +59,16 @@ def zoom_lambda(C_w: np.ndarray, R_cw: np.ndarray, tripod: Tripod) -> float:
     """lambda: position of C along the optical axis relative to O (metres)."""
     O = np.asarray(tripod.T_w, dtype=float) - tripod.delta_m * R_cw[1]
     return float(np.dot(np.asarray(C_w, float) - O, R_cw[2]))
+
+
+def image_motion_px(previous, camera, reference_width_px: float = 960.0) -> float:
+    """How far the image moves from one camera of a tripod to the next (pixels at ``reference_width_px`` wide): the
+    turn of the optical axis (radians) times the focal length, plus the zoom's move at the image's side edges
+    (``|log(f1 / f0)|`` times half the width). A translation of the focal point is left out (centimetres a frame).
+
+    Args:
+        previous, camera: :class:`~broadtrack_graph.geometry.camera.Camera` of consecutive frames (the same size).
+    """
+    turn = math.acos(float(np.clip(previous.R_cw[2] @ camera.R_cw[2], -1.0, 1.0)))
+    zoom = abs(math.log(camera.focal_px / previous.focal_px)) * camera.width_px / 2.0
+    return (turn * camera.focal_px + zoom) * reference_width_px / camera.width_px

@@ -21,6 +21,10 @@ class TrackingConfig:
     lag_frames: int = 25  # fixed-lag: future frames used before a frame is released
     confidence_threshold: float = DEFAULT_THRESHOLD  # below: re-initialise and distrust flow from this frame
     lost_confidence: float = 0.2  # below this (after a failed re-initialisation): lost, search globally
+    # A trusted chain's camera under the threshold is written only while the image moves at most this far a frame
+    # (pixels at 960 wide; geometry/tripod.image_motion_px): faster, motion blur smears a marking over many times
+    # its width, the markings the confidence reads are lost and the flow nears its reach (docs/METHOD.md).
+    max_unsure_motion_px: float = 40.0
     # The one margin of re-initialisation: a camera that is not confident replaces another (the held camera of a
     # trusted chain, a refined guess, an earlier search stage's camera) only when this much more confident.
     reinit_switch_margin: float = 0.1
@@ -84,6 +88,8 @@ class TrackingConfig:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
         if self.recover_max_frames < 0:
             raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
+        if not self.max_unsure_motion_px >= 0.0:
+            raise ValueError(f"max_unsure_motion_px must be >= 0, got {self.max_unsure_motion_px}")
         if not 0.0 <= self.confidence_threshold <= 1.0:
             raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
         if not 0.0 <= self.certain_confidence <= 1.0:

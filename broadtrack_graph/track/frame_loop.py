@@ -37,6 +37,7 @@ import numpy as np
 from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
+from broadtrack_graph.geometry.tripod import image_motion_px
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.streaming import StreamingSolver
 from broadtrack_graph.io.run_folder import RunFolder
@@ -224,9 +225,11 @@ class TrackingRun:
             started = time.perf_counter()
             confidence = self.confidence(camera, observations, detections, self.curves, self.sampling)
             self.timings["confidence_s"] += time.perf_counter() - started
+        moved = None if camera is None or not self._history or reinitialised \
+            else image_motion_px(self._history[-1], camera)  # from the chain's previous frame
         facts = FrameFacts(confidence, camera is not None, self.chain.trusted, self.chain.trust_at, reinitialised,
                            from_marking_map=detections is not None and detections.marking_mask is not None,
-                           carried=carried)
+                           carried=carried, image_motion_px=moved)
         verdict = judge(facts, self.config)
         replaced = False  # the solved camera was replaced by the decision's
         if verdict.action is Action.REINITIALISE and camera is not None and self.chain.trusted \
@@ -245,7 +248,8 @@ class TrackingRun:
                 camera, confidence, replaced = decision.camera, decision.confidence, True
             verdict = judge(replace(facts, confidence=confidence, has_camera=camera is not None, asked=True,
                                     replaced=replaced, chain_trusted=self.chain.trusted,
-                                    trust_at=self.chain.trust_at), self.config)
+                                    trust_at=self.chain.trust_at,
+                                    image_motion_px=None if replaced else facts.image_motion_px), self.config)
         entry.confidence, entry.confidence_camera = confidence, camera
         if verdict.withholds_camera:
             entry.status, entry.reason, entry.suppress_camera = FrameStatus.FAILED, verdict.reason, True

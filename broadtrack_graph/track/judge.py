@@ -16,7 +16,10 @@ confidence threshold, ``L`` the lost confidence and the chain's bar ``T`` once t
 4. **Hold back** a camera of a chain started from the unlabelled marking map that has had no frame at its bar:
    it seeds the next frame, it is not written (a map search can settle on a wrong camera that still explains part
    of the map; labelled lines and keypoints name what they show).
-5. **Write** any other camera (mid-chain under ``T``: the policy found no better one).
+5. **Hold back** a camera under ``T`` while the image moves more than ``max_unsure_motion_px`` a
+   frame (:func:`~broadtrack_graph.geometry.tripod.image_motion_px` from the chain's previous frame): in a fast
+   sweep motion blur takes the markings the confidence reads, and such a camera is as often wrong as right.
+6. **Write** any other camera (mid-chain under ``T``: the policy found no better one).
 
 A written camera at ``T`` (not a frame carried on the motion prior) is its camera id's guess from now on
 (:attr:`Verdict.confident`). Pure: no I/O, no solver.
@@ -52,6 +55,8 @@ class FrameFacts:
     replaced: bool = False  # ... and its camera replaced the solver's
     from_marking_map: bool = False  # the frame's detections carry the unlabelled marking map
     carried: bool = False  # the frame is carried on the motion prior: it claims no camera
+    image_motion_px: float | None = None  # how far the image moved from the chain's previous frame (960 wide; None:
+    #                                       no previous frame, or the camera was re-initialised)
 
 
 @dataclass(frozen=True)
@@ -78,7 +83,7 @@ def judge(facts: FrameFacts, config: TrackingConfig) -> Verdict:
 
     Args:
         facts: the frame's camera, its confidence and the chain's trust.
-        config: the thresholds (``confidence_threshold``, ``lost_confidence``).
+        config: the thresholds (``confidence_threshold``, ``lost_confidence``, ``max_unsure_motion_px``).
     """
     threshold, lost_at = config.confidence_threshold, config.lost_confidence
     confidence = facts.confidence
@@ -100,6 +105,10 @@ def judge(facts: FrameFacts, config: TrackingConfig) -> Verdict:
     if confidence is not None and not facts.chain_trusted and facts.from_marking_map:
         return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {facts.trust_at:.2f} and no confident "
                        "frame since the re-initialisation; camera not written", withholds_camera=True)
+    if confidence is not None and confidence < threshold and facts.image_motion_px is not None \
+            and facts.image_motion_px > config.max_unsure_motion_px:
+        return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {threshold:.2f} while the image moves "
+                       f"{facts.image_motion_px:.0f} px a frame; camera not written", withholds_camera=True)
     reason = "not scored" if confidence is None else \
         f"confidence {confidence:.2f} below the bar {max(bar, threshold):.2f}"
     return Verdict(Action.WRITE, reason, confident=confidence is not None and confidence >= threshold

@@ -81,3 +81,16 @@ def test_a_marking_map_chain_without_a_frame_at_its_bar_is_held_back():
 def test_every_written_camera_at_the_threshold_is_a_guess(confidence):
     verdict = judge(replace(TRUSTED, confidence=confidence), CONFIG)
     assert verdict.action is Action.WRITE and verdict.confident and verdict.trusted
+
+
+def test_a_camera_under_the_threshold_in_a_fast_sweep_is_held_back():
+    limit = CONFIG.max_unsure_motion_px
+    fast = replace(TRUSTED, confidence=0.45, asked=True, image_motion_px=limit + 1.0)
+    verdict = judge(fast, CONFIG)
+    assert verdict == Verdict(Action.HOLD_BACK, f"confidence 0.45 below 0.50 while the image moves {limit + 1.0:.0f} "
+                              "px a frame; camera not written", withholds_camera=True)
+    # As slow as that or slower, or at the threshold however fast: written.
+    assert judge(replace(fast, image_motion_px=limit), CONFIG).action is Action.WRITE
+    assert judge(replace(fast, image_motion_px=None), CONFIG).action is Action.WRITE
+    at_threshold = judge(replace(fast, confidence=0.5), CONFIG)
+    assert at_threshold.action is Action.WRITE and at_threshold.confident
