@@ -16,6 +16,16 @@ import numpy as np
 
 
 @dataclass(frozen=True)
+class HatchRule:
+    """What makes lines a hatch (:func:`hatched`), not markings: ``min_lines`` parallel lines side by side, within
+    ``angle_deg`` of each other and their centres within ``spacing_per_width`` of the width across."""
+
+    min_lines: int = 4
+    angle_deg: float = 4.0
+    spacing_per_width: float = 0.03
+
+
+@dataclass(frozen=True)
 class MarkingStructureConfig:
     """Settings of :func:`marking_lines` and :func:`marking_ellipses` (pixels at ``line_work_width_px``)."""
 
@@ -25,9 +35,7 @@ class MarkingStructureConfig:
     # Lines taken from the map before a hatch's are dropped (0: max_lines, no hatch dropped): a goal net's strands or
     # a board's pattern, many lines side by side, would otherwise crowd the pitch lines out of the max_lines kept.
     candidate_lines: int = 0
-    hatch_min_lines: int = 4  # this many parallel lines side by side are a hatch, not markings ...
-    hatch_angle_deg: float = 4.0  # ... (within this angle of each other ...
-    hatch_spacing_per_width: float = 0.03  # ... their centres within this share of the width across)
+    hatch: HatchRule = HatchRule()  # the lines of a hatch (a goal net's strands), not markings
     line_min_support_px: float = 30.0  # a straight marking has at least this many map pixels
     line_band_px: float = 1.5  # map pixels this close to a line belong to it
     line_max_gap_px: float = 6.0  # a line's pixels split into runs at gaps longer than this ...
@@ -158,31 +166,29 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
         if len(lines) >= pool:
             break
     if pool > config.max_lines and lines:
-        crowded = hatched(lines, frame_width_px, config.hatch_min_lines, config.hatch_angle_deg,
-                          config.hatch_spacing_per_width)
+        crowded = hatched(lines, frame_width_px, config.hatch)
         kept = [line for line, out in zip(lines, crowded) if not out]
         lines = sorted(kept, key=lambda line: -line.support_px)[:config.max_lines]
     return lines
 
 
-def hatched(lines: list[ImageLine], width_px: float, min_lines: int, angle_deg: float,
-            spacing_per_width: float) -> np.ndarray:
-    """(L,) bool: the lines of a hatch, with at least ``min_lines - 1`` others within ``angle_deg`` of their direction
-    whose centres lie side by side within ``spacing_per_width`` of the width (a goal net, a striped kit, a board's
-    pattern), unless twice as long as the hatch's typical line (a marking beside a net, the goal line under it). The
-    pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
+def hatched(lines: list[ImageLine], width_px: float, rule: HatchRule = HatchRule()) -> np.ndarray:
+    """(L,) bool: the lines of a hatch, with at least ``rule.min_lines - 1`` others within ``rule.angle_deg`` of their
+    direction whose centres lie side by side within ``rule.spacing_per_width`` of the width (a goal net, a striped
+    kit, a board's pattern), unless twice as long as the hatch's typical line (a marking beside a net, the goal line
+    under it). The pitch's parallel markings stand 5.5 m apart or more, and never come three or more so close."""
     directions = np.array([line.direction for line in lines])
     centres = np.array([line.centre_px for line in lines])
     halves = np.array([0.5 * (line.extent_px[1] - line.extent_px[0]) for line in lines])
-    parallel = np.abs(directions @ directions.T) > math.cos(math.radians(angle_deg))
+    parallel = np.abs(directions @ directions.T) > math.cos(math.radians(rule.angle_deg))
     offset = centres[None, :, :] - centres[:, None, :]
     across = np.abs(offset[..., 0] * directions[:, None, 1] - offset[..., 1] * directions[:, None, 0])
     along = np.abs(np.einsum("jki,ji->jk", offset, directions))
-    side_by_side = parallel & (across < spacing_per_width * width_px) & (along < halves[:, None] + halves[None, :])
+    side_by_side = parallel & (across < rule.spacing_per_width * width_px) & (along < halves[:, None] + halves[None, :])
     support = np.array([line.support_px for line in lines])
     typical = np.array([np.median(support[row]) for row in side_by_side])
     # A long marking beside a net (the goal line under it) stands out of the hatch by its length.
-    return (side_by_side.sum(axis=1) >= min_lines) & (support < 2.0 * typical)  # itself included
+    return (side_by_side.sum(axis=1) >= rule.min_lines) & (support < 2.0 * typical)  # itself included
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageLine, hatched
+from broadtrack_graph.detect.marking_structures import HatchRule, ImageLine, hatched
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.state import angles_from_rotations
 
@@ -44,9 +44,7 @@ class CourtLineConfig:
     family_angle_min_deg: float = 0.3  # ... an angle tolerance never tighter than this ...
     family_angle_max_deg: float = 2.5  # ... nor looser than this
     min_line_coverage: float = 0.45  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
-    hatch_min_lines: int = 4  # this many parallel lines side by side are a hatch, not markings ...
-    hatch_angle_deg: float = 4.0  # ... (within this angle of each other ...
-    hatch_spacing_per_width: float = 0.03  # ... their centres within this share of the width across)
+    hatch: HatchRule = HatchRule()  # the lines of a hatch (a goal net's strands) join no family
     # Two vanishing points both this near the image (|w| of the unit homogeneous point: within about 1 / w half
     # widths of the centre) must fit a focal length in range (within a factor 2: a far one is poorly placed)
     near_vanishing_w: float = 0.15
@@ -127,7 +125,7 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
     lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
     support = np.array([line.support_px for line in lines])
-    crowded = hatched(lines, frame_size[0], config.hatch_min_lines, config.hatch_angle_deg, config.hatch_spacing_per_width)
+    crowded = hatched(lines, frame_size[0], config.hatch)
     solid = (support >= config.min_line_coverage * lengths_px) & ~crowded
     tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
                          math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
