@@ -13,23 +13,23 @@ from broadtrack_graph.track.search_stages import SEARCH_STAGES
 STAGE_SECONDS = 0.15
 
 
-def numbered_search(observations, detections, pitch, positions, curves, sampling, deep=False) -> ReinitResult:
+def numbered_search(observations, detections, pitch, positions, curves, sampling) -> ReinitResult:
     """A camera whose focal length is the stage's number (positions = (number,)), after STAGE_SECONDS, with the
-    process that computed it in its reason (and "deep" when the search fits deep)."""
+    process that computed it in its reason."""
     time.sleep(STAGE_SECONDS)
     number = float(positions[0])
     camera = Camera(1000.0 + number, 0.0, 0.0, 1.3, 0.0, (0.0, 55.0, -12.0), 1280, 720)
-    return ReinitResult(camera, None, f"stage {number:g}" + (" deep" if deep else ""), f"pid {os.getpid()}")
+    return ReinitResult(camera, None, f"stage {number:g}", f"pid {os.getpid()}")
 
 
-def dying_search(observations, detections, pitch, positions, curves, sampling, deep=False) -> ReinitResult:
+def dying_search(observations, detections, pitch, positions, curves, sampling) -> ReinitResult:
     """:func:`numbered_search`, except that a worker process asked for it dies."""
     if multiprocessing.parent_process() is not None:
         os._exit(3)
     return numbered_search(observations, detections, pitch, positions, curves, sampling)
 
 
-def stage_numbered_search(observations, detections, pitch, positions, curves, sampling, deep=False) -> ReinitResult:
+def stage_numbered_search(observations, detections, pitch, positions, curves, sampling) -> ReinitResult:
     """:func:`numbered_search` of the policy's stages: a camera whose focal length is 1000 + the stage's index in
     SEARCH_STAGES."""
     number = next(k for k, (_, stage) in enumerate(SEARCH_STAGES) if stage == positions)

@@ -5,8 +5,10 @@ real main cameras stand 48-90 m back and 10-25 m up. This suite renders one fram
 preset's look from a main camera on the halfway line at each distance and elevation asked
 (elevation: the angle below the horizon at which it sees the centre spot) looking at each of three
 views (the centre circle, the right and the left penalty area, zoomed as a broadcast does), and asks
-the re-initialisation policy for the frame's camera as the tracker does at a new shot (the learned
-field model first, then the search in stages, on one process). Found: a camera at least
+the re-initialisation policy for the frame's camera as the tracker does at a new shot (the court model, the
+learned field model, then the search in stages, on one process), the frame given again as a still camera's next
+frames while the policy waits for them (the court model's camera under its bar waits for the next frames' to
+agree; at most ``court_agreement_frames``). Found: a camera at least
 ``confidence_threshold + reinit_switch_margin`` confident (what a new shot's chain needs to be
 trusted) whose projected ground template lies within ``--success-px`` (median) of the truth's.
 
@@ -62,6 +64,7 @@ def run(args) -> dict:
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.court import court_reinit
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.synth.clip import render_clip
@@ -85,17 +88,22 @@ def run(args) -> dict:
             pan, tilt = aim_angles(position, np.asarray(target))
             truth = Camera(W / 2 / math.tan(math.radians(fov_deg) / 2), 0.0, pan, tilt, 0.0, position, W, H)
             image = render_clip("main", 1, W, H, seed=args.seed, cameras=[truth]).frames[0].image
-            policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model)
+            policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
+                                  court=court_reinit if config.court_reinit else None)
             started = time.perf_counter()
-            decision = policy.decide(FrameObservations(0, W, H), detector.detect(image), pitch, curves, sampling,
-                                     image=image)
+            detections = detector.detect(image)
+            for index in range(config.court_agreement_frames + 1):  # a still camera's first frames
+                decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling,
+                                         image=image)
+                if decision.camera is not None:
+                    break
             seconds = time.perf_counter() - started
             errors = template_errors_px(decision.camera, truth, ground) if decision.camera is not None else []
             error = float(np.median(errors)) if len(errors) else math.inf
             ok = error < args.success_px and (decision.confidence or 0.0) >= trusted
             found += ok
             rows.append({"distance_m": distance, "elevation_deg": elevation, "height_m": round(-position[2], 1),
-                         "view": view, "found": bool(ok), "confidence": decision.confidence,
+                         "view": view, "found": bool(ok), "frame": index, "confidence": decision.confidence,
                          "template_error_px": None if math.isinf(error) else round(error, 2),
                          "seconds": round(seconds, 2), "decision": decision.reason})
     return {"frame_size": [W, H], "success_px": args.success_px, "reinit_model": args.reinit_model,

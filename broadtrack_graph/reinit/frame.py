@@ -15,7 +15,7 @@ from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
 from broadtrack_graph.reinit.lines import reinit_from_lines
 from broadtrack_graph.reinit.mask import reinit_from_mask
-from broadtrack_graph.reinit.mask_config import DEEP_SEARCH, MaskSearchConfig
+from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import ReinitResult, score_labelled
 from broadtrack_graph.types.observations import FrameObservations
 
@@ -27,14 +27,12 @@ def reinitialise(
     positions_w=None,
     curves: TemplateCurves | None = None,
     sampling: TemplateSampling | None = None,
-    deep: bool = False,
 ) -> ReinitResult:
     """A camera for a frame without a trusted prediction.
 
     Tries, by what the frame carries: labelled keypoints (two-point method in RANSAC),
     labelled lines (homography or global search), and the unlabelled marking map
-    (line-pair and circle hypotheses at the candidate positions, scored and fitted; ``deep``:
-    fitted deep, :data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`, for a frame no other search placed).
+    (line-pair and circle hypotheses at the candidate positions, scored and fitted).
     Cameras under 1 m or over the pitch are dropped; the best score is kept.
     """
     W, H = observations.width_px, observations.height_px
@@ -48,7 +46,7 @@ def reinitialise(
     if detections is not None and detections.marking_mask is not None and not observations.lines_px:
         results.append(reinit_from_mask(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
                                         positions_w=positions_w, curves=curves, field_mask=detections.field_mask,
-                                        config=DEEP_SEARCH if deep else MaskSearchConfig()))
+                                        config=MaskSearchConfig()))
     good = [replace(r, camera=_wrapped(r.camera)) for r in results
             if r.camera is not None and plausible_position(r.camera.position_m, pitch)]
     if not good and any(r.camera is not None for r in results):

@@ -65,9 +65,7 @@ def reinit_from_mask(
     3. The best distinct hypotheses are fitted in turn (:func:`refine_on_map`: name the marking
        points by the nearest projected class, :func:`fit_camera_to_lines`, shrinking gate; the
        wide schedule as well on poorly scoring ones) and ranked by a fine fit score; the
-       best-scoring hypothesis is kept unless a later one fits ``fit_switch_margin`` better. A search
-       that fits deep (``deep_fits``, :data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`) then gives,
-       when no fit scores ``accept_fit_score``, one tight fit to each further hypothesis down the list.
+       best-scoring hypothesis is kept unless a later one fits ``fit_switch_margin`` better.
 
     The returned score is the confidence of the camera (``score.jaccard``,
     confidence.camera_confidence). One search: which positions to try next when its camera is not
@@ -129,7 +127,6 @@ def reinit_from_mask(
     chosen = best_distinct(*angles_and_focals, costs, config.refine_top_k, config.distinct_per_width * W, W)
     log.debug("mask re-init: %d lines, %d ellipses, %d hypotheses", len(lines), len(ellipses), len(hypotheses))
     points = fit_points(points_px, config)
-    considered: set[int] = set()  # hypotheses fitted, or whose start a fit already reached
     fine = structures.fine_scorer
     check_w = np.vstack(list(pitch.sample_uniform(4.0, classes=ground).values()))
     best = None  # (fit score, camera, focal point, whether from the first fitted hypothesis)
@@ -164,21 +161,12 @@ def reinit_from_mask(
         if costs[k] > config.refine_cost_share * costs[chosen[0]] or len(refined) >= config.max_fits:
             break  # no close competitor of the best-scoring hypothesis left, or enough fits
         start = start_of(hypothesis)
-        considered.add(k)
         if any(_image_distance_px(start, other, check_w) < config.distinct_per_width * W for other in refined):
             continue  # a fit already landed here
         fit(start, config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
             and len(refined) + 1 < config.max_fits)
         if best[0] >= config.accept_fit_score:
             break
-    if config.deep_fits and (best is None or best[0] < config.accept_fit_score):
-        # Fitted deep (mask_config.DEEP_SEARCH): the right hypothesis of a guess metres off can rank far down.
-        deeper = [k for k in best_distinct(*angles_and_focals, costs, len(hypotheses),
-                                           config.deep_distinct_per_width * W, W) if k not in considered]
-        for k in deeper[:config.deep_fits]:
-            fit(start_of(hypotheses[k]), False)
-            if best[0] >= config.accept_fit_score:
-                break
     if best is None:
         return ReinitResult(None, None, "", "no hypothesis could be fitted", len(hypotheses))
     _, camera, position, _ = best
@@ -220,9 +208,8 @@ _LAST_STRUCTURES: list = []  # [(key, pitch, MapStructures)] of the last frame s
 
 
 def map_structures(marking_mask, points_px, frame_size, pitch, config) -> MapStructures:
-    """The :class:`MapStructures` of a map: the last frame's when the map, points, size and settings are the same
-    (the deep fits' settings aside: a stage fitted deep shares the structures of the frame's other stages)."""
-    config = replace(config, deep_fits=0, deep_distinct_per_width=0.0)
+    """The :class:`MapStructures` of a map: the last frame's when the map, points, size and settings are the
+    same."""
     digest = hashlib.blake2b(digest_size=16)
     for array in (np.ascontiguousarray(marking_mask), np.ascontiguousarray(points_px, float)):
         digest.update(str(array.shape).encode())

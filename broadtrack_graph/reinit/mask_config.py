@@ -93,10 +93,6 @@ class MaskSearchConfig:
     refine_cost_share: float = 0.88  # ... after the first, only those scoring this share of its score ...
     max_fits: int = 5  # ... with at most this many label-and-fit runs in all ...
     accept_fit_score: float = 0.6  # ... stopping once a fit scores this (fit score below)
-    # Fits deep (DEEP_SEARCH): when no fit scores accept_fit_score, up to this many more hypotheses, best score first,
-    # get one tight fit each, those closer than deep_distinct_per_width counting as one; 0: none.
-    deep_fits: int = 0
-    deep_distinct_per_width: float = 0.002
     fit_switch_margin: float = 0.1  # within one search: a later hypothesis replaces the best-scoring one when its fit score is this higher
     fit_template_step_m: float = 0.5  # the fit score: the score with a denser template, more points
     fit_max_points: int = 1000  # and tolerances of about 2 and 3 px at 1920
@@ -109,14 +105,3 @@ class MaskSearchConfig:
     min_classes_free_position: int = 3  # with fewer named classes the fit holds the focal point and k1
     sigma_k1: float = 0.05  # prior on k1 around 0 (few far markings leave k1 and f entangled)
     max_fit_points: int = 400  # marking points used by the label-and-fit rounds (evenly subsampled)
-    # The walk of a near miss (reinit.near_miss.walk_wide): the wide fit repeated from where the last one went ...
-    walk_max_fits: int = 4  # ... at most this many times ...
-    walk_still_m: float = 0.5  # ... until a fit moves the focal point less than this
-
-
-DEEP_SEARCH = MaskSearchConfig(deep_fits=18)
-"""The search that fits deep: for a frame no other search placed (the tracker's fallback stages). A hypothesis made
-at a guessed focal point metres from the camera's can rank far down the map scores and fall within the distinct
-radius of a better-scoring wrong one, while its fit is clearly the best: measured on real 360p main-camera frames
-4-5 m from the guess, 13th-16th of 24-27 hypotheses, fit score 0.47-0.49 against at most 0.31 for the others. 18
-more fits cover a guess's line-pair hypotheses (``polish_top_k``, 24) past the usual few, at about 40 ms each."""

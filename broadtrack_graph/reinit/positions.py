@@ -16,10 +16,9 @@ the few positions that cover its usual range. Where the numbers come from:
   not converge, hence three). The three guesses on the main stand all see the centre spot
   12.3-12.4 deg below the horizon; main cameras stand at other elevations too (the main cameras
   tracked on the real clips this project is measured on were fitted at 9.3-15.6 deg, and the
-  published ranges above allow up to about 27 deg), and a guess 3 deg off in elevation can miss
-  a tight view. Tried, in turn, while nothing else gives a camera confident by the margin:
-  (0, 75, -12) m (9.1 deg), (0, 55, -16) m (16.2 deg), (0, 65, -24) m (20.3 deg) and
-  (0, 75, -27) m (19.8 deg); ``bench placements`` measures what they add.
+  published ranges above allow up to about 27 deg): (0, 75, -12) m (9.1 deg), (0, 55, -16) m
+  (16.2 deg), (0, 65, -24) m (20.3 deg) and (0, 75, -27) m (19.8 deg) are main cameras too (a camera found
+  there is named ``main``), not searched: the court model places a camera wherever it stands.
 - ``high-16m``: the cameras of the main stand level with the penalty areas' 16.5 m lines,
   x = +-36 m, on the main camera's gantry.
 - ``high-behind``: high behind a goal, on the pitch's long axis: (-65, 0, -15) and (-75, 0, -24) m
@@ -88,9 +87,6 @@ FAR_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[1:3]
 NEAR_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[3:6]
 """Main cameras of lower-league grounds: a low gantry a few metres behind the touchline."""
 
-OTHER_ELEVATION_MAIN_POSITIONS_W = CAMERA_KINDS[0].positions_w[6:]
-"""Main cameras seeing the centre spot lower and higher than the guesses above (9.1, 16.2, 20.3 and 19.8 deg against
-12.4)."""
 
 
 def mirrored_position(position_w) -> tuple[float, float, float]:

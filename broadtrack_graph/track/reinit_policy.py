@@ -35,11 +35,9 @@ field models place a camera from nothing, for a chain's start or a lost chain):
 4. **The global search** in stages, when the search budget allows.
 
    * A shot whose camera is not known yet: the stages of :mod:`~broadtrack_graph.track.search_stages` (the known
-     cameras, the default positions, the other camera kinds; while unsure, the fallback stages fitted deep and
-     the near misses walked, :mod:`~broadtrack_graph.reinit.near_miss`), every one (a view of one camera can be
-     explained, less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known camera
-     is found at its own position confident by the margin. A chain's first camera that is not certain nor a
-     refined guess is also tried along its line of sight and moved there when better by the margin.
+     cameras, the default positions, the other camera kinds), every one (a view of one camera can be explained,
+     less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known camera is found at
+     its own position confident by the margin.
    * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, unless the
      chain is trusted (its camera stands where its confident frames put it), its kind's stage; the first confident
      stage ends it.
@@ -74,7 +72,6 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.reinit.near_miss import best_along_line_of_sight, best_walked
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.chain import Chain
@@ -82,12 +79,11 @@ from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
 from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import SearchBudget, TrySchedule
-from broadtrack_graph.track.search_stages import DEEP_STAGE_COST, KNOWN_CAMERAS, search_plan
+from broadtrack_graph.track.search_stages import KNOWN_CAMERAS, search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
-"""``(observations, detections, pitch, positions or None, curves, sampling[, deep=True]) -> ReinitResult``: one global
-search (``deep``: fit deep, the fallback stages)."""
+"""``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
 Refiner = Callable[[list, object, object], ReinitResult]
 """``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit."""
 Confidence = Callable[..., float | None]
@@ -131,7 +127,7 @@ class ReinitPolicy:
         self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
         self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
         self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
-                       "global": 0, "stages": 0, "deep_stages": 0, "walks": 0, "skipped_by_budget": 0}
+                       "global": 0, "stages": 0, "skipped_by_budget": 0}
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
 
     def close(self) -> None:
@@ -176,23 +172,11 @@ class ReinitPolicy:
         decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image)
         if held is not None and self.chain.trusted:
             self.held_schedule.tried(observations.frame_index, decision.camera is not None)
-        points, margin = getattr(detections, "marking_points_px", None), self.config.reinit_switch_margin
-        if self.chain.trusted or decision.camera is None or decision.continues_chain or points is None \
-                or len(points) < 10 \
-                or not (decision.searched or decision.confidence >= self.config.confidence_threshold + margin) \
-                or decision.confidence >= self.config.certain_confidence:
-            return decision
-        # A chain's first camera (a refined guess stands where its camera stood): nearer or further along its sight?
-        confidence, camera = best_along_line_of_sight(decision.camera, lambda c: self.confidence(
-            c, observations, detections, curves, sampling), points, curves, fits=self.stages.mapped)
-        if confidence <= decision.confidence + margin:
-            return decision
-        return replace(decision, camera=camera, confidence=confidence,
-                       reason=decision.reason + " (moved along its line of sight)")
+        return decision
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                 held_confidence: float | None = None, image=None) -> ReinitDecision:
-        """The decision before a new camera is tried along its line of sight.
+        """The decision, before the held camera's schedule hears of it.
 
         Args:
             observations, detections: the frame's (detections None for a detections file).
@@ -337,8 +321,8 @@ class ReinitPolicy:
     # ----------------------------------------------------------------- guesses and the search
 
     def _paid(self) -> int:
-        """Stages paid so far (the budget's unit): a walk costs up to one, a stage fitted deep about DEEP_STAGE_COST."""
-        return self.counts["stages"] + self.counts["walks"] + (DEEP_STAGE_COST - 1) * self.counts["deep_stages"]
+        """Stages paid so far (the budget's unit)."""
+        return self.counts["stages"]
 
     def _search(self, plan, observations, detections, pitch, curves, sampling,
                 score) -> tuple[ReinitResult | None, float, str, dict[str, float]]:
@@ -349,16 +333,13 @@ class ReinitPolicy:
         labelled: the known cameras' positions, then the default positions (mirrored too) only.
         """
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
-        # When it ends, which stages it reads: the module docstring (the fallback stages and walks: while unsure).
+        # When it ends, which stages it reads: the module docstring.
         enough = self.config.certain_confidence if plan.new_shot else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
         found = []  # (confidence, result, stage label) of every stage's camera
-        unsure = lambda: best_confidence < threshold + margin  # noqa: E731
-        stage_results = self.stages.labelled_results(plan.stages, plan.fallback, unsure, observations, detections,
-                                                     pitch, curves, sampling)
-        for k, (stage_label, result, deep_stage) in enumerate(stage_results):
+        stage_results = self.stages.labelled_results(plan.stages, observations, detections, pitch, curves, sampling)
+        for k, (stage_label, result) in enumerate(stage_results):
             self.counts["stages"] += 1
-            self.counts["deep_stages"] += deep_stage
             if result.camera is None:
                 reasons.append(f"{stage_label}: {result.reason}")
                 continue
@@ -377,14 +358,6 @@ class ReinitPolicy:
             if best is not None and best_confidence >= (threshold + margin if best_known else enough):
                 break
         stage_results.close()
-        points = getattr(detections, "marking_points_px", None)
-        if plan.new_shot and unsure() and points is not None and len(points) >= 10:
-            walked_confidence, walked, k, walks = best_walked([(c, r.camera) for c, r, _ in found], score, points,
-                                                              curves, threshold + margin)
-            self.counts["walks"] += walks
-            if walked is not None and walked_confidence >= threshold and walked_confidence > best_confidence + margin:
-                best, best_confidence = replace(found[k][1], camera=walked), walked_confidence
-                label = f"global search, {found[k][2]} (walked): {found[k][1].reason}"
         confidences = {stage_label: confidence for confidence, _, stage_label in found}
         if best is None:
             why = "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"

@@ -60,7 +60,7 @@ class RunContext:
     backfill: bool = False
     # (config, graph_config, width_px, height_px, pitch, tripod) -> StreamingSolver
     solver_factory: Callable = streaming_solver_for
-    # One global search: (observations, detections, pitch, positions, curves, sampling[, deep]) -> ReinitResult;
+    # One global search: (observations, detections, pitch, positions, curves, sampling) -> ReinitResult;
     # when and where it runs is decided by track.reinit_policy.ReinitPolicy
     reinitialise: Callable = reinitialise
     # (camera, observations, detections, curves, sampling) -> confidence in [0, 1] or None

@@ -14,7 +14,6 @@ from broadtrack_graph.reinit.positions import (
     FAR_MAIN_POSITIONS_W,
     MAIN_KIND,
     NEAR_MAIN_POSITIONS_W,
-    OTHER_ELEVATION_MAIN_POSITIONS_W,
     camera_kind,
 )
 
@@ -34,28 +33,16 @@ KIND_STAGES: dict[str, tuple[str, tuple]] = {
 SEARCH_STAGES: tuple[tuple[str, tuple | None], ...] = MAIN_STAGES + tuple(KIND_STAGES.values())
 """The stages of a shot whose camera is not known yet, after the known cameras' positions."""
 
-FALLBACK_STAGES: tuple[tuple[str, tuple], ...] = tuple(
-    (f"main camera at another elevation {p}", (p,)) for p in OTHER_ELEVATION_MAIN_POSITIONS_W)
-"""Stages searched after :data:`SEARCH_STAGES`, each only while no stage before it gave a camera confident by the
-margin; fitted deep (:data:`~broadtrack_graph.reinit.mask_config.DEEP_SEARCH`)."""
-
-DEEP_STAGE_COST = 3
-"""A stage fitted deep costs about this many stages (the search budget pays it so; docs/BENCHMARKS.md, "Why the
-defaults")."""
-
 
 KNOWN_CAMERAS = "known cameras"
 """The label of the stage that searches the known cameras' positions."""
 
 class SearchPlan(NamedTuple):
-    """One search's stages: (label, positions) in order; the fallback stages, searched after them only while none gave
-    a camera confident by the margin; how many of the first stages are the likely ones (their best camera wins
-    by any amount; a later stage's must be confident and better by the margin); and whether it is a new shot's
-    search on a marking map (read until a camera is certain; its near misses walked while none is confident by
-    the margin)."""
+    """One search's stages: (label, positions) in order; how many of the first stages are the likely ones (their
+    best camera wins by any amount; a later stage's must be confident and better by the margin); and whether it is a
+    new shot's search on a marking map (read until a camera is certain)."""
 
     stages: list
-    fallback: list
     likely: int
     new_shot: bool = False
 
@@ -71,24 +58,26 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         with_map: the frame has a marking map (without one, the labelled search is cheap: the default stage only).
         shot_start_confidences: for a shot searched before (:func:`retry_plan`), stage label -> the confidence of the
             camera its first search found there; None: the shot's first search.
+        held_trusted: the shot's camera holds a trusted chain (its frames are being written), dipping under the
+            threshold.
     """
     if search_positions is not None:
-        return SearchPlan([("the given positions", search_positions)], [], 1)
+        return SearchPlan([("the given positions", search_positions)], 1)
     if camera_id is not None and camera_id in known_positions:
         # Mid-shot: the camera has not moved; its own position, then its kind's stage (the main camera's default
         # stage guards against a wrong first camera's position) while the chain is not trusted. A trusted chain's
         # camera stands where its confident frames put it: its own position alone.
         own_position = tuple(known_positions[camera_id])
         if held_trusted:
-            return SearchPlan([(f"camera {camera_id}", [own_position])], [], 1)
+            return SearchPlan([(f"camera {camera_id}", [own_position])], 1)
         kind, _ = camera_kind(own_position)
         own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES else ())
-        return SearchPlan([(f"camera {camera_id}", [own_position])] + list(own), [], 2)
+        return SearchPlan([(f"camera {camera_id}", [own_position])] + list(own), 2)
     known = [tuple(p) for p in known_positions.values()]
     first = [(KNOWN_CAMERAS, known)] if known else []
     if not with_map:
-        return SearchPlan(first + list(SEARCH_STAGES[:1]), [], len(first) + 1)
-    plan = SearchPlan(first + list(SEARCH_STAGES), list(FALLBACK_STAGES), len(first) + 1, new_shot=True)
+        return SearchPlan(first + list(SEARCH_STAGES[:1]), len(first) + 1)
+    plan = SearchPlan(first + list(SEARCH_STAGES), len(first) + 1, new_shot=True)
     return plan if shot_start_confidences is None else retry_plan(plan, shot_start_confidences)
 
 
@@ -105,13 +94,10 @@ def retry_plan(plan: SearchPlan, shot_start_confidences: dict[str, float]) -> Se
         shot_start_confidences: stage label -> the confidence of the camera the shot's first search found there (a
             stage that found none is missing).
     """
-    others = [(shot_start_confidences[label], k, label) for k, (label, _) in enumerate(plan.stages + plan.fallback)
+    others = [(shot_start_confidences[label], k, label) for k, (label, _) in enumerate(plan.stages)
               if k >= plan.likely and label in shot_start_confidences]
-    stages, fallback = list(plan.stages[:plan.likely]), []
+    stages = list(plan.stages[:plan.likely])
     if others:
         _, k, _ = max(others, key=lambda other: (other[0], -other[1]))  # a tie: the earlier stage
-        if k < len(plan.stages):
-            stages.append(plan.stages[k])
-        else:
-            fallback.append(plan.fallback[k - len(plan.stages)])
-    return SearchPlan(stages, fallback, plan.likely, new_shot=True)
+        stages.append(plan.stages[k])
+    return SearchPlan(stages, plan.likely, new_shot=True)

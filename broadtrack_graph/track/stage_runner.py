@@ -81,20 +81,14 @@ def _exit_with_parent(parent_pid: int) -> None:
     os._exit(0)
 
 
-def _run_stage(observations, detections, positions, deep: bool):
+def _run_stage(observations, detections, positions):
     search, pitch, curves, sampling = _WORKER_STATE
-    return _searched(search, observations, detections, pitch, positions, curves, sampling, deep)
+    return search(observations, detections, pitch, positions, curves, sampling)
 
 
 def _run_call(function: Callable, args: tuple, keywords: dict):
     """One call of :meth:`StageRunner.mapped` in a worker, with the template it holds."""
     return function(*args, curves=_WORKER_STATE[2], **keywords)
-
-
-def _searched(search: Callable, observations, detections, pitch, positions, curves, sampling, deep: bool):
-    """One stage's search; ``deep`` is passed only when set (a search that never fits deep need not take it)."""
-    options = {"deep": True} if deep else {}
-    return search(observations, detections, pitch, positions, curves, sampling, **options)
 
 
 def _warm() -> None:
@@ -105,8 +99,7 @@ class StageRunner:
     """Runs a global search's stages, yielding their results in order (module docstring).
 
     Args:
-        search: one global search, ``(observations, detections, pitch, positions, curves, sampling[, deep=True]) ->
-            ReinitResult`` (``deep``: fit deep, the fallback stages).
+        search: one global search, ``(observations, detections, pitch, positions, curves, sampling) -> ReinitResult``.
         workers: worker processes computing later stages ahead (0: every stage in this process).
     """
 
@@ -118,18 +111,16 @@ class StageRunner:
         self._disabled = self.workers == 0 or not _picklable(search)
         self.ahead = 0  # stages (and calls) computed by a worker that were read
 
-    def results(self, stages: Sequence, observations, detections, pitch, curves, sampling,
-                deep: bool = False) -> Iterator:
+    def results(self, stages: Sequence, observations, detections, pitch, curves, sampling) -> Iterator:
         """The result of each stage (its candidate positions) in order; stop reading to end the search.
 
         The stages after the one being read run ahead on the workers; whatever is not read is dropped.
-        deep: the search fits deep (the fallback stages).
         """
         def here(k):
-            return _searched(self.search, observations, detections, pitch, stages[k], curves, sampling, deep)
+            return self.search(observations, detections, pitch, stages[k], curves, sampling)
 
         def ahead(k):
-            return self._pool.submit(_run_stage, observations, detections, stages[k], deep)
+            return self._pool.submit(_run_stage, observations, detections, stages[k])
 
         started = self._pool is not None
         pool = self._pool_for(pitch, curves, sampling) if started and len(stages) > 1 else None
@@ -206,20 +197,14 @@ class StageRunner:
             for future in running.values():
                 future.cancel()  # not started: dropped; running: its result is ignored
 
-    def labelled_results(self, stages: Sequence, fallback: Sequence, go_on: Callable[[], bool], *frame) -> Iterator:
-        """(label, result, fitted deep) of the (label, positions) stages in order, then of the fallback stages, fitted
-        deep, each of these only while go_on() (they run ahead on the workers all the same); the stages not read are
-        dropped."""
-        for is_fallback, group in enumerate((stages, fallback)):
-            deep = bool(is_fallback)
-            results = self.results([positions for _, positions in group], *frame, deep=deep)
-            try:
-                for label, _ in group:
-                    if is_fallback and not go_on():
-                        return
-                    yield label, next(results), deep
-            finally:
-                results.close()
+    def labelled_results(self, stages: Sequence, *frame) -> Iterator:
+        """(label, result) of the (label, positions) stages in order; the stages not read are dropped."""
+        results = self.results([positions for _, positions in stages], *frame)
+        try:
+            for label, _ in stages:
+                yield label, next(results)
+        finally:
+            results.close()
 
     def close(self) -> None:
         """Stop the workers (the runner then searches in this process)."""

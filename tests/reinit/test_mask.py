@@ -129,106 +129,19 @@ def test_reinit_from_mask_finds_a_lower_league_camera_at_the_near_positions():
     assert default.camera is None or _median_template_error_px(default.camera, frame.camera) > 20.0
 
 
-@pytest.fixture(scope="module")
-def main_frame_seed_1():
-    """The first frame of the `main` preset, seed 1, at 1280x720: its true camera and its weight-free detections."""
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
-    from broadtrack_graph.synth.clip import render_clip
-    from broadtrack_graph.synth.motion import generate_camera_track
-
-    track = generate_camera_track("main", 1, 1280, 720, seed=1)
-    frame = render_clip("main", 1, 1280, 720, seed=1, cameras=[track.cameras[0]]).frames[0]
-    return frame.camera, WeightFreeDetector(PITCH).detect(frame.image)
-
-
-def test_a_search_that_fits_deep_finds_a_camera_standing_metres_from_its_guess(main_frame_seed_1):
-    from broadtrack_graph.reinit.mask_config import DEEP_SEARCH
-
-    truth, det = main_frame_seed_1
-    guess = tuple(np.asarray(truth.position_m) + (0.0, 0.0, -4.5))  # 4.5 m higher than the camera
-    args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH)
-    usual = reinit_from_mask(*args, positions_w=[guess], curves=CURVES, field_mask=det.field_mask)
-    assert usual.camera is None or _median_template_error_px(usual.camera, truth) > 50.0
-    deep = reinit_from_mask(*args, positions_w=[guess], curves=CURVES, field_mask=det.field_mask, config=DEEP_SEARCH)
-    assert deep.camera is not None and deep.score.jaccard > 0.7
-    assert _median_template_error_px(deep.camera, truth) < 2.0
-    assert np.linalg.norm(deep.camera.position_m - truth.position_m) < 1.0
-
-
-def test_deep_fits_run_only_when_no_usual_fit_is_good_and_at_most_deep_fits_of_them(main_frame_seed_1, monkeypatch):
-    from dataclasses import replace
-
-    import broadtrack_graph.reinit.mask as mask_module
-    from broadtrack_graph.reinit.mask_config import DEEP_SEARCH, MaskSearchConfig
-
-    truth, det = main_frame_seed_1
-    fits = []
-    fit = mask_module.refine_on_map
-    monkeypatch.setattr(mask_module, "refine_on_map", lambda *a, **k: fits.append(a[5]) or fit(*a, **k))
-
-    def search(config, position=tuple(truth.position_m)):
-        fits.clear()
-        result = reinit_from_mask(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, positions_w=[position],
-                                  curves=CURVES, field_mask=det.field_mask, config=config)
-        return result, list(fits)
-
-    # At the camera's own focal point the first fit is good: fitting deep changes nothing.
-    usual, usual_fits = search(MaskSearchConfig())
-    deep, deep_fits = search(DEEP_SEARCH)
-    assert usual.score.jaccard > 0.7 and len(deep_fits) == len(usual_fits)
-    assert np.array_equal(deep.camera.to_vector(), usual.camera.to_vector())
-    # No fit can be good enough: the deep fits follow the usual ones, one tight fit each, at most deep_fits of them.
-    never = replace(MaskSearchConfig(), accept_fit_score=2.0)
-    _, usual_fits = search(never)
-    _, deep_fits = search(replace(never, deep_fits=DEEP_SEARCH.deep_fits))
-    extra = deep_fits[len(usual_fits):]
-    assert deep_fits[:len(usual_fits)] == usual_fits
-    assert 0 < len(extra) <= DEEP_SEARCH.deep_fits and all(s == never.schedule for s in extra)
-    _, three = search(replace(never, deep_fits=3))
-    assert len(three) == len(usual_fits) + min(3, len(extra))
-
-
-def test_the_search_fitting_deep_places_a_real_frame_it_otherwise_misses(real_video_dir):
-    """Frame 270 of the 360p clip: the penalty area's top line and arc, and the near touchline. Its camera stands
-    4.4 m from the guess (0, 55, -16) m; the right hypothesis made there ranks 16th by the map score."""
-    import cv2
-
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
-    from broadtrack_graph.geometry.camera import Camera
-    from broadtrack_graph.reinit.mask_config import DEEP_SEARCH
-
-    capture = cv2.VideoCapture(str(real_video_dir / "jpn-tjk-360p-with-cut.mp4"))
-    for _ in range(271):
-        ok, image = capture.read()
-    capture.release()
-    assert ok and image.shape[:2] == (360, 640)
-    det = WeightFreeDetector(PITCH).detect(image)
-    args = (det.marking_mask, det.marking_points_px, (640, 360), PITCH)
-    guess = [(0.0, 55.0, -16.0)]
-    # The camera this frame is tracked with from the clip's start (every frame passes `bench real`'s check).
-    tracked = Camera(985.3, 0.303, np.radians(27.21), np.radians(69.27), np.radians(-0.11), (1.47, 59.41, -16.79),
-                     640, 360)
-    usual = reinit_from_mask(*args, positions_w=guess, curves=CURVES, field_mask=det.field_mask)
-    assert usual.camera is not None and usual.score.jaccard < 0.5
-    assert _median_template_error_px(usual.camera, tracked) > 10.0
-    deep = reinit_from_mask(*args, positions_w=guess, curves=CURVES, field_mask=det.field_mask, config=DEEP_SEARCH)
-    assert deep.camera is not None and deep.score.jaccard > 0.75
-    assert _median_template_error_px(deep.camera, tracked) < 3.0
-    assert np.linalg.norm(deep.camera.position_m - np.asarray(tracked.position_m)) < 1.5
-
-
-def test_a_stage_fitted_deep_shares_the_frames_map_structures(hard_frames):
-    """The marking map's structures (scorers, straight markings, ellipses) do not depend on the deep fits' settings:
-    a stage fitted deep reuses those the frame's other stages built, and a new map builds its own."""
+def test_a_frame_s_stages_share_its_map_structures(hard_frames):
+    """The marking map's structures (scorers, straight markings, ellipses) are built once a frame: a later stage of
+    the same frame and settings reuses them, and a new map or a setting the scorers read builds its own."""
     from broadtrack_graph.reinit.mask import map_structures
-    from broadtrack_graph.reinit.mask_config import DEEP_SEARCH, MaskSearchConfig
+    from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 
     _, det = hard_frames[0]
     usual = map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, MaskSearchConfig())
-    deep = map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH)
-    assert deep is usual
+    again = map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, MaskSearchConfig())
+    assert again is usual
     _, other = hard_frames[1]
-    assert map_structures(other.marking_mask, other.marking_points_px, (1920, 1080), PITCH, DEEP_SEARCH) is not usual
+    assert map_structures(other.marking_mask, other.marking_points_px, (1920, 1080), PITCH,
+                          MaskSearchConfig()) is not usual
     wider = MaskSearchConfig(score_hit_px=2 * MaskSearchConfig().score_hit_px)  # a setting the scorers read
     assert map_structures(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, wider) is not usual
 

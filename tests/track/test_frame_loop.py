@@ -88,7 +88,7 @@ class Scripted:
         self.reinit_scores = reinit_confidence or {}
         self.reinit_calls = []
 
-    def reinitialise(self, observations, detections, pitch, positions, curves, sampling, deep=False):
+    def reinitialise(self, observations, detections, pitch, positions, curves, sampling):
         i = observations.frame_index
         self.reinit_calls.append(i)
         if i in self.fail:
@@ -377,7 +377,7 @@ def test_each_shot_gets_its_camera_s_id_and_a_returning_camera_its_own(tmp_path)
     corner = Camera(4400.0, 0.0, -0.1, 1.25, 0.0, (53.0, 70.0, -22.0), W, H)
 
     class TwoCameras(Scripted):
-        def reinitialise(self, observations, detections, pitch, positions, curves, sampling, deep=False):
+        def reinitialise(self, observations, detections, pitch, positions, curves, sampling):
             i = observations.frame_index
             self.reinit_calls.append(i)
             return ReinitResult(corner if 4 <= i < 8 else reinit_camera(i), None, "lines")

@@ -14,7 +14,7 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import DEEP_STAGE_COST, FALLBACK_STAGES, KIND_STAGES, SEARCH_STAGES
+from broadtrack_graph.track.search_stages import KIND_STAGES, SEARCH_STAGES
 from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
@@ -31,13 +31,12 @@ class Fakes:
     def __init__(self, stage_answers=None, guess_confidence=0.8):
         self.stage_answers = stage_answers or {}
         self.guess_confidence = guess_confidence
-        self.searched, self.refined, self.deep = [], [], []
+        self.searched, self.refined = [], []
         self.confidences: dict[int, float] = {}
 
-    def search(self, observations, detections, pitch, positions, curves, sampling, deep=False):
+    def search(self, observations, detections, pitch, positions, curves, sampling):
         key = None if positions is None else tuple(map(tuple, positions))
         self.searched.append(key)
-        self.deep.append(deep)
         answer = self.stage_answers.get(key)
         if answer is None:
             return ReinitResult(None, None, "", "nothing found")
@@ -175,9 +174,8 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     fakes = Fakes()  # nothing is ever found
     policy = _policy(fakes, search_cost_frames=5.0, search_time_share=0.2, max_search_backoff=8)
     first = _decide(policy, 0)
-    stages = len(SEARCH_STAGES) + len(FALLBACK_STAGES)  # nothing confident: the fallback stages too
+    stages = len(SEARCH_STAGES)
     assert first.camera is None and first.searched and len(fakes.searched) == stages
-    assert policy.counts["deep_stages"] == len(FALLBACK_STAGES)
     blocked = _decide(policy, 1)
     assert not blocked.searched and "next global search at frame" in blocked.reason
     # The shot's own search leaves the bucket empty; a frame refills 1/20 of a stage and, after a failure, the next
@@ -186,7 +184,7 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     searched = [i for i in range(1, 700) if _decide(policy, i).searched]
     # Each retry (one stage) doubles the price, up to 8: gaps of 80, 160, then 160 frames.
     assert searched == [40, 120, 280, 440, 600]
-    assert fakes.searched[stages:] == [None] * 5 and policy.counts["deep_stages"] == len(FALLBACK_STAGES)
+    assert fakes.searched[stages:] == [None] * 5
     _cut(policy)
     assert _decide(policy, 700).searched and len(fakes.searched) == 5 + 2 * stages  # a new shot: every stage again
 
@@ -291,88 +289,7 @@ def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
     policy = _policy(fakes)
     policy.tripod("high-corner-1", known[0])
     decision = _decide(policy, 0)
-    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES) + len(FALLBACK_STAGES)
-
-
-def test_the_fallback_stages_are_searched_only_while_no_stage_is_confident_by_the_margin():
-    (_, lower_stage), (_, higher_stage), *_ = FALLBACK_STAGES
-    lower, higher = MAIN.replace(position_m=lower_stage[0]), MAIN.replace(position_m=higher_stage[0])
-    stages, fallback = [p for _, p in SEARCH_STAGES], [p for _, p in FALLBACK_STAGES]
-    # Nothing confident by the margin: a fallback's camera wins when confident and better by the margin, and once
-    # a camera is confident by the margin the next fallback is not searched.
-    fakes = Fakes({None: (MAIN, 0.36), lower_stage: (lower, 0.66), higher_stage: (higher, 0.9)})
-    decision = _decide(_policy(fakes), 0)
-    assert decision.camera is lower and decision.camera_id == "main" and "another elevation" in decision.reason
-    assert fakes.searched == stages + [lower_stage]
-    fakes = Fakes({None: (MAIN, 0.36), lower_stage: (lower, 0.4), higher_stage: (higher, 0.7)})
-    assert _decide(_policy(fakes), 0).camera is higher and fakes.searched == stages + [lower_stage, higher_stage]
-    # A wrong camera can reach the threshold: the fallbacks are searched until one is confident by the margin.
-    fakes = Fakes({None: (MAIN, 0.55), lower_stage: (lower, 0.6), higher_stage: (higher, 0.66)})
-    assert _decide(_policy(fakes), 0).camera is higher and fakes.searched == stages + [lower_stage, higher_stage]
-    fakes = Fakes({None: (MAIN, 0.45), lower_stage: (lower, 0.52)})  # confident, but not better by the margin
-    assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages + fallback
-    # A camera confident by the margin: no fallback is searched.
-    fakes = Fakes({None: (MAIN, 0.61), lower_stage: (lower, 0.95)})
-    assert _decide(_policy(fakes), 0).camera is MAIN and fakes.searched == stages
-    # Mid-shot (the shot's camera is known) there is no fallback.
-    policy = _policy(fakes := Fakes({lower_stage: (lower, 0.95)}))
-    policy.tripod("main", (0.0, 55.0, -12.0))
-    policy.chain.identify("main")
-    assert _decide(policy, 0).camera is None and lower_stage not in fakes.searched
-
-
-def test_a_new_shot_s_near_misses_are_walked_only_while_no_camera_is_confident_by_the_margin(monkeypatch):
-    import broadtrack_graph.reinit.near_miss as near_miss_module
-
-    corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
-    near = MAIN.replace(position_m=(0.0, 51.0, -11.0))  # a near miss: 4 m from where the camera stands
-    walked = MAIN.replace(position_m=(0.0, 55.0, -12.0))
-    walks = []
-
-    def walk_wide(camera, points, curves, config=None):
-        walks.append(camera)
-        return walked if camera is near else None
-
-    monkeypatch.setattr(near_miss_module, "walk_wide", walk_wide)
-    monkeypatch.setattr(near_miss_module, "along_line_of_sight", lambda camera, points, curves, **_: [])
-    points = SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((40, 2)))
-
-    def decided(stages, walked_confidence, detections=points):
-        walks.clear()
-        fakes = Fakes(stages)
-        fakes.confidences[id(walked)] = walked_confidence
-        return _decide(_policy(fakes), 0, detections=detections), fakes
-
-    # A wrong camera of 0.58 and the near miss of 0.45: the near miss walks to a camera better by the margin.
-    decision, _ = decided({None: (near, 0.45), corner_stage: (CORNER, 0.58)}, 0.77)
-    assert decision.camera is walked and decision.confidence == pytest.approx(0.77) and "(walked)" in decision.reason
-    assert walks == [CORNER, near]  # the most confident first; CORNER's walk went nowhere
-    # Walked, but not better by the margin (nor confident): the search's camera stays.
-    assert decided({None: (near, 0.45), corner_stage: (CORNER, 0.58)}, 0.62)[0].camera is CORNER
-    assert decided({None: (near, 0.35)}, 0.49)[0].camera is near
-    # A camera confident by the margin, or no marking points: nothing is walked.
-    assert decided({None: (near, 0.45), corner_stage: (CORNER, 0.65)}, 0.9)[0].camera is CORNER and walks == []
-    assert decided({None: (near, 0.45)}, 0.9, detections=WITH_MAP)[0].camera is near and walks == []
-    # Mid-shot searches walk nothing either; a camera under 0.3 explains too little to be walked.
-    policy = _policy(Fakes({((0.0, 55.0, -12.0),): (near, 0.45)}))
-    policy.tripod("main", (0.0, 55.0, -12.0))
-    policy.chain.identify("main")
-    assert _decide(policy, 0, detections=points).camera is near and walks == []
-    assert decided({None: (near, 0.25)}, 0.9)[0].camera is near and walks == []
-    # A search that finds nothing confident pays for its walks as for stages: the next one waits that much longer.
-    walks.clear()
-    policy = _policy(fakes := Fakes({None: (near, 0.45), corner_stage: (CORNER, 0.35)}))
-    fakes.confidences[id(walked)] = 0.45
-    assert _decide(policy, 0, detections=points).camera is near and policy.counts["walks"] == len(walks) == 2
-    stages = len(SEARCH_STAGES) + DEEP_STAGE_COST * len(FALLBACK_STAGES)  # the fallback stages fitted deep
-    assert policy.counts["stages"] + (DEEP_STAGE_COST - 1) * policy.counts["deep_stages"] == stages
-    # The shot's own search leaves the bucket empty; the price doubled to 2: the next search in 2 stages' frames.
-    refill = policy.budget.refill_frames
-    assert policy.budget.next_frame(0) == pytest.approx(2 * refill, abs=1)
-    walks.clear()
-    assert _decide(policy, 80, detections=points).searched and policy.counts["walks"] == 2 + len(walks)
-    # A later search pays its stages (the likely one, the nearest) and its walks at the doubled price.
-    assert policy.budget.next_frame(80) == pytest.approx(80 + (4 - 2 + 2 * (2 + len(walks))) * refill, abs=1)
+    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)
 
 
 def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
@@ -515,70 +432,35 @@ def test_a_model_camera_that_is_not_taken_registers_no_camera():
     assert decision.camera is MAIN and set(policy.registry.positions) == {"main"}
 
 
-def test_a_chain_s_first_camera_is_moved_along_its_line_of_sight_when_clearly_better(monkeypatch):
-    import broadtrack_graph.reinit.near_miss as near_miss_module
-
-    further = MAIN.replace(focal_px=1600.0, position_m=(0.0, 59.0, -12.8))  # the same view from 4 m further back
-    tried = []
-
-    def along_line_of_sight(camera, points, curves, **_):
-        tried.append(camera)
-        return [MAIN.replace(focal_px=1400.0, position_m=(0.0, 51.0, -11.2)), further]
-
-    monkeypatch.setattr(near_miss_module, "along_line_of_sight", along_line_of_sight)
-    points = SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((40, 2)))
-
-    def decided(main_confidence, further_confidence, **kw):
-        fakes = Fakes({None: (MAIN, main_confidence)})
-        fakes.confidences[id(further)] = further_confidence
-        return _decide(_policy(fakes), 0, detections=points, **kw)
-
-    decision = decided(0.62, 0.8)  # searched for a new shot: moved, better by more than the margin
-    assert decision.camera is further and decision.confidence == pytest.approx(0.8)
-    assert decision.reason.endswith("(moved along its line of sight)") and len(tried) == 1
-    assert decided(0.62, 0.7).camera is MAIN  # better by less than the margin (0.1): kept
-    assert decided(0.95, 0.99).camera is MAIN  # certain: not tried
-    held = MAIN.replace(pan_rad=0.3)
-    # A trusted chain's camera is not moved (it has been tracked; its tripod holds it).
-    assert decided(0.62, 0.8, held=held, held_confidence=0.3, chain_trusted=True).camera is MAIN
-    # Without a marking map's points there is nothing to refine on.
-    fakes = Fakes({None: (MAIN, 0.62)})
-    fakes.confidences[id(further)] = 0.8
-    assert _decide(_policy(fakes), 0).camera is MAIN
-    # A refined guess continues a confident chain and stands where its camera stood: not moved either.
-    fakes = Fakes({None: (MAIN, 0.62)}, guess_confidence=0.62)
-    fakes.confidences[id(further)] = 0.8
-    policy = _policy(fakes)
-    policy.chain.identify("main")
-    policy.confident(0, MAIN)
-    _cut(policy)
-    tried.clear()
-    decision = _decide(policy, 5, detections=points)
-    assert decision.continues_chain and decision.camera is MAIN and tried == []
-
-
 def _a_new_shot_s_decision(image: np.ndarray, frame_index: int):
-    """The real tracker's policy (weight-free detections, the staged search, no field model, one process) on a new
-    shot's first frame."""
+    """The real tracker's policy (weight-free detections, the court model, the staged search, no field model, one
+    process) on a new shot's first frames, a still camera: the first decision with a camera (the court model's camera
+    under its bar waits for the next frames' to agree)."""
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.court import court_reinit
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
 
     detections = WeightFreeDetector().detect(image, None)
     pitch = PitchTemplate()
-    policy = ReinitPolicy(TrackingConfig(search_workers=0), reinitialise, refine_guesses, frame_confidence)
+    config = TrackingConfig(search_workers=0)
+    policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, court=court_reinit)
     height, width = image.shape[:2]
-    return policy.decide(FrameObservations(frame_index, width, height), detections, pitch, fitting_curves(pitch),
-                         TemplateSampling(pitch))
+    for index in range(frame_index, frame_index + config.court_agreement_frames + 1):
+        decision = policy.decide(FrameObservations(index, width, height), detections, pitch, fitting_curves(pitch),
+                                 TemplateSampling(pitch))
+        if decision.camera is not None:
+            break
+    return decision
 
 
-def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(real_video_dir, tmp_path):
+def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frames(real_video_dir, tmp_path):
     """The FA Cup clip's first frame cut to its middle 574 rows and written as MPEG-4 video, as a screen recording
     is: a centre-circle view whose boards' lettering passes for markings. Its camera sees the centre spot 9.3 deg
-    below the horizon (12.4 deg for the usual main-camera guesses): only the fallback stage finds it (without it,
-    a camera behind the goal, 0.36)."""
+    below the horizon (12.4 deg for the main-camera guesses of the search, whose best is a camera behind the goal,
+    0.36): the court model places it wherever it stands (0.65, taken when the next frame's agrees)."""
     import cv2
 
     capture = cv2.VideoCapture(str(real_video_dir / "facup-wembley-720p.mp4"))
@@ -594,6 +476,7 @@ def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(re
     decision = _a_new_shot_s_decision(image, 0)
     camera = decision.camera
     assert camera is not None and decision.confidence > 0.6 and decision.camera_id == "main", decision.reason
+    assert decision.reason.startswith("court model"), decision.reason
     # The camera this clip is tracked with (every frame passes the alignment check of `bench real`); one frame
     # leaves the distance along the line of sight loose (f scales with it), the image is what must agree.
     tracked = Camera(4045.0, 0.56, np.radians(-7.29), np.radians(81.87), np.radians(-0.12), (0.19, 74.87, -12.43),
@@ -610,9 +493,8 @@ def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frame(re
 
 def test_a_main_camera_metres_from_every_candidate_position_is_found_at_its_first_frame(real_video_dir):
     """Frame 300 of the 360p clip: a wide view between the centre circle and the right penalty area, its camera
-    4-5 m from every candidate focal point. The stages' usual fits all miss (the best, 0.55, is 77 px off); the
-    fallback stages, fitted deep, or the near misses walked by repeated wide fits reach the camera the clip is
-    tracked with."""
+    4-5 m from every candidate focal point of the search (whose best fit, 0.55, is 77 px off): the court model
+    places it."""
     import cv2
 
     capture = cv2.VideoCapture(str(real_video_dir / "jpn-tjk-360p-with-cut.mp4"))
@@ -623,7 +505,7 @@ def test_a_main_camera_metres_from_every_candidate_position_is_found_at_its_firs
     decision = _a_new_shot_s_decision(image, 300)
     camera = decision.camera
     assert camera is not None and decision.confidence > 0.7, decision.reason
-    assert "(walked)" in decision.reason or "another elevation" in decision.reason, decision.reason
+    assert decision.reason.startswith("court model"), decision.reason
     # The camera this frame is tracked with from the clip's start (every frame passes `bench real`'s check).
     tracked = Camera(774.8, 0.026, np.radians(22.54), np.radians(67.64), np.radians(0.29), (1.47, 59.57, -16.85),
                      640, 360)

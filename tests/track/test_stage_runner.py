@@ -59,13 +59,11 @@ def test_a_search_stopped_early_drops_the_stages_run_ahead(runner_with_a_worker)
     assert [r.hypothesis for r in again] == ["stage 10", "stage 11", "stage 12"]
 
 
-def test_the_fallback_stages_fit_deep_here_and_ahead(runner_with_a_worker):
-    stages, fallback = [("a", (0,)), ("b", (1,))], [("c", (2,)), ("d", (3,)), ("e", (4,))]
+def test_labelled_stages_come_with_their_labels_here_and_ahead(runner_with_a_worker):
+    stages = [("a", (0,)), ("b", (1,)), ("c", (2,))]
     for runner in (StageRunner(numbered_search, workers=0), runner_with_a_worker):
-        read = list(runner.labelled_results(stages, fallback, lambda: True, None, None, PITCH, CURVES, SAMPLING))
-        assert [(label, r.hypothesis, deep) for label, r, deep in read] == [
-            ("a", "stage 0", False), ("b", "stage 1", False), ("c", "stage 2 deep", True), ("d", "stage 3 deep", True),
-            ("e", "stage 4 deep", True)]
+        read = list(runner.labelled_results(stages, None, None, PITCH, CURVES, SAMPLING))
+        assert [(label, r.hypothesis) for label, r in read] == [("a", "stage 0"), ("b", "stage 1"), ("c", "stage 2")]
     assert runner_with_a_worker.ahead >= 1
 
 
