@@ -42,7 +42,7 @@ def add_arguments(parser) -> None:
                         help="write overlays here: frontend_synthetic_<preset>.jpg (and frontend_real_frame.jpg: keep it out of the repository, it shows a copyrighted frame)")
     parser.add_argument("--real-frame", type=Path, default=None,
                         help="a real broadcast frame to run the weight-free detector on for the overlay")
-    add_reinit_model(parser)
+    add_reinit_model(parser, default="shipped")  # the model is what this suite measures
     parser.add_argument("--success-px", type=float, default=5.0, help="re-init success bound (median template error)")
     parser.add_argument("--min-marking-points", type=int, default=150,
                         help="frames whose marking map has fewer centre-line points (motion blur, close-ups) are "

@@ -5,11 +5,15 @@ from __future__ import annotations
 from broadtrack_graph.arguments import int_at_least
 
 
-def add_reinit_model(parser) -> None:
-    """``--reinit-model``: the field model the tracker tries before the global search (``TrackingConfig.reinit_model``)."""
-    parser.add_argument("--reinit-model", default="shipped", metavar="shipped|none|FILE",
-                        help="the learned field model tried before the global search (default shipped; none: the "
-                             "search alone, as before the model)")
+def add_reinit_model(parser, default: str | None = None) -> None:
+    """``--reinit-model``: the field model the tracker tries before the global search (``TrackingConfig.reinit_model``;
+    default: the tracker's)."""
+    from broadtrack_graph.track.config import TrackingConfig
+
+    default = TrackingConfig().reinit_model if default is None else default
+    parser.add_argument("--reinit-model", default=default, metavar="shipped|none|FILE",
+                        help=f"the learned field model tried before the global search (default {default}; none: no "
+                             "model)")
 
 
 def add_search_workers(parser) -> None:

@@ -29,9 +29,10 @@ class TrackingConfig:
     # trusted chain, a refined guess, an earlier search stage's camera) only when this much more confident.
     reinit_switch_margin: float = 0.1
     cheap_reinit: bool = True  # a lost frame first tries the last confident cameras, refined (False: search at once)
-    # The learned field model tried after the guesses and before the global search: "shipped" (the package's
-    # model), "none", or a field model's .onnx (with its contract)
-    reinit_model: str = "shipped"
+    # The learned field model tried after the court model and before the global search: "none" (the default: on
+    # every bench it placed no frame the court model and the search did not; docs/MODEL.md), "shipped" (the
+    # package's model), or a field model's .onnx (with its contract)
+    reinit_model: str = "none"
     # A camera from the marking map alone, wherever it stands (reinit/court.py), tried after the guesses and before
     # the field model and the global search; taken when its chain can be trusted from it (False: not tried)
     court_reinit: bool = True

@@ -16,8 +16,8 @@ from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.scoring import ReinitResult
 
-# Frames 3 and 4 of seed 36 at 960x540: a main-stand camera the field model finds (under a tenth of a second), and
-# one whose markings do not determine a camera (each under a second of search).
+# Frames 3 and 4 of seed 36 at 960x540: a main-stand camera the shipped field model finds (under a tenth of a
+# second), and one whose markings do not determine a camera (each under a second of search).
 SEED, FIRST, WIDTH, HEIGHT = 36, 3, 960, 540
 
 
@@ -30,7 +30,7 @@ def run_bench(tmp_path, *extra) -> dict:
 
 
 def test_two_frames_end_to_end_with_the_search(tmp_path, capsys):
-    report = run_bench(tmp_path, "--routes", "search")
+    report = run_bench(tmp_path, "--routes", "search", "--reinit-model", "shipped")
     assert report["suite"] == "placements" and report["mode"] == "random" and report["frames"] == 2
     assert report["routes"] == ["search"] and report["frame_size"] == [WIDTH, HEIGHT]
     rows = report["frames_by_index"]

@@ -105,9 +105,9 @@ def test_onnx_without_a_model_runs_the_shipped_one_and_the_reinit_model_is_an_op
 
     assert main(["track", "clip.mp4", "--out", "run", "--detector", "onnx"]) == 0
     assert calls[0]["detector"].field_model == SHIPPED_FIELD_MODEL
-    assert calls[0]["config"].reinit_model == "shipped"
-    assert main(["track", "clip.mp4", "--out", "run", "--reinit-model", "none"]) == 0
-    assert calls[1]["config"].reinit_model == "none"
+    assert calls[0]["config"].reinit_model == "none"  # the field model is not a re-initialisation route by default
+    assert main(["track", "clip.mp4", "--out", "run", "--reinit-model", "shipped"]) == 0
+    assert calls[1]["config"].reinit_model == "shipped"
 
 
 def test_opencv_threads_default_to_the_cores_the_two_threads_leave(calls, monkeypatch):

@@ -205,8 +205,8 @@ def test_the_court_model_places_the_first_frame_before_the_field_model_and_the_s
 
 
 def test_the_shipped_field_model_places_the_first_frame_without_the_global_search(clip, tmp_path):
-    with_model = track_input(clip, tmp_path / "model", TrackingConfig(mode="online", court_reinit=False), end=6,
-                             progress=False)
+    with_model = track_input(clip, tmp_path / "model", TrackingConfig(mode="online", reinit_model="shipped",
+                                                                      court_reinit=False), end=6, progress=False)
     without = track_input(clip, tmp_path / "search", TrackingConfig(mode="online", reinit_model="none",
                                                                     court_reinit=False), end=6, progress=False)
     assert with_model.summary["reinit_searches"]["model_used"] == 1
