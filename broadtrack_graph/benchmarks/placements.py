@@ -71,7 +71,6 @@ def run(args) -> dict:
     from broadtrack_graph.synth.field_cameras import aim_angles
     from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.track.reinit_policy import ReinitPolicy
-    from broadtrack_graph.types.observations import FrameObservations
 
     W, H = args.width, args.height
     pitch = PitchTemplate()
@@ -91,19 +90,15 @@ def run(args) -> dict:
             policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
                                   court=court_reinit if config.court_reinit else None)
             started = time.perf_counter()
-            detections = detector.detect(image)
-            for index in range(config.court_agreement_frames + 1):  # a still camera's first frames
-                decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling,
-                                         image=image)
-                if decision.camera is not None:
-                    break
+            decision = random_placements.still_camera_decision(policy, detector.detect(image), (W, H), pitch, curves,
+                                                               sampling, image)
             seconds = time.perf_counter() - started
             errors = template_errors_px(decision.camera, truth, ground) if decision.camera is not None else []
             error = float(np.median(errors)) if len(errors) else math.inf
             ok = error < args.success_px and (decision.confidence or 0.0) >= trusted
             found += ok
             rows.append({"distance_m": distance, "elevation_deg": elevation, "height_m": round(-position[2], 1),
-                         "view": view, "found": bool(ok), "frame": index, "confidence": decision.confidence,
+                         "view": view, "found": bool(ok), "confidence": decision.confidence,
                          "template_error_px": None if math.isinf(error) else round(error, 2),
                          "seconds": round(seconds, 2), "decision": decision.reason})
     return {"frame_size": [W, H], "success_px": args.success_px, "reinit_model": args.reinit_model,

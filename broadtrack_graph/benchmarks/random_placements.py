@@ -12,8 +12,11 @@ camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of each of the 
 Each route (``--routes``) is asked for the frame's camera on one core (``search_workers=0``, OpenCV on one
 thread), from the weight-free detector's markings (detection is timed apart):
 
-* ``search``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the
-  field model of ``--reinit-model`` first, then the global search in stages), as ``bench placements`` does;
+* ``tracker``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the court
+  model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
+  camera's next frames while the policy waits for them (at most ``court_agreement_frames``), as ``bench placements``
+  does;
+* ``search``: the same policy without the court model (the search as it was before it);
 * ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``), its
   camera judged by the tracker's confidence (``frame_confidence``, not timed); skipped with a note when it
   cannot be imported.
@@ -40,7 +43,7 @@ import time
 
 import numpy as np
 
-ROUTES = ("search", "court")
+ROUTES = ("tracker", "search", "court")
 WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
 RANDOM_STREAM = 7311
@@ -56,7 +59,7 @@ def add_arguments(parser) -> None:
                         help="instead of the halfway-line grid: N cameras drawn anywhere around the pitch under random "
                              "looks, each asked of every route (see docs/BENCHMARKS.md)")
     parser.add_argument("--routes", nargs="+", choices=ROUTES, default=list(ROUTES),
-                        help="with --random: the single-frame routes asked (default: search court)")
+                        help="with --random: the single-frame routes asked (default: tracker search court)")
     parser.add_argument("--looks", nargs="+", choices=LOOK_NAMES, default=list(LOOK_NAMES),
                         help="with --random: the looks drawn from (default: all)")
     parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
@@ -114,6 +117,20 @@ def _median_error(estimate, truth, ground) -> float | None:
     return float(np.median(errors)) if len(errors) else None
 
 
+def still_camera_decision(policy, detections, frame_size, pitch, curves, sampling, image):
+    """The policy's decision for a new shot's first frame, the frame given again as a still camera's next frames while
+    the policy waits for them (a court camera under its bar waiting for the next frames' to agree)."""
+    from broadtrack_graph.types.observations import FrameObservations
+
+    W, H = frame_size
+    index = 0
+    while True:
+        decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling, image=image)
+        if decision.camera is not None or not policy.tries.court_may_agree(index):
+            return decision
+        index += 1
+
+
 def _court_route():
     """(reinit_from_court, None), or (None, a one-line note) when it cannot be imported."""
     try:
@@ -145,10 +162,11 @@ def run(args) -> dict:
     config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
     written_at = config.confidence_threshold + config.reinit_switch_margin
     # The court model's camera is taken by the tracker only from its own bar (TrackingConfig.court_accept_confidence).
-    written_at_by_route = {"search": written_at, "court": max(written_at, config.court_accept_confidence)}
+    written_at_by_route = {"tracker": written_at, "search": written_at,
+                           "court": max(written_at, config.court_accept_confidence)}
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
     routes, skipped = list(dict.fromkeys(args.routes)), {}
-    model = model_reinit_for(config.reinit_model) if "search" in routes else None
+    model = model_reinit_for(config.reinit_model) if {"tracker", "search"} & set(routes) else None
     court = None
     if "court" in routes:
         court, note = _court_route()
@@ -182,11 +200,14 @@ def run(args) -> dict:
                    "markings_detected": found_markings.determinable,
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             for route in routes:
-                if route == "search":
-                    policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model)
+                if route in ("tracker", "search"):
+                    tracker_court = None
+                    if route == "tracker" and config.court_reinit:
+                        from broadtrack_graph.reinit.court import court_reinit as tracker_court  # asked for only
+                    policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
+                                          court=tracker_court)
                     started = time.perf_counter()
-                    decision = policy.decide(FrameObservations(0, W, H), detections, pitch, curves, sampling,
-                                             image=image)
+                    decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image)
                     seconds = time.perf_counter() - started
                     camera, confidence, reason = decision.camera, decision.confidence, decision.reason
                 else:

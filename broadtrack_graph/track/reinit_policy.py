@@ -48,6 +48,10 @@ camera's id when the frame, refined with the focal point at that camera's positi
 (a tripod; another stadium's camera at a similar place is not), else a new id when it is confident; provisional
 until its chain is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
 
+**One gate** for a chain's first camera (not a trusted chain's, whose frames are being written), whatever route
+gave it: on a marking map it is kept only when the markings it explains fix it
+(:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check).
+
 **One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
 replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
 in a blurred sweep is as often wrong as the held one); a camera that is not confident replaces a refined guess or
@@ -72,6 +76,7 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.chain import Chain
@@ -172,6 +177,13 @@ class ReinitPolicy:
         decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image)
         if held is not None and self.chain.trusted:
             self.held_schedule.tried(observations.frame_index, decision.camera is not None)
+        mask = getattr(detections, "marking_mask", None)
+        if decision.camera is not None and not self.chain.trusted and mask is not None and pitch is not None:
+            # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it.
+            fixed = determinability(decision.camera, pitch, explained_by=mask)
+            if not fixes_camera(fixed):
+                return ReinitDecision(None, None, None, False, decision.searched, "the markings the camera explains "
+                                      f"do not fix it ({decision.reason})")
         return decision
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,

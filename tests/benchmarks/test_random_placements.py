@@ -55,6 +55,16 @@ def test_two_frames_end_to_end_with_the_search(tmp_path, capsys):
     assert "search  all" in captured.err
 
 
+def test_the_tracker_route_asks_the_policy_with_the_court_model(tmp_path):
+    report = run_bench(tmp_path, "--routes", "tracker")
+    assert report["routes"] == ["tracker"]
+    first, second = (row["routes"]["tracker"] for row in report["frames_by_index"])
+    # The main-stand camera: the court model places it at its first frame; the other frame's markings fix no
+    # camera, and whatever a route proposes for it is dropped, quickly.
+    assert first["outcome"] == "found" and first["error_px"] < 1.0 and first["reason"].startswith("court model")
+    assert second["outcome"] == "none" and second["seconds"] < 1.0
+
+
 def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path, monkeypatch):
     truths = [draw_random_camera(np.random.default_rng([SEED, i, RANDOM_STREAM, 0]), WIDTH, HEIGHT).camera
               for i in (FIRST, FIRST + 1)]

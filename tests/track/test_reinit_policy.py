@@ -635,3 +635,28 @@ def test_a_trusted_chain_s_held_camera_is_not_tried_by_the_calibrators_from_noth
     # Lost (no held camera), the court model is tried again.
     decision = _decide(policy, 1)
     assert calls == [(W, H)] and decision.camera is CORNER
+
+
+def test_a_chain_s_first_camera_is_dropped_unless_the_markings_it_explains_fix_it():
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+
+    def decided(marking_mask, **kw):
+        fakes = Fakes({None: (MAIN, 0.95)})  # certain: the search ends at the default positions
+        detections = SimpleNamespace(marking_mask=marking_mask)
+        policy = _policy(fakes)
+        return policy, policy.decide(FrameObservations(0, W, H), detections, pitch, None, None, **kw)
+
+    _, kept = decided(np.ones((9, 16), bool))  # every marking MAIN shows is on the map
+    assert kept.camera is MAIN
+    _, dropped = decided(np.zeros((9, 16), bool))  # none is: nothing fixes the camera
+    assert dropped.camera is None and dropped.reason.startswith("the markings the camera explains do not fix it")
+    # A trusted chain's camera is the tracker's: not judged so.
+    policy = _policy(Fakes({((0.0, 55.0, -12.0),): (MAIN, 0.95)}))
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    policy.chain.identify("main")
+    policy.chain.trust(0)
+    held = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=np.zeros((9, 16), bool)), pitch,
+                         None, None, held=MAIN.replace(pan_rad=0.25), held_confidence=0.3)
+    assert held.camera is MAIN

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from stage_searches import dying_search, numbered_call, numbered_search, stage_numbered_search
 
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
@@ -127,7 +128,7 @@ def test_the_policy_decides_the_same_with_workers():
         policy = ReinitPolicy(TrackingConfig(search_workers=workers), stage_numbered_search, None, confidence)
         try:
             decision = policy.decide(FrameObservations(0, 1280, 720), SimpleNamespace(marking_mask=np.ones((9, 16), bool)),
-                                     PITCH, CURVES, SAMPLING)
+                                     PitchTemplate(), CURVES, SAMPLING)  # (the new camera's markings are read)
             decisions.append((decision.camera.focal_px, decision.confidence, decision.camera_id, policy.counts["stages"]))
         finally:
             policy.close()
