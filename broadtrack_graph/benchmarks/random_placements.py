@@ -168,6 +168,9 @@ def run(args) -> dict:
     routes, skipped = list(dict.fromkeys(args.routes)), {}
     model = model_reinit_for(config.reinit_model) if {"tracker", "search"} & set(routes) else None
     court = None
+    tracker_court = None  # the tracker's court model, imported only when that route is asked
+    if "tracker" in routes and config.court_reinit:
+        from broadtrack_graph.reinit.court import court_reinit as tracker_court
     if "court" in routes:
         court, note = _court_route()
         if court is None:
@@ -201,11 +204,8 @@ def run(args) -> dict:
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             for route in routes:
                 if route in ("tracker", "search"):
-                    tracker_court = None
-                    if route == "tracker" and config.court_reinit:
-                        from broadtrack_graph.reinit.court import court_reinit as tracker_court  # asked for only
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
-                                          court=tracker_court)
+                                          court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
                     decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image)
                     seconds = time.perf_counter() - started
