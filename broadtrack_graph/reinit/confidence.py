@@ -10,7 +10,8 @@ the measure does not change with the frame resolution:
 * recall R: share of the detectable template within ``tolerance_px`` of a detected
   marking pixel (divided by at least ``min_template_px`` samples, so a camera that
   shows almost no template cannot score high);
-* precision P: share of detected marking pixels within ``tolerance_px`` of the template.
+* precision P: share of detected marking pixels within ``tolerance_px`` of the template (all of it: a marking
+  found on a line too thin to expect, far off, is still explained by it).
 
 confidence = F-beta(P, R) with beta = 2 (recall weighted: grass texture and clutter
 leave specks that no camera explains), scaled down when the camera leaves the playing
@@ -124,7 +125,7 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     # Detectable: at least min_line_width_px wide at the working width, and as wide in the frame itself
     # (upsampling a 640 px frame to the working width does not bring out a line thinner than its pixels).
     min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
-    uv = template.uv_px[template.width_m_px >= min_width_work_px]
+    uv, detectable = template.uv_px, template.width_m_px >= min_width_work_px
     field = None if field_mask is None else _resized(field_mask, w, h)
     if len(uv) and (field is not None or player_mask is not None):
         col = np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)
@@ -134,20 +135,23 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
             keep &= field[row, col]
         if player_mask is not None:
             keep &= ~_resized(player_mask, w, h)[row, col]
-        uv = uv[keep]
+        uv, detectable = uv[keep], detectable[keep]
     if field is not None:
         marks = marks & field
     goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
     if goals is not None:
         if len(uv):
-            uv = uv[~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]]
+            outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
+            uv, detectable = uv[outside], detectable[outside]
         marks = marks & ~goals
     marking_pixels = int(np.count_nonzero(marks))
     recall = precision = 0.0
+    expected = int(np.count_nonzero(detectable))
     if len(uv) and marking_pixels:
         near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
-        found = marks.ravel()[np.where(near, pixel, 0)] & near
-        recall = float(np.count_nonzero(found.any(axis=1)) / max(len(uv), config.min_template_px))
+        found = marks.ravel()[np.where(near[detectable], pixel[detectable], 0)] & near[detectable]
+        recall = float(np.count_nonzero(found.any(axis=1)) / max(expected, config.min_template_px))
+        # A marking found where the template has a line too thin to expect is still explained by it.
         explained = np.zeros(h * w, bool)
         explained[pixel[near]] = True
         precision = float(np.count_nonzero(explained & marks.ravel()) / marking_pixels)
@@ -159,7 +163,7 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
                                   config.field_grid_px)
         score *= min(1.0, coverage / config.min_field_coverage) if config.min_field_coverage > 0 else 1.0
     return {"confidence": float(score), "precision": precision, "recall": recall, "field_coverage": coverage,
-            "template_samples": int(len(uv)), "marking_pixels": marking_pixels}
+            "template_samples": expected, "marking_pixels": marking_pixels}
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:

@@ -1,6 +1,6 @@
 """The single-frame tries of a re-initialisation: the known cameras' refined guesses, the court model and the learned
 field model, each on its own :class:`~broadtrack_graph.track.search_budget.TrySchedule` (a frame none places makes
-them wait 1, 2, 4, ... frames). Each returns its camera, refined or twinned as the run's cameras decide, with the tracker's confidence.
+them wait 1, 2, 4, ... frames; a frame on which the court model forms no hypothesis is no try). Each returns its camera, refined or twinned as the run's cameras decide, with the tracker's confidence.
 The decision that takes or passes them is :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`'s. No I/O.
 """
 
@@ -112,7 +112,8 @@ class FrameTries:
         self.counts["court_tried"] += 1
         result = self.court(detections, (observations.width_px, observations.height_px), curves)
         if result.camera is None:
-            self.court_schedule.tried(i, False)
+            if result.tried:  # a frame that formed no hypothesis cost the map's structures only: it is no try
+                self.court_schedule.tried(i, False)
             return None, 0.0, False
         camera, twin = result.camera, result.twin
         if twin is not None and self.registry.nearest(camera.position_m, camera.R_cw[2]) is None \

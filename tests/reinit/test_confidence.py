@@ -77,3 +77,18 @@ def test_pixels_within_a_tolerance_are_the_pairs_a_kd_tree_finds(tolerance_px):
         found = set(pixel[k][near[k]].tolist())
         truth = {j for j in expected[k] if np.sum((grid[j] - points[k]) ** 2) < tolerance_px**2}
         assert found == truth
+
+
+def test_markings_found_on_lines_too_thin_to_expect_are_still_explained():
+    # A camera high behind the pitch: most of its 12 cm lines project under min_line_width_px, so recall expects few
+    # of them, but the markings the detector does find on them are the template's and explain the map.
+    far = Camera.from_degrees(800.0, 0.0, 0.0, 66.0, 0.0, (0.0, 80.0, -35.0), W, H)
+    marks, grass = _maps(far)
+    parts = confidence_parts(far, marks, CURVES, field_mask=grass)
+    everything = confidence_parts(far, marks, CURVES, ConfidenceConfig(min_line_width_px=0.0), field_mask=grass)
+    assert parts["template_samples"] < 0.5 * everything["template_samples"]  # most lines are too thin to expect
+    assert parts["precision"] == pytest.approx(everything["precision"])  # ... yet every marking found is explained
+    assert parts["precision"] > 0.9
+    # A camera off by a few metres explains far less of the same map.
+    off = far.replace(position_m=np.asarray(far.position_m) + [6.0, 0.0, 0.0])
+    assert confidence_parts(off, marks, CURVES, field_mask=grass)["precision"] < 0.6

@@ -563,6 +563,19 @@ def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less
     assert _decide(policy, 0).camera is None
 
 
+def test_a_court_try_that_forms_no_hypothesis_does_not_make_the_court_model_wait():
+    # Bare grass, then markings coming into view: frames that give the court model nothing to try (no hypothesis)
+    # cost no wait, so it tries the first frame whose markings form hypotheses; frames whose hypotheses place
+    # nothing make it back off (1, 2, 4, ... frames after its first tries).
+    for tried, expected_calls in ((0, 30), (5, 11 + 4)):  # frames 0-10, then 11, 13, 17, 25
+        policy, calls = _court_policy(Fakes(), None, 0.0)
+        policy.tries.court = lambda detections, frame_size, curves, tried=tried: (
+            calls.append(frame_size), ReinitResult(None, None, "", "nothing", tried=tried))[1]
+        for i in range(30):
+            _decide(policy, i)
+        assert len(calls) == expected_calls, (tried, len(calls))
+
+
 def test_a_new_shots_search_waits_for_the_next_frames_court_cameras():
     config = TrackingConfig()
     between = config.confidence_threshold + config.reinit_switch_margin + 0.02  # confident by the margin only
