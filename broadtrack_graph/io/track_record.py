@@ -6,7 +6,8 @@
     pan_deg, tilt_deg, roll_deg, focal_px (at the input resolution), k1, position_m [x, y, z],
     pan_std_deg, tilt_std_deg, roll_std_deg, focal_std_px, k1_std, position_std_m [x, y, z],
     confidence (0..1), reinitialised (bool), active_factors (list of names), camera_file,
-    camera_id (the broadcast camera of the frame: ``main``, ``high-behind-1``, ...; null when not known).
+    camera_id (the broadcast camera of the frame: ``main``, ``high-behind-1``, ...; null when not known),
+    repeat_of (the frame whose image this one repeats and whose estimate it carries; null for a frame of its own).
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ def record_to_json(record: TrackRecord, camera_file: str | None = None) -> dict:
         "active_factors": list(record.active_factors),
         "camera_file": camera_file,
         "camera_id": record.camera_id,
+        "repeat_of": record.repeat_of,
     }
 
 def record_from_json(data: dict, width_px: int, height_px: int) -> TrackRecord:
@@ -84,6 +86,7 @@ def record_from_json(data: dict, width_px: int, height_px: int) -> TrackRecord:
             reason=data.get("reason"),
             active_factors=tuple(data.get("active_factors") or ()),
             camera_id=None if data.get("camera_id") is None else str(data["camera_id"]),
+            repeat_of=None if data.get("repeat_of") is None else int(data["repeat_of"]),
         )
     except (KeyError, TypeError, ValueError) as exc:
         raise ValueError(f"bad track record: {exc}") from None

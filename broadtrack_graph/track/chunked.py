@@ -22,7 +22,7 @@ from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.track.config import TrackingConfig, graph_config_for
 from broadtrack_graph.track.result import std_fields
 from broadtrack_graph.types.observations import FrameObservations
-from broadtrack_graph.types.track_record import TrackRecord
+from broadtrack_graph.types.track_record import TrackRecord, carry_repeats
 
 
 def fit_clip_tripod(records: list[TrackRecord], config: TrackingConfig,
@@ -59,8 +59,8 @@ def refine_window_records(records: list[TrackRecord], observations: dict[int, Fr
     by_index = {e.frame_index: e for e in estimates if e is not None}
     curves = fitting_curves(pitch)
     sampling = TemplateSampling(pitch)
-    return [refined_record(r, by_index.get(r.frame_index), observations.get(r.frame_index), curves, sampling)
-            for r in records]
+    return carry_repeats([refined_record(r, by_index.get(r.frame_index), observations.get(r.frame_index), curves,
+                                         sampling) for r in records])
 
 
 def refined_record(record: TrackRecord, estimate: FrameEstimate | None, observations: FrameObservations | None,

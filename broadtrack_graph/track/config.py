@@ -10,6 +10,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStreamingSolver, StreamingSolver
 from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD
+from broadtrack_graph.shots.repeats import RepeatConfig
 from broadtrack_graph.types.modes import MODES
 
 
@@ -58,6 +59,9 @@ class TrackingConfig:
     search_workers: int | None = None
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
+    # video/image input: a frame repeating the previous one's image (a frame-rate conversion's duplicate) carries that
+    # frame's estimate and is not solved (shots/repeats.py); None: every frame is solved
+    repeats: RepeatConfig | None = RepeatConfig()
     mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow
     use_tripod: bool = True  # tripod factor (known, fitted online, or estimated in batch)
     estimate_k1: bool = True  # False: k1 held at 0

@@ -2,9 +2,10 @@
 
 :func:`run_loop` feeds a :class:`~broadtrack_graph.track.frame_loop.TrackingRun` the frames of an iterable,
 prefetched by a background thread (:func:`~broadtrack_graph.io.prefetch.prefetch`). In that thread, each frame gets
-what needs no camera, so it overlaps the tracking of the frames before it: the flow pyramid, the camera-free half of
-the weight-free detector (``find_markings``: grass, field, players, the marking map), and while the thread is far
-enough ahead, the optical flow from the previous frame. The result is the same as doing it all in the tracking
+what needs no camera, so it overlaps the tracking of the frames before it: whether it repeats the previous frame's
+image (:mod:`broadtrack_graph.shots.repeats`), the flow pyramid, the camera-free half of the weight-free detector
+(``find_markings``: grass, field, players, the marking map), and while the thread is far enough ahead, the optical
+flow from the previous frame. The result is the same as doing it all in the tracking
 thread (``BROADTRACK_PREFETCH=0`` does). The progress bar and an interruption (Ctrl-C, SIGTERM) are handled here.
 """
 
@@ -15,6 +16,7 @@ from tqdm import tqdm
 from broadtrack_graph.detect.flow import flow_candidates, flow_keep_mask, prepare
 from broadtrack_graph.detect.graphics import mask_graphics
 from broadtrack_graph.io.prefetch import prefetch
+from broadtrack_graph.shots.repeats import repeat_grey, repeats
 from broadtrack_graph.track.frame_loop import TrackingRun
 from broadtrack_graph.track.inputs import FrameInput
 
@@ -29,6 +31,7 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
     flow_config, progress = run.config.flow, run.context.progress
     find_markings = getattr(run.detector, "find_markings", None)  # a detector whose first half needs no camera
     previous: list = [None, None]  # the last frame prepared ahead: its flow frame and keep mask (or Nones)
+    last_grey: list = [None]  # the last image's grey for the repeat test (None: no image, or no test)
     count = {"made": 0, "taken": 0}  # frames prepared ahead, and taken by the loop
 
     def prepare_ahead(frame: FrameInput) -> FrameInput:
@@ -36,7 +39,16 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
         count["made"] += 1
         if frame.image is None:
             previous[:] = [None, None]
+            last_grey[0] = None
             return frame
+        if run.config.repeats is not None:
+            grey = repeat_grey(frame.image, run.config.repeats)
+            frame.repeats_previous = repeats(last_grey[0], grey, run.config.repeats)
+            if frame.repeats_previous:
+                # It carries the estimate of the frame it repeats, whose image the next frames are compared with (a
+                # slow drift adds up) and whose flow frame the next frame's flow starts from: nothing to prepare.
+                return frame
+            last_grey[0] = grey
         if run.config.use_flow and frame.flow_frame is None:
             frame.flow_frame = prepare(frame.image, flow_config)
         other_view = frame.shot is not None and frame.shot.is_other_view

@@ -112,6 +112,7 @@ class TrackingRun:
                         "write_s": 0.0, "markings_ahead_s": 0.0}
         self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, context.mask_paths or {},
                                       self.timings)
+        self._last_done: tuple[FrameObservations | None, Detections | None] = (None, None)  # the last frame solved
         self.records = RecordQueue(self.writer, lambda camera, observations, detections: self.confidence(
             camera, observations, detections, self.curves, self.sampling),
             None if self.backfill is None else self.backfill.final, self.timings)
@@ -120,7 +121,12 @@ class TrackingRun:
         """Process one frame, write every record that became final, and tell the observer."""
         if self.backfill is not None:
             self.backfill.note(frame)
-        handed, detections = self._process(frame)
+        if frame.repeats_previous and self.records.can_repeat():
+            # The previous frame's image again: its estimate, once final, is this frame's; nothing is solved.
+            self.records.repeat(frame)
+            handed, detections = self._last_done
+        else:
+            handed, detections = self._last_done = self._process(frame)
         if self.context.on_frame_done is not None:
             self.context.on_frame_done(frame, handed, detections)
 

@@ -36,6 +36,7 @@ class FrameInput:
     graphics_mask: np.ndarray | None = None  # (h, w) bool static broadcast graphics at any size, or None
     markings: object | None = None  # detect.weightfree.FoundMarkings: the camera-free half of detection, done ahead
     flow_ahead: object | None = None  # detect.flow.FlowCandidates from the previous frame, done ahead (no camera yet)
+    repeats_previous: bool = False  # the image is the previous frame's again (shots.repeats), found ahead
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:

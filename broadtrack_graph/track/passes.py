@@ -48,7 +48,7 @@ from broadtrack_graph.track.shot_stream import ShotStream
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.shot import MAIN_CAMERA_ID, NO_PITCH_KINDS, place_shot
 from broadtrack_graph.types.status import FrameStatus
-from broadtrack_graph.types.track_record import TrackRecord
+from broadtrack_graph.types.track_record import TrackRecord, carry_repeats
 
 log = logging.getLogger(__name__)
 
@@ -221,6 +221,7 @@ def _rewritten(result: RunResult, records: list[TrackRecord], width_px: int, hei
     kept = {k: v for k, v in result.summary.items() if k not in _WRITER_KEYS}
     writer = _observe(TrackWriter(result.out_dir, width_px, height_px, also_960x540=context.config.write_960x540,
                                   run_info=result.summary.get("run", context.run_info or {})), context.record_observer)
+    records = carry_repeats(records)
     for record in records:
         writer.write(record)
     summary = writer.close({**kept, **extra})
@@ -272,12 +273,11 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     writer = _observe(TrackWriter(out_dir, width_px, height_px, also_960x540=config.write_960x540,
                                   run_info={**(context.run_info or {}), "mode": "batch", "config": asdict(config)}),
                       context.record_observer)
-    records = []
-    for record in pass1.records:
-        new = refined_record(record, by_index.get(record.frame_index), observations.get(record.frame_index),
-                             curves, sampling)
-        writer.write(new)
-        records.append(new)
+    records = carry_repeats([refined_record(record, by_index.get(record.frame_index),
+                                            observations.get(record.frame_index), curves, sampling)
+                             for record in pass1.records])
+    for record in records:
+        writer.write(record)
     pass1_s = float(pass1.summary.get("elapsed_s") or 0.0)
     extra = {"batch_refine_s": round(elapsed, 3), "pass1": str(Path(pass1.out_dir)), "pass1_s": round(pass1_s, 3),
              "fps_two_passes": round(len(pass1.records) / max(pass1_s + elapsed, 1e-9), 3)}

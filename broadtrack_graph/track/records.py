@@ -42,6 +42,7 @@ class PendingFrame:
     suppress_camera: bool = False  # the frame's estimate is not trusted: write no camera
     confidence_camera: Camera | None = None
     camera_id: str | None = None  # the broadcast camera of the frame
+    repeats: "PendingFrame | None" = None  # the entry of the frame whose image this one repeats (its record is copied)
 
 
 class RecordQueue:
@@ -59,16 +60,29 @@ class RecordQueue:
                  timings: dict) -> None:
         self.writer, self.rescore, self.on_final, self.timings = writer, rescore, on_final, timings
         self._pending: deque[PendingFrame] = deque()
+        self._last: PendingFrame | None = None  # the last frame's entry (a repeated frame copies its record)
 
     def add(self, entry: PendingFrame) -> None:
         """A frame handed to the solver: its record is built when its estimate is released."""
         self._pending.append(entry)
+        self._last = entry
 
     def emit_now(self, frame: FrameInput, status: str, reason: str) -> None:
         """A frame without an estimate: its record is final now (written after the frames before it)."""
         entry = PendingFrame(frame, status, reason)
         entry.record = TrackRecord(frame.frame_index, frame.frame_id, frame.time_s, None, {}, None, False, status, reason)
-        self._pending.append(entry)
+        self.add(entry)
+        self.flush()
+
+    def can_repeat(self) -> bool:
+        """Whether there is a previous frame whose record a repeated frame can carry."""
+        return self._last is not None
+
+    def repeat(self, frame: FrameInput) -> None:
+        """A frame showing the previous frame's image again: its record is that frame's, once that one is final
+        (:meth:`~broadtrack_graph.types.track_record.TrackRecord.repeated_at`)."""
+        entry = PendingFrame(frame, FrameStatus.TRACKED, repeats=self._last)
+        self.add(entry)
         self.flush()
 
     def resolve(self, estimate: FrameEstimate) -> None:
@@ -92,17 +106,28 @@ class RecordQueue:
                 entry.detections = None
                 return
 
+    @staticmethod
+    def _repeated(entry: PendingFrame) -> bool:
+        """Whether ``entry`` repeats a frame whose record is final: then it gets its record (the frame repeated comes
+        before it in the queue, so it is written by then)."""
+        source = entry.repeats
+        if source is None or source.record is None:
+            return False
+        frame = entry.frame
+        entry.record = source.record.repeated_at(frame.frame_index, frame.frame_id, frame.time_s)
+        return True
+
     def close_unreleased(self) -> None:
         """The end of the run: frames the solver never released get a failed record; everything is written."""
         for entry in self._pending:
-            if entry.record is None:
+            if entry.record is None and not self._repeated(entry):
                 entry.record = TrackRecord(entry.frame.frame_index, entry.frame.frame_id, entry.frame.time_s, None, {},
                                            None, False, FrameStatus.FAILED, "no estimate released")
         self.flush()
 
     def flush(self) -> None:
         """Write the final records at the head of the queue (frame order)."""
-        while self._pending and self._pending[0].record is not None:
+        while self._pending and (self._pending[0].record is not None or self._repeated(self._pending[0])):
             record = self._pending.popleft().record
             started = time.perf_counter()
             self.writer.write(record)  # records are read back from the file (RunResult.records)

@@ -7,7 +7,7 @@ them is :mod:`broadtrack_graph.io.run_folder`'s.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +35,8 @@ class TrackRecord:
     reason: one line explaining a status other than tracked, or None.
     active_factors: names of the factor kinds used for this frame (e.g. "lines", "flow", "tripod").
     camera_id: the broadcast camera the frame belongs to (None when not known).
+    repeat_of: the frame whose image this frame repeats (a duplicated frame of a frame-rate conversion), whose
+        estimate it carries; None for a frame of its own.
     """
 
     frame_index: int
@@ -48,6 +50,7 @@ class TrackRecord:
     reason: str | None = None
     active_factors: tuple[str, ...] = ()
     camera_id: str | None = None
+    repeat_of: int | None = None
 
     def __post_init__(self) -> None:
         if self.status not in FrameStatus.__members__.values():
@@ -63,6 +66,29 @@ class TrackRecord:
     @property
     def has_camera(self) -> bool:
         return self.camera is not None
+
+    def repeated_at(self, frame_index: int, frame_id: str, time_s: float | None) -> "TrackRecord":
+        """This frame's estimate for a later frame showing the same image (:attr:`repeat_of`): the same camera and
+        status (a re-initialisation happened here, not there), the frame it repeats in the reason."""
+        source = self.repeat_of if self.repeat_of is not None else self.frame_index
+        status = FrameStatus.TRACKED if self.status == FrameStatus.REINITIALISED else self.status
+        reason = f"the same image as frame {source}" + (f": {self.reason}" if self.reason else "")
+        return replace(self, frame_index=frame_index, frame_id=frame_id, time_s=time_s, reinitialised=False,
+                       status=status, reason=reason, repeat_of=source)
+
+
+def carry_repeats(records: list[TrackRecord]) -> list[TrackRecord]:
+    """The records with every repeated frame's made its source's again (:meth:`TrackRecord.repeated_at`), for a pass
+    that changed the sources (a smoother, the batch refinement, a recovery); records in frame order."""
+    by_index: dict[int, TrackRecord] = {}
+    out = []
+    for record in records:
+        source = by_index.get(record.repeat_of) if record.repeat_of is not None else None
+        if source is not None:
+            record = source.repeated_at(record.frame_index, record.frame_id, record.time_s)
+        by_index[record.frame_index] = record
+        out.append(record)
+    return out
 
 
 @dataclass

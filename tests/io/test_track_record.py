@@ -60,3 +60,34 @@ def test_std_from_covariance():
     TrackRecord(0, "1", 0.0, camera(0), std=std)  # accepted as a record's std
     with pytest.raises(ValueError, match=r"expected \(8, 8\)"):
         std_from_covariance(np.eye(6))
+
+
+def test_a_repeated_frame_carries_its_source_and_says_so():
+    source = TrackRecord(4, "000005", 0.16, camera(4), {"pan_std_deg": 0.02}, 0.81, True,
+                         FrameStatus.REINITIALISED, None, ("lines",), "main")
+    repeat = source.repeated_at(5, "000006", 0.2)
+    assert (repeat.frame_index, repeat.frame_id, repeat.time_s, repeat.repeat_of) == (5, "000006", 0.2, 4)
+    assert repeat.camera is source.camera and repeat.confidence == 0.81 and repeat.camera_id == "main"
+    assert repeat.status == FrameStatus.TRACKED and not repeat.reinitialised  # re-initialised at 4, not at 5
+    assert repeat.reason == "the same image as frame 4"
+    again = repeat.repeated_at(6, "000007", 0.24)  # a frame shown three times: all point at the first
+    assert again.repeat_of == 4
+    data = json.loads(json.dumps(record_to_json(again)))
+    assert data["repeat_of"] == 4 and record_from_json(data, W, H).repeat_of == 4
+    assert record_from_json(record_to_json(source), W, H).repeat_of is None
+    # A frame without a camera repeats as such, its reason kept.
+    unplaced = TrackRecord(8, "000009", 0.32, None, status=FrameStatus.UNPLACED, reason="no camera found")
+    assert unplaced.repeated_at(9, "000010", 0.36).reason == "the same image as frame 8: no camera found"
+
+
+def test_a_pass_that_changes_a_source_changes_its_repeats():
+    from dataclasses import replace
+
+    from broadtrack_graph.types.track_record import carry_repeats
+
+    first = TrackRecord(0, "000001", 0.0, camera(0), {}, 0.9)
+    records = [first, first.repeated_at(1, "000002", 0.04), TrackRecord(2, "000003", 0.08, camera(2), {}, 0.9)]
+    refined = [replace(records[0], camera=camera(1)), records[1], records[2]]  # the refinement moved frame 0
+    carried = carry_repeats(refined)
+    assert carried[1].camera is carried[0].camera and carried[1].repeat_of == 0 and carried[1].frame_index == 1
+    assert carried[2] is records[2]

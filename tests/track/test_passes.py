@@ -214,3 +214,24 @@ def test_the_shipped_field_model_places_the_first_frame_without_the_global_searc
     assert with_model.summary["timings_s"]["reinit_s"] < without.summary["timings_s"]["reinit_s"]
     for run in ("model", "search"):
         assert jac5(clip, tmp_path / run)["accuracy"] >= 0.9
+
+
+@pytest.mark.parametrize("mode", ["online", "fixed-lag", "batch"])
+def test_a_repeated_image_carries_the_estimate_of_the_frame_it_repeats(clip, tmp_path, mode):
+    # A frame-rate conversion shows some images twice or three times: those frames carry the estimate of the frame
+    # they repeat (whatever the pass made of it) and are not solved; the other frames track as before.
+    repeated = tmp_path / "repeated"
+    shutil.copytree(clip, repeated)
+    images = sorted((repeated / "img1").glob("*.jpg"))
+    for copy, source in ((5, 4), (10, 9), (11, 9)):
+        shutil.copyfile(images[source], images[copy])
+    result = track_input(repeated, tmp_path / mode, TrackingConfig(mode=mode), progress=False)
+    records = {r.frame_index: r for r in read_track(tmp_path / mode).records}
+    assert len(records) == FRAMES and result.summary["frames_with_camera"] == FRAMES
+    for copy, source in ((5, 4), (10, 9), (11, 9)):
+        assert records[copy].repeat_of == source and records[copy].status == "tracked"
+        assert np.array_equal(records[copy].camera.to_vector(), records[source].camera.to_vector())
+    assert all(records[i].repeat_of is None for i in records if i not in (5, 10, 11))
+    report = jac5(clip, tmp_path / mode)
+    jac = {int(frame_id) - 1: row["jac"]["5"] for frame_id, row in report["per_frame"].items()}
+    assert np.mean([jac[i] for i in range(FRAMES) if i not in (5, 10, 11)]) >= 0.9

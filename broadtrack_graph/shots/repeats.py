@@ -1,0 +1,52 @@
+"""Repeated frames: a frame whose image is the previous frame's again. No I/O.
+
+Video converted from one frame rate to another repeats frames: 25 fps content in a 50 fps stream
+shows every image twice, 24 or 25 fps content in a 30 fps stream repeats one frame in four or five.
+The camera did not stop for a frame and then move twice as far: the scene did not change at all
+(players included). A tracker that takes the repeat for a frame of its own sees motion 0, then 2v,
+and its smoothness prior, which expects a steady motion, drags the next frame behind the image.
+A repeated frame is therefore given the estimate of the frame it repeats, and the solver only sees
+the frames of the content.
+
+The test: on grey images reduced to ``work_width_px``, the share of pixels whose grey level changed
+by more than ``change_grey_levels`` is under ``max_changed_share``. A re-encoded repeat changes by
+compression noise only (a few grey levels); any real frame moves some edges (players walk, the
+camera turns) by far more: a pan of one pixel changes every edge in the image (on the real clips of
+``bench real --video-dir``, docs/BENCHMARKS.md: repeats change 0-0.4 % of the image, other frames
+1.0 % and up). A frame of a still camera where little moves (a player or two) can pass too: its
+camera, which moved well under a pixel, is the previous frame's either way.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+
+@dataclass(frozen=True)
+class RepeatConfig:
+    """Settings of :func:`repeats`."""
+
+    work_width_px: int = 640  # the images are compared at this width (area averaging) ...
+    change_grey_levels: int = 12  # ... a pixel changed when its grey level moved by more than this ...
+    max_changed_share: float = 0.005  # ... and the frame repeats the previous one when under this share changed
+
+
+def repeat_grey(image_bgr: np.ndarray, config: RepeatConfig = RepeatConfig()) -> np.ndarray:
+    """(h, work_width_px) uint8 grey image of an (H, W, 3) uint8 BGR frame, for :func:`repeats`."""
+    H, W = image_bgr.shape[:2]
+    width = min(config.work_width_px, W)
+    height = max(1, int(round(H * width / W)))
+    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)
+    return grey if width == W else cv2.resize(grey, (width, height), interpolation=cv2.INTER_AREA)
+
+
+def repeats(previous_grey: np.ndarray | None, grey: np.ndarray, config: RepeatConfig = RepeatConfig()) -> bool:
+    """Whether the frame of ``grey`` repeats the frame of ``previous_grey`` (both from :func:`repeat_grey`; None: no
+    previous frame)."""
+    if previous_grey is None or previous_grey.shape != grey.shape:
+        return False
+    changed = cv2.absdiff(previous_grey, grey) > config.change_grey_levels
+    return float(np.count_nonzero(changed)) < config.max_changed_share * changed.size
