@@ -13,7 +13,9 @@ lines fix its ``(a, b)``; one such pair per family fixes H:
     H = [-v_x / a_y, -v_y / a_x, q + (b_x / a_x) v_y + (b_y / a_y) v_x]
 
 (``a_x, b_x`` of the ``y = c`` family, ``a_y, b_y`` of the ``x = c`` family). Every pairing of two
-image lines of each family with two pitch lines of that family is a hypothesis, all formed at once;
+image lines of each family with two pitch lines of that family is a hypothesis, all formed at once, each
+with the vanishing points of its own lines (where its two lines of a family meet: a line that joined the
+family without being a pitch line bends no other hypothesis);
 :func:`cameras_from_homographies` turns the homographies into cameras (principal point at the
 image centre, square pixels: ``f`` from the orthogonality and equal norm of ``K^-1 h1`` and
 ``K^-1 h2``) and gates them on plausibility. Lens distortion is ignored here (the fit that follows
@@ -185,24 +187,23 @@ def pitch_line_offsets(pitch: PitchTemplate) -> tuple[np.ndarray, np.ndarray]:
     return np.array(sorted(along_x)), np.array(sorted(along_y))
 
 
-def _affine_maps(tau: np.ndarray, offsets_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Every ``c = a tau + b`` putting two image lines (pencil coordinates tau, (n,)) on two pitch lines.
+def _pair_maps(tau: np.ndarray, offsets_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every ``c = a tau + b`` putting two image lines on two pitch lines, for many line pairs at once.
+
+    Args:
+        tau: (..., 2) the pencil coordinates of each pair's two lines.
+        offsets_m: (m,) the pitch lines' offsets.
 
     Returns:
-        a, b: (K,) the maps; lines: (K, 2) the image lines used (indices into tau).
+        a, b: (..., m (m - 1)) the maps of every ordered pitch-line pair (both directions of the map); NaN where the
+        two lines coincide in tau or a coordinate is not finite.
     """
-    n, m = len(tau), len(offsets_m)
-    if n < 2 or m < 2:
-        return np.zeros(0), np.zeros(0), np.zeros((0, 2), int)
-    i, j = np.triu_indices(n, 1)
-    p, q = np.nonzero(~np.eye(m, dtype=bool))  # ordered pitch-line pairs: both directions of the map
-    I, P = np.meshgrid(np.arange(len(i)), np.arange(len(p)), indexing="ij")
-    I, P = I.ravel(), P.ravel()
-    dt = tau[j[I]] - tau[i[I]]
-    ok = np.abs(dt) > 1e-9
-    a = np.where(ok, (offsets_m[q[P]] - offsets_m[p[P]]) / np.where(ok, dt, 1.0), np.nan)
-    b = offsets_m[p[P]] - a * tau[i[I]]
-    return a[ok], b[ok], np.column_stack([i[I], j[I]])[ok]
+    p, q = np.nonzero(~np.eye(len(offsets_m), dtype=bool))  # ordered pitch-line pairs
+    dt = (tau[..., 1] - tau[..., 0])[..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = np.where(np.abs(dt) > 1e-9, (offsets_m[q] - offsets_m[p]) / dt, np.nan)
+        b = offsets_m[p] - a * tau[..., 0:1]
+    return a, b
 
 
 @dataclass(frozen=True)
@@ -230,30 +231,49 @@ class PlaneHypotheses:
 def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: PitchTemplate, frame_size,
                     config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
     """Every camera putting two lines of each image family on two pitch lines of one direction each
-    (either family as either direction), gated by :func:`cameras_from_homographies`."""
+    (either family as either direction), gated by :func:`cameras_from_homographies`.
+
+    Each hypothesis takes its vanishing points from its own four lines (the two of a family meet at that
+    direction's vanishing point), not from all of the family's: a line that joined a family without being
+    a pitch line (a banner's edge, a board's base, nearly parallel to the pitch lines in a narrow view, where
+    the vanishing point lies far off) does not bend the hypotheses of the lines that are.
+    """
     along_x, along_y = pitch_line_offsets(pitch)
     q = np.array([0.0, 0.0, 1.0])
     homographies = []
     for first in (0, 1):  # family `first` is the y = c direction (through v_x), the other x = c
         second = 1 - first
-        v_x, v_y = families.vanishing_n[first], families.vanishing_n[second]
         lines_a = families.lines_n[families.members(first, config.max_lines_per_family, support_px)]
         lines_b = families.lines_n[families.members(second, config.max_lines_per_family, support_px)]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tau_a = (lines_a @ q) / (lines_a @ v_y)
-            tau_b = (lines_b @ q) / (lines_b @ v_x)
-        a_x, b_x, _ = _affine_maps(tau_a[np.isfinite(tau_a)], along_x)
-        a_y, b_y, _ = _affine_maps(tau_b[np.isfinite(tau_b)], along_y)
-        if not len(a_x) or not len(a_y):
+        if len(lines_a) < 2 or len(lines_b) < 2 or len(along_x) < 2 or len(along_y) < 2:
             continue
-        A_x, A_y = np.meshgrid(np.arange(len(a_x)), np.arange(len(a_y)), indexing="ij")
-        ax, bx, ay, by = a_x[A_x.ravel()], b_x[A_x.ravel()], a_y[A_y.ravel()], b_y[A_y.ravel()]
-        h1 = -v_x[None, :] / ay[:, None]
-        h2 = -v_y[None, :] / ax[:, None]
-        h3 = q[None, :] + (bx / ax)[:, None] * v_y[None, :] + (by / ay)[:, None] * v_x[None, :]
-        homographies.append(np.stack([h1, h2, h3], axis=2))
+        pairs_a, pairs_b = np.triu_indices(len(lines_a), 1), np.triu_indices(len(lines_b), 1)
+        ends_a = np.stack([lines_a[pairs_a[0]], lines_a[pairs_a[1]]], axis=1)  # (Pa, 2, 3)
+        ends_b = np.stack([lines_b[pairs_b[0]], lines_b[pairs_b[1]]], axis=1)  # (Pb, 2, 3)
+        v_x = _unit(np.cross(ends_a[:, 0], ends_a[:, 1]))  # (Pa, 3): each pair's meeting point
+        v_y = _unit(np.cross(ends_b[:, 0], ends_b[:, 1]))  # (Pb, 3)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tau_a = (ends_a @ q)[:, None, :] / np.einsum("pki,qi->pqk", ends_a, v_y)  # (Pa, Pb, 2)
+            tau_b = (ends_b @ q)[None, :, :] / np.einsum("qki,pi->pqk", ends_b, v_x)  # (Pa, Pb, 2)
+        a_x, b_x = _pair_maps(tau_a, along_x)  # (Pa, Pb, Ma)
+        a_y, b_y = _pair_maps(tau_b, along_y)  # (Pa, Pb, Mb)
+        ax, bx = a_x[..., :, None], b_x[..., :, None]  # (Pa, Pb, Ma, 1)
+        ay, by = a_y[..., None, :], b_y[..., None, :]  # (Pa, Pb, 1, Mb)
+        vx = v_x[:, None, None, None, :]
+        vy = v_y[None, :, None, None, :]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            h1 = -vx / ay[..., None]
+            h2 = -vy / ax[..., None]
+            h3 = q + (bx / ax)[..., None] * vy + (by / ay)[..., None] * vx
+        H = np.stack(np.broadcast_arrays(h1, h2, h3), axis=-1).reshape(-1, 3, 3)
+        homographies.append(H[np.all(np.isfinite(H), axis=(1, 2))])
     stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
     return cameras_from_homographies(stacked, frame_size, pitch, config)
+
+
+def _unit(points: np.ndarray) -> np.ndarray:
+    """Homogeneous points (K, 3) scaled to unit norm."""
+    return points / np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
 
 
 def focal_and_mismatch(H_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

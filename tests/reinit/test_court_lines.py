@@ -80,6 +80,30 @@ def test_a_hypothesis_is_the_true_camera():
     assert np.all(C[:, 2] <= -2.0) and np.all((np.abs(C[:, 0]) > 52.5) | (np.abs(C[:, 1]) > 34.0))
 
 
+def test_a_line_that_joined_a_family_without_being_a_pitch_line_does_not_bend_the_others():
+    # A narrow view: a board's edge nearly parallel to the penalty area's sides joins their family. Each hypothesis
+    # takes its vanishing points from its own lines, so the one putting the true lines on the pitch is still exact.
+    truth = Camera.from_degrees(4800.0, 0.0, -60.0, 80.0, 0.3, (85.0, 45.0, -20.0), W, H)
+    segments = [((52.5, -9.0, 0.0), (52.5, 9.0, 0.0)), ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),
+                ((40.0, 20.16, 0.0), (52.0, 20.16, 0.0)), ((47.5, 9.16, 0.0), (52.0, 9.16, 0.0))]
+    lines = _image_lines(truth, segments)
+    side = lines[2]  # a board's edge: the penalty area side turned by 0.6 deg about its middle
+    turn = math.radians(0.6)
+    rotation = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    normal, direction = rotation @ side.normal, rotation @ side.direction
+    board = ImageLine(normal, float(-normal @ (side.centre_px + [0.0, 40.0])), side.centre_px + [0.0, 40.0], direction,
+                      side.extent_px, 2.0 * side.support_px)
+    lines = lines + [board]
+    support = np.array([line.support_px for line in lines])
+    splits = line_families(lines, (W, H))
+    family = [s for s in splits if s.family[4] >= 0 and s.family[4] == s.family[2] == s.family[3]]
+    assert family, "the board's edge joins the sides' family"
+    hypotheses = line_hypotheses(family[0], support, PITCH, (W, H))
+    gap = np.linalg.norm(hypotheses.C_w - truth.position_m, axis=1)
+    assert gap.min() < 1e-3
+    assert hypotheses.focal_n[int(np.argmin(gap))] * W / 2 == pytest.approx(truth.focal_px, rel=1e-6)
+
+
 def _normalised_homography(camera: Camera) -> np.ndarray:
     """The camera's ground-plane homography in the normalised image coordinates of the module."""
     K_n = np.diag([2 * camera.focal_px / W, 2 * camera.focal_px / W, 1.0])
