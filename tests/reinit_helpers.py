@@ -1,4 +1,5 @@
-"""Test helpers shared by the re-initialisation tests: a reference camera, labelled lines, template error."""
+"""Test helpers shared by the re-initialisation tests: a reference camera, labelled lines, image lines of pitch
+segments, template error."""
 
 from __future__ import annotations
 
@@ -38,3 +39,19 @@ def median_template_error_px(camera, truth):
     shown = front & truth.in_image(uv_true)
     uv, _ = camera.project(samples[shown])
     return float(np.nanmedian(np.linalg.norm(uv - uv_true[shown], axis=1)))
+
+
+def image_lines(camera, segments_w):
+    """The exact image lines (no distortion) of pitch segments ((2, 3) metres each), as the Hough step returns them."""
+    from broadtrack_graph.detect.marking_structures import ImageLine
+
+    out = []
+    for a, b in segments_w:
+        (ua, ub), front = camera.project(np.array([a, b], float))
+        assert front.all()
+        direction = (ub - ua) / np.linalg.norm(ub - ua)
+        normal = np.array([-direction[1], direction[0]])
+        centre = 0.5 * (ua + ub)
+        half = 0.5 * np.linalg.norm(ub - ua)
+        out.append(ImageLine(normal, float(-normal @ centre), centre, direction, (-0.8 * half, 0.8 * half), 1.6 * half))
+    return out

@@ -4,7 +4,9 @@
 (:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two
 directions by vanishing point, and forms every camera that puts two lines of each direction on two
 pitch lines of that direction (:mod:`.court_lines`: one homography each, decomposed with the
-principal point at the image centre and gated on plausibility). All hypotheses are scored at once
+principal point at the image centre and gated on plausibility; when none explains the map well, also three lines
+of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`). All hypotheses are
+scored at once
 on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
 found in the map and the map explained by the template); the best distinct few are fitted with the
 label-and-fit rounds (:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point
@@ -40,6 +42,7 @@ from broadtrack_graph.reinit.court_circle import (
     circle_pole_homographies,
     pitch_circle_chords,
 )
+from broadtrack_graph.reinit.court_pencil import CourtPencilConfig, pencil_hypotheses
 from broadtrack_graph.reinit.court_lines import (
     CourtLineConfig,
     cameras_from_homographies,
@@ -65,6 +68,8 @@ class CourtConfig:
     lines: CourtLineConfig = CourtLineConfig(second_candidates=8)
     # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
     circle: CourtCircleConfig = CourtCircleConfig()
+    # three lines of one direction and one across (tried with the circles)
+    pencil: CourtPencilConfig = CourtPencilConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
     # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of
@@ -111,6 +116,11 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     lines = structures.lines
     hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config)
     search = config.search
+    if len(lines) >= 4 and not (len(costs) and -costs.min() >= config.circles_below_score):
+        # Nothing explains the map well yet: three lines of one direction and one across (a zoomed goal mouth).
+        pencil = pencil_hypotheses(lines, (W, H), pitch, config.pencil, config.lines)
+        hypotheses = concatenate([hypotheses, pencil])
+        costs = np.concatenate([costs, _scores(pencil, structures.scorer, (W, H), search, config.rescore_top)])
     ellipses = []
     for across in (True, False):
         if not lines or (len(costs) and -costs.min() >= config.circles_below_score):

@@ -104,6 +104,49 @@ def _meets(lines_n: np.ndarray, centres_n: np.ndarray, tolerances: np.ndarray, p
     return sine < np.sin(tolerances)[None, :]
 
 
+@dataclass(frozen=True)
+class VanishingVotes:
+    """Every intersection of two solid image lines as a candidate vanishing point, with the lines pointing at it.
+
+    lines_n: (L, 3) the lines, normalised coordinates; scale_px, centre_px: the normalisation; support_px: (L,);
+    solid: (L,) the lines that may join a direction (drawn along, not a hatch's); i, j: (P,) the two lines of each
+    point; meets: (P, L) the solid lines pointing at each point.
+    """
+
+    lines_n: np.ndarray
+    scale_px: float
+    centre_px: np.ndarray
+    support_px: np.ndarray
+    solid: np.ndarray
+    i: np.ndarray
+    j: np.ndarray
+    meets: np.ndarray
+
+
+def vanishing_votes(lines: list[ImageLine], frame_size: tuple[int, int],
+                    config: CourtLineConfig = CourtLineConfig()) -> VanishingVotes | None:
+    """The candidate vanishing points of the lines (:class:`VanishingVotes`); None under two solid lines."""
+    lines_n, s, centre = normalised_lines(lines, frame_size)
+    if len(lines_n) < 2:
+        return None
+    centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
+    lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
+    support = np.array([line.support_px for line in lines])
+    crowded = hatched(lines, frame_size[0], config.hatch)
+    solid = (support >= config.min_line_coverage * lengths_px) & ~crowded
+    tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
+                         math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
+    i, j = np.triu_indices(len(lines_n), 1)
+    pair_ok = solid[i] & solid[j]
+    i, j = i[pair_ok], j[pair_ok]
+    if not len(i):
+        return None
+    points = np.cross(lines_n[i], lines_n[j])
+    points /= np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
+    meets = _meets(lines_n, centres_n, tolerances, points) & solid[None, :]
+    return VanishingVotes(lines_n, s, centre, support, solid, i, j, meets)
+
+
 def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
                   config: CourtLineConfig = CourtLineConfig()) -> list[LineFamilies]:
     """Ways of splitting the image lines into the pitch's two directions, likeliest first.
@@ -120,31 +163,18 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     specks) and lines of a hatch (:func:`~broadtrack_graph.detect.marking_structures.hatched`: a goal net's strands)
     join no family.
     """
-    lines_n, s, centre = normalised_lines(lines, frame_size)
+    votes = vanishing_votes(lines, frame_size, config)
+    if votes is None or len(votes.lines_n) < 4:
+        return []
+    lines_n, s, centre, support, i, j, meets = (votes.lines_n, votes.scale_px, votes.centre_px, votes.support_px,
+                                                votes.i, votes.j, votes.meets)
     L = len(lines_n)
-    if L < 4:
-        return []
-    centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
-    lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
-    support = np.array([line.support_px for line in lines])
-    crowded = hatched(lines, frame_size[0], config.hatch)
-    solid = (support >= config.min_line_coverage * lengths_px) & ~crowded
-    tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
-                         math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
-    i, j = np.triu_indices(L, 1)
-    pair_ok = solid[i] & solid[j]
-    i, j = i[pair_ok], j[pair_ok]
-    if not len(i):
-        return []
-    points = np.cross(lines_n[i], lines_n[j])
-    points /= np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
-    meets = _meets(lines_n, centres_n, tolerances, points) & solid[None, :]
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)
     out = []
-    for first in _distinct_sets(meets, meets @ support, config.vanishing_candidates):
+    for first in distinct_sets(meets, meets @ support, config.vanishing_candidates):
         rest = ~first  # the second direction among the lines the first leaves
-        votes = np.where(rest[i] & rest[j], (meets & rest[None, :]) @ support, -1.0)
-        for second in _distinct_sets(meets & rest[None, :], votes, config.second_candidates):
+        second_votes = np.where(rest[i] & rest[j], (meets & rest[None, :]) @ support, -1.0)
+        for second in distinct_sets(meets & rest[None, :], second_votes, config.second_candidates):
             vanishing = np.stack([np.linalg.svd(lines_n[first])[2][-1], np.linalg.svd(lines_n[second])[2][-1]])
             w1, w2 = vanishing[:, 2]
             if min(abs(w1), abs(w2)) > config.near_vanishing_w:  # both near the image: the orthogonality gives f
@@ -157,7 +187,7 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     return out
 
 
-def _distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:
+def distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:
     """Up to ``count`` line sets (rows of meets, (P, L) bool) of at least two lines, best voted first, each sharing
     at most half its lines with a set taken before it."""
     taken: list[np.ndarray] = []

@@ -16,23 +16,10 @@ from broadtrack_graph.reinit.court_lines import (
     line_hypotheses,
     pitch_line_offsets,
 )
+from reinit_helpers import image_lines
 
 PITCH = PitchTemplate()
 W, H = 1280, 720
-
-
-def _image_lines(camera: Camera, segments_w) -> list[ImageLine]:
-    """The exact image lines (no distortion) of pitch segments ((2, 3) metres each), as the Hough step returns them."""
-    out = []
-    for a, b in segments_w:
-        (ua, ub), front = camera.project(np.array([a, b], float))
-        assert front.all()
-        direction = (ub - ua) / np.linalg.norm(ub - ua)
-        normal = np.array([-direction[1], direction[0]])
-        centre = 0.5 * (ua + ub)
-        half = 0.5 * np.linalg.norm(ub - ua)
-        out.append(ImageLine(normal, float(-normal @ centre), centre, direction, (-0.8 * half, 0.8 * half), 1.6 * half))
-    return out
 
 
 def _box_view() -> Camera:
@@ -57,7 +44,7 @@ def test_pitch_line_offsets_are_the_painted_lines_of_each_direction():
 
 
 def test_line_families_split_the_lines_by_direction():
-    lines = _image_lines(_box_view(), BOX_SEGMENTS)
+    lines = image_lines(_box_view(), BOX_SEGMENTS)
     splits = line_families(lines, (W, H))
     assert splits
     family = splits[0].family
@@ -66,7 +53,7 @@ def test_line_families_split_the_lines_by_direction():
 
 def test_a_hypothesis_is_the_true_camera():
     truth = _box_view()
-    lines = _image_lines(truth, BOX_SEGMENTS)
+    lines = image_lines(truth, BOX_SEGMENTS)
     support = np.array([line.support_px for line in lines])
     hypotheses = line_hypotheses(line_families(lines, (W, H))[0], support, PITCH, (W, H))
     assert len(hypotheses) > 1
@@ -86,7 +73,7 @@ def test_a_line_that_joined_a_family_without_being_a_pitch_line_does_not_bend_th
     truth = Camera.from_degrees(4800.0, 0.0, -60.0, 80.0, 0.3, (85.0, 45.0, -20.0), W, H)
     segments = [((52.5, -9.0, 0.0), (52.5, 9.0, 0.0)), ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),
                 ((40.0, 20.16, 0.0), (52.0, 20.16, 0.0)), ((47.5, 9.16, 0.0), (52.0, 9.16, 0.0))]
-    lines = _image_lines(truth, segments)
+    lines = image_lines(truth, segments)
     side = lines[2]  # a board's edge: the penalty area side turned by 0.6 deg about its middle
     turn = math.radians(0.6)
     rotation = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
@@ -132,6 +119,6 @@ def test_implausible_cameras_are_gated():
 
 
 def test_too_few_lines_give_no_split():
-    lines = _image_lines(_box_view(), BOX_SEGMENTS[:3])  # one direction only
+    lines = image_lines(_box_view(), BOX_SEGMENTS[:3])  # one direction only
     assert all(min(np.sum(s.family == 0), np.sum(s.family == 1)) >= 2 for s in line_families(lines, (W, H)))
     assert line_families(lines[:1], (W, H)) == []

@@ -1,0 +1,41 @@
+"""Court-model hypotheses from three lines of one direction and one across them (a zoomed goal mouth)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from reinit_helpers import image_lines
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.court_pencil import pencil_hypotheses
+
+PITCH = PitchTemplate()
+W, H = 1280, 720
+
+GOAL_MOUTH = [  # the goal line, the goal area's front, the 16.5 m line, and one goal area side
+    ((52.5, -9.0, 0.0), (52.5, 9.0, 0.0)),
+    ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),
+    ((36.0, -15.0, 0.0), (36.0, 15.0, 0.0)),
+    ((47.5, 9.16, 0.0), (52.0, 9.16, 0.0)),
+]
+
+
+@pytest.mark.parametrize("focal_px, pan_deg, tilt_deg, roll_deg, position_m", [
+    (1100.0, -46.0, 63.0, 0.8, (75.0, 30.0, -22.0)),  # behind and beside the goal, a wide lens
+    (4800.0, -60.0, 80.0, -1.5, (85.0, 45.0, -20.0)),  # a long lens from a corner, rolled
+])
+def test_three_lines_and_one_across_give_the_true_camera(focal_px, pan_deg, tilt_deg, roll_deg, position_m):
+    truth = Camera.from_degrees(focal_px, 0.0, pan_deg, tilt_deg, roll_deg, position_m, W, H)
+    hypotheses = pencil_hypotheses(image_lines(truth, GOAL_MOUTH), (W, H), PITCH)
+    gap = np.linalg.norm(hypotheses.C_w - truth.position_m, axis=1)
+    k = int(np.argmin(gap))
+    assert gap[k] < 1e-6
+    assert hypotheses.focal_n[k] * W / 2 == pytest.approx(focal_px, rel=1e-9)
+    assert np.allclose(hypotheses.angles_rad[k], np.radians([pan_deg, tilt_deg, roll_deg]), atol=1e-9)
+
+
+def test_two_lines_of_a_direction_make_no_hypothesis():
+    truth = Camera.from_degrees(1100.0, 0.0, -46.0, 63.0, 0.8, (75.0, 30.0, -22.0), W, H)
+    lines = image_lines(truth, GOAL_MOUTH[:2] + GOAL_MOUTH[3:])
+    assert len(pencil_hypotheses(lines, (W, H), PITCH)) == 0
