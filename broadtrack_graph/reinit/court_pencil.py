@@ -45,7 +45,8 @@ class CourtPencilConfig:
 
     families: int = 2  # the best distinct vanishing points taken as the family of three or more lines
     max_family_lines: int = 4  # the family's best supported lines, taken three at a time
-    max_across_lines: int = 4  # the best supported other lines tried as the line across
+    max_across_lines: int = 8  # the best supported other lines tried as the line across (arc pieces found as short
+    #                            lines can outnumber a goal area's side)
 
 
 def pencil_hypotheses(lines: list[ImageLine], frame_size: tuple[int, int], pitch: PitchTemplate,

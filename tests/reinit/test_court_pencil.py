@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from reinit_helpers import image_lines
@@ -39,3 +41,18 @@ def test_two_lines_of_a_direction_make_no_hypothesis():
     truth = Camera.from_degrees(1100.0, 0.0, -46.0, 63.0, 0.8, (75.0, 30.0, -22.0), W, H)
     lines = image_lines(truth, GOAL_MOUTH[:2] + GOAL_MOUTH[3:])
     assert len(pencil_hypotheses(lines, (W, H), PITCH)) == 0
+
+
+def test_the_line_across_is_found_among_stronger_arc_pieces():
+    # A penalty arc's flat pieces, found as short lines with more support than a goal area's short side: the side is
+    # still tried as the line across.
+    truth = Camera.from_degrees(4800.0, 0.0, -60.0, 80.0, -1.5, (85.0, 45.0, -20.0), W, H)
+    lines = image_lines(truth, GOAL_MOUTH)
+    bends = np.radians(np.linspace(-50.0, 50.0, 6))  # the right penalty arc, outside the area, in five pieces
+    ends = [(41.5 - 9.15 * np.cos(t), 9.15 * np.sin(t), 0.0) for t in bends]
+    arc = list(zip(ends[:-1], ends[1:]))
+    strong = 10.0 * lines[3].support_px  # each piece a stronger line than the side
+    pieces = [replace(piece, support_px=strong, extent_px=(-0.6 * strong, 0.6 * strong))
+              for piece in image_lines(truth, arc)]
+    hypotheses = pencil_hypotheses(lines + pieces, (W, H), PITCH)
+    assert np.linalg.norm(hypotheses.C_w - truth.position_m, axis=1).min() < 1e-6
