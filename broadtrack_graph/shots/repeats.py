@@ -32,6 +32,7 @@ class RepeatConfig:
     work_width_px: int = 640  # the images are compared at this width (area averaging) ...
     change_grey_levels: int = 12  # ... a pixel changed when its grey level moved by more than this ...
     max_changed_share: float = 0.005  # ... and the frame repeats the previous one when under this share changed
+    #                                   (0: no frame repeats)
 
 
 def repeat_grey(image_bgr: np.ndarray, config: RepeatConfig = RepeatConfig()) -> np.ndarray:

@@ -60,8 +60,8 @@ class TrackingConfig:
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
     # video/image input: a frame repeating the previous one's image (a frame-rate conversion's duplicate) carries that
-    # frame's estimate and is not solved (shots/repeats.py); None: every frame is solved
-    repeats: RepeatConfig | None = RepeatConfig()
+    # frame's estimate and is not solved (shots/repeats.py); max_changed_share = 0: every frame is solved
+    repeats: RepeatConfig = RepeatConfig()
     mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow
     use_tripod: bool = True  # tripod factor (known, fitted online, or estimated in batch)
     estimate_k1: bool = True  # False: k1 held at 0

@@ -41,7 +41,7 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
             previous[:] = [None, None]
             last_grey[0] = None
             return frame
-        if run.config.repeats is not None:
+        if run.config.repeats.max_changed_share > 0:
             grey = repeat_grey(frame.image, run.config.repeats)
             frame.repeats_previous = repeats(last_grey[0], grey, run.config.repeats)
             if frame.repeats_previous:

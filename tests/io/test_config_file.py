@@ -26,6 +26,9 @@ def test_fields_and_nested_table(tmp_path):
     assert isinstance(config.confidence_threshold, float)  # an integer is accepted as a number
     assert read_config_file(write(tmp_path, ""), TrackingConfig) == TrackingConfig()
     assert read_config_file(None, TrackingConfig) == TrackingConfig()
+    # Repeated frames switched off: every frame solved.
+    off = read_config_file(write(tmp_path, "[repeats]\nmax_changed_share = 0\n"), TrackingConfig)
+    assert off.repeats.max_changed_share == 0.0 and off.repeats.work_width_px == 640
 
 
 def test_unknown_key_names_file_and_key(tmp_path):

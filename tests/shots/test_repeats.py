@@ -52,3 +52,8 @@ def test_the_thresholds_are_the_configs():
     panned = repeat_grey(_frame(shift_px=1.0, player_at=600))
     assert repeats(repeat_grey(first), panned, RepeatConfig(max_changed_share=0.5))
     assert repeat_grey(first, RepeatConfig(work_width_px=320)).shape == (180, 320)
+
+
+def test_nothing_repeats_when_the_share_is_zero():
+    first = _frame(player_at=600)
+    assert not repeats(repeat_grey(first), repeat_grey(first), RepeatConfig(max_changed_share=0.0))
