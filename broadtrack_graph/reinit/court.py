@@ -42,7 +42,6 @@ from broadtrack_graph.reinit.court_circle import (
     circle_pole_homographies,
     pitch_circle_chords,
 )
-from broadtrack_graph.reinit.court_pencil import CourtPencilConfig, pencil_hypotheses
 from broadtrack_graph.reinit.court_lines import (
     CourtLineConfig,
     cameras_from_homographies,
@@ -52,6 +51,7 @@ from broadtrack_graph.reinit.court_lines import (
     normalised_lines,
     pixel_homographies,
 )
+from broadtrack_graph.reinit.court_pencil import CourtPencilConfig, pencil_hypotheses
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import best_distinct
 from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map

@@ -287,18 +287,25 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
             tau_b = (ends_b @ q)[None, :, :] / np.einsum("qki,pi->pqk", ends_b, v_x)  # (Pa, Pb, 2)
         a_x, b_x = _pair_maps(tau_a, along_x)  # (Pa, Pb, Ma)
         a_y, b_y = _pair_maps(tau_b, along_y)  # (Pa, Pb, Mb)
-        ax, bx = a_x[..., :, None], b_x[..., :, None]  # (Pa, Pb, Ma, 1)
-        ay, by = a_y[..., None, :], b_y[..., None, :]  # (Pa, Pb, 1, Mb)
-        vx = v_x[:, None, None, None, :]
-        vy = v_y[None, :, None, None, :]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            h1 = -vx / ay[..., None]
-            h2 = -vy / ax[..., None]
-            h3 = q + (bx / ax)[..., None] * vy + (by / ay)[..., None] * vx
-        H = np.stack(np.broadcast_arrays(h1, h2, h3), axis=-1).reshape(-1, 3, 3)
+        H = homographies_from_maps(v_x[:, None, None, None, :], v_y[None, :, None, None, :],
+                                   a_x[..., :, None], b_x[..., :, None],  # (Pa, Pb, Ma, 1)
+                                   a_y[..., None, :], b_y[..., None, :]).reshape(-1, 3, 3)  # (Pa, Pb, 1, Mb)
         homographies.append(H[np.all(np.isfinite(H), axis=(1, 2))])
     stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
     return cameras_from_homographies(stacked, frame_size, pitch, config)
+
+
+def homographies_from_maps(v_x: np.ndarray, v_y: np.ndarray, a_x: np.ndarray, b_x: np.ndarray, a_y: np.ndarray,
+                           b_y: np.ndarray) -> np.ndarray:
+    """(..., 3, 3) ``H = [-v_x / a_y, -v_y / a_x, q + (b_x / a_x) v_y + (b_y / a_y) v_x]`` (module docstring), the
+    arguments broadcast together: vanishing points (..., 3), the two families' maps (...); inf or NaN where a map is
+    degenerate."""
+    q = np.array([0.0, 0.0, 1.0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h1 = -v_x / a_y[..., None]
+        h2 = -v_y / a_x[..., None]
+        h3 = q + (b_x / a_x)[..., None] * v_y + (b_y / a_y)[..., None] * v_x
+    return np.stack(np.broadcast_arrays(h1, h2, h3), axis=-1)
 
 
 def _unit(points: np.ndarray) -> np.ndarray:

@@ -10,8 +10,9 @@ directions, two each, fix the ground homography (:mod:`.court_lines`); three and
 * the line of the pencil at ``c = infinity`` is the horizon, ``h = v_A x (gamma q - alpha u)`` (``tau =
   (l . q) / (l . u)``, ``q`` the image centre, ``u`` the point at infinity across the lines);
 * the line across meets the horizon at the other direction's vanishing point ``v_B = h x l``; with ``v_A``
-  and ``v_B`` the rest is :mod:`.court_level`'s construction (one family's affine map from its lines, the
-  other's scale from a camera's equal axes, its offset from the line across).
+  and ``v_B`` known, the family's offsets are affine in the pencil coordinate of :mod:`.court_lines`
+  (``c = a tau' + b``, least squares over its three lines), a camera's equal axes (``|K^-1 h1| = |K^-1 h2|``)
+  give the other family's ``|a|`` and the line across its ``b``, and H is :mod:`.court_lines`' closed form.
 
 Nothing is assumed of the camera's roll. A view with little perspective (a long lens far off) fixes the
 horizon poorly; the map scores and the fit that follows decide. Every assignment (three lines of a family,
@@ -34,6 +35,7 @@ from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
     concatenate,
     distinct_sets,
+    homographies_from_maps,
     pitch_line_offsets,
     vanishing_votes,
 )
@@ -128,16 +130,9 @@ def _homographies(family_n: np.ndarray, across_n: np.ndarray, family_offsets_m: 
         T, C, S = T.ravel(), C.ravel(), S.ravel()
         a_across = S * a_mag[T]
         b_across = across_offsets_m[C] - a_across * tau_across
-        vb = v_b[T]
-        if a_is_x:  # v_x = v_a, (a_x, b_x) the family's; v_y = v_b
-            v_x, v_y, ax, bx, ay, by = np.broadcast_to(v_a, vb.shape), vb, a_f[T], b_f[T], a_across, b_across
-        else:
-            v_x, v_y, ax, bx, ay, by = vb, np.broadcast_to(v_a, vb.shape), a_across, b_across, a_f[T], b_f[T]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            h1 = -v_x / ay[:, None]
-            h2 = -v_y / ax[:, None]
-            h3 = q[None, :] + (bx / ax)[:, None] * v_y + (by / ay)[:, None] * v_x
-        H = np.stack([h1, h2, h3], axis=2)
+        family, other = (v_a, a_f[T], b_f[T]), (v_b[T], a_across, b_across)
+        (v_x, a_x, b_x), (v_y, a_y, b_y) = (family, other) if a_is_x else (other, family)  # a_is_x: v_x = v_a
+        H = homographies_from_maps(v_x, v_y, a_x, b_x, a_y, b_y)
         out.append(H[np.all(np.isfinite(H), axis=(1, 2))])
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 

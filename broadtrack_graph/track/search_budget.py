@@ -15,8 +15,7 @@ milliseconds):
 * a shot whose camera is not known is searched at its first frame (every stage: the shot's own search, which leaves
   the bucket empty), then paid from a bucket that fills by one stage every ``search_cost_frames * (1 - s) / s``
   frames (s = ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
-  at most one, each stage paid, and each walk of a near miss (the bucket goes into debt; a walk
-  costs up to about a stage): over any stretch after the shot's first search where nothing is
+  at most one, each stage paid (the bucket goes into debt): over any stretch after the shot's first search where nothing is
   found, searching takes about the share s of the run. Each search that finds nothing
   confident doubles the price of the next (up to ``max_search_backoff``), so the gaps grow. The later searches
   of a shot try only the stages that came nearest at its start

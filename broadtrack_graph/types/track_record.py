@@ -70,9 +70,12 @@ class TrackRecord:
     def repeated_at(self, frame_index: int, frame_id: str, time_s: float | None) -> "TrackRecord":
         """This frame's estimate for a later frame showing the same image (:attr:`repeat_of`): the same camera and
         status (a re-initialisation happened here, not there), the frame it repeats in the reason."""
-        source = self.repeat_of if self.repeat_of is not None else self.frame_index
+        if self.repeat_of is not None:  # itself a repeat: the same source, the same reason
+            source, reason = self.repeat_of, self.reason
+        else:
+            source = self.frame_index
+            reason = f"the same image as frame {source}" + (f": {self.reason}" if self.reason else "")
         status = FrameStatus.TRACKED if self.status == FrameStatus.REINITIALISED else self.status
-        reason = f"the same image as frame {source}" + (f": {self.reason}" if self.reason else "")
         return replace(self, frame_index=frame_index, frame_id=frame_id, time_s=time_s, reinitialised=False,
                        status=status, reason=reason, repeat_of=source)
 

@@ -71,7 +71,7 @@ def test_a_repeated_frame_carries_its_source_and_says_so():
     assert repeat.status == FrameStatus.TRACKED and not repeat.reinitialised  # re-initialised at 4, not at 5
     assert repeat.reason == "the same image as frame 4"
     again = repeat.repeated_at(6, "000007", 0.24)  # a frame shown three times: all point at the first
-    assert again.repeat_of == 4
+    assert again.repeat_of == 4 and again.reason == "the same image as frame 4"
     data = json.loads(json.dumps(record_to_json(again)))
     assert data["repeat_of"] == 4 and record_from_json(data, W, H).repeat_of == 4
     assert record_from_json(record_to_json(source), W, H).repeat_of is None
