@@ -61,6 +61,22 @@ def zoom_lambda(C_w: np.ndarray, R_cw: np.ndarray, tripod: Tripod) -> float:
     return float(np.dot(np.asarray(C_w, float) - O, R_cw[2]))
 
 
+def image_motion_vector(previous, camera) -> np.ndarray:
+    """(2,) how the image moves at its centre from one camera of a tripod to the next (pixels at the camera's size):
+    where the direction seen at the previous image's centre lands, less the centre (a turn of the camera; the
+    focal point's move of centimetres is left out, as by :func:`image_motion_px`).
+
+    Args:
+        previous, camera: :class:`~broadtrack_graph.geometry.camera.Camera` of consecutive frames (the same size).
+    """
+    centre = np.array([[0.5 * (camera.width_px - 1), 0.5 * (camera.height_px - 1)]])
+    far = camera.position_m + 1e4 * previous.backproject(centre)[0]  # the direction, from the new focal point
+    uv, front = camera.project(far[None])
+    if not front[0] or not np.all(np.isfinite(uv)):
+        return np.zeros(2)
+    return uv[0] - centre[0]
+
+
 def image_motion_px(previous, camera, reference_width_px: float = 960.0) -> float:
     """How far the image moves from one camera of a tripod to the next (pixels at ``reference_width_px`` wide): the
     turn of the optical axis (radians) times the focal length, plus the zoom's move at the image's side edges

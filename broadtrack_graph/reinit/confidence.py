@@ -24,7 +24,10 @@ grass in the image off its pitch. Where the camera shows a goal (posts, crossbar
 net, a box ``goal_depth_m`` deep behind the goal line, ``goal_margin_m`` wider and higher),
 neither set counts: a net is a dense mesh of thin white lines that no ground marking explains,
 and a camera behind or beside a goal sees much of it. Below ``threshold`` (0.5, BroadTrack) the
-tracker re-initialises and ignores flow from the previous camera. No I/O.
+tracker re-initialises and ignores flow from the previous camera.
+
+In a fast sweep the tracker also asks :func:`recall_across_motion`: the recall of the template that crosses the
+image's motion, the only part that checks a camera along it. No I/O.
 """
 
 from __future__ import annotations
@@ -112,38 +115,9 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
                      player_mask: np.ndarray | None = None) -> dict:
     """Precision, recall, their F-beta and the sample counts (see module docstring)."""
     curves = curves or TemplateCurves()
-    H, W = marking_mask.shape
-    w = config.work_width_px
-    h = max(1, int(round(H * w / W)))
-    if marking_mask.shape == (h, w):
-        marks = marking_mask.astype(bool, copy=False)  # read only
-    else:
-        # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
-        marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
-                           interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
-    template = project_template(camera, curves, w, h, config.template_spacing_px)
-    # Detectable: at least min_line_width_px wide at the working width, and as wide in the frame itself
-    # (upsampling a 640 px frame to the working width does not bring out a line thinner than its pixels).
-    min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
-    uv, detectable = template.uv_px, template.width_m_px >= min_width_work_px
-    field = None if field_mask is None else _resized(field_mask, w, h)
-    if len(uv) and (field is not None or player_mask is not None):
-        col = np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)
-        row = np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1)
-        keep = np.ones(len(uv), bool)
-        if field is not None:
-            keep &= field[row, col]
-        if player_mask is not None:
-            keep &= ~_resized(player_mask, w, h)[row, col]
-        uv, detectable = uv[keep], detectable[keep]
-    if field is not None:
-        marks = marks & field
-    goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
-    if goals is not None:
-        if len(uv):
-            outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
-            uv, detectable = uv[outside], detectable[outside]
-        marks = marks & ~goals
+    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
+    marks, uv, detectable, field, (w, h) = (compared.marks, compared.uv, compared.detectable, compared.field,
+                                            compared.size)
     marking_pixels = int(np.count_nonzero(marks))
     recall = precision = 0.0
     expected = int(np.count_nonzero(detectable))
@@ -164,6 +138,102 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
         score *= min(1.0, coverage / config.min_field_coverage) if config.min_field_coverage > 0 else 1.0
     return {"confidence": float(score), "precision": precision, "recall": recall, "field_coverage": coverage,
             "template_samples": expected, "marking_pixels": marking_pixels}
+
+
+def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np.ndarray,
+                         curves: TemplateCurves | None = None, config: ConfidenceConfig = ConfidenceConfig(),
+                         field_mask: np.ndarray | None = None, player_mask: np.ndarray | None = None,
+                         min_angle_deg: float = 45.0) -> tuple[float, int]:
+    """The recall of the detectable template that crosses the image's motion: (share found, samples compared).
+
+    A camera moved along the image's motion is checked only by markings that cross it: one laid along the motion
+    is explained whatever the error along it. Motion blur smears exactly those crossing markings, so in a fast
+    sweep the confidence may stay high while nothing checks the camera along the sweep. The samples compared are
+    the detectable ones (module docstring) whose image direction is at least ``min_angle_deg`` from the motion;
+    a sample counts as found as for the recall.
+
+    Args:
+        camera: the camera to check (any resolution).
+        marking_mask: (H, W) bool detected marking map, as for :func:`confidence_parts`.
+        motion_px: (2,) the image's motion from the previous frame (any scale: only its direction is used).
+        field_mask, player_mask: as for :func:`confidence_parts`.
+
+    Returns:
+        (recall in [0, 1], the number of crossing samples); (0, 0) when none crosses or the motion is zero.
+    """
+    curves = curves or TemplateCurves()
+    speed = float(np.hypot(*motion_px))
+    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
+    uv, detectable = compared.uv, compared.detectable
+    if speed <= 0 or len(uv) < 2:
+        return 0.0, 0
+    # The image direction of each sample: towards its neighbours of the same class (samples are about 1 px apart).
+    same = compared.class_index[1:] == compared.class_index[:-1]
+    step = np.where(same[:, None], uv[1:] - uv[:-1], 0.0)
+    direction = np.zeros_like(uv)
+    direction[:-1] += step
+    direction[1:] += step
+    length = np.linalg.norm(direction, axis=1)
+    along = np.abs(direction @ (np.asarray(motion_px, float) / speed)) / np.maximum(length, 1e-9)
+    crossing = detectable & (length > 0) & (along <= math.cos(math.radians(min_angle_deg)))
+    count = int(np.count_nonzero(crossing))
+    if count == 0:
+        return 0.0, 0
+    w, h = compared.size
+    near, pixel = pixels_within(uv[crossing], (w, h), config.tolerance_px)
+    found = compared.marks.ravel()[np.where(near, pixel, 0)] & near
+    return float(np.count_nonzero(found.any(axis=1)) / count), count
+
+
+@dataclass(frozen=True)
+class _Compared:
+    """What a camera is compared with (module docstring), at the working size: the marking map (h, w) bool, the
+    template samples kept (N, 2) with their detectable flags and classes, the field map (or None), (w, h)."""
+
+    marks: np.ndarray
+    uv: np.ndarray
+    detectable: np.ndarray
+    class_index: np.ndarray
+    field: np.ndarray | None
+    size: tuple[int, int]
+
+
+def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
+              field_mask: np.ndarray | None, player_mask: np.ndarray | None) -> _Compared:
+    """The two sets :func:`confidence_parts` compares: on the field, off the players, out of the goals."""
+    H, W = marking_mask.shape
+    w = config.work_width_px
+    h = max(1, int(round(H * w / W)))
+    if marking_mask.shape == (h, w):
+        marks = marking_mask.astype(bool, copy=False)  # read only
+    else:
+        # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
+        marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
+                           interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
+    template = project_template(camera, curves, w, h, config.template_spacing_px)
+    # Detectable: at least min_line_width_px wide at the working width, and as wide in the frame itself
+    # (upsampling a 640 px frame to the working width does not bring out a line thinner than its pixels).
+    min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
+    uv, detectable, class_index = template.uv_px, template.width_m_px >= min_width_work_px, template.class_index
+    field = None if field_mask is None else _resized(field_mask, w, h)
+    if len(uv) and (field is not None or player_mask is not None):
+        col = np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)
+        row = np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1)
+        keep = np.ones(len(uv), bool)
+        if field is not None:
+            keep &= field[row, col]
+        if player_mask is not None:
+            keep &= ~_resized(player_mask, w, h)[row, col]
+        uv, detectable, class_index = uv[keep], detectable[keep], class_index[keep]
+    if field is not None:
+        marks = marks & field
+    goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
+    if goals is not None:
+        if len(uv):
+            outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
+            uv, detectable, class_index = uv[outside], detectable[outside], class_index[outside]
+        marks = marks & ~goals
+    return _Compared(marks, uv, detectable, class_index, field, (w, h))
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:

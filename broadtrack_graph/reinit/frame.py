@@ -11,7 +11,8 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
-from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.geometry.tripod import image_motion_vector
+from broadtrack_graph.reinit.confidence import camera_confidence, recall_across_motion
 from broadtrack_graph.reinit.keypoints import reinit_from_keypoints
 from broadtrack_graph.reinit.lines import reinit_from_lines
 from broadtrack_graph.reinit.mask import reinit_from_mask
@@ -73,6 +74,18 @@ def _wrapped(camera: Camera) -> Camera:
     pan = math.remainder(camera.pan_rad, 2 * math.pi)
     roll = math.remainder(camera.roll_rad, 2 * math.pi)
     return camera if (pan, roll) == (camera.pan_rad, camera.roll_rad) else camera.replace(pan_rad=pan, roll_rad=roll)
+
+
+def frame_recall_across_motion(camera: Camera, previous: Camera, detections: Detections | None,
+                               curves: TemplateCurves) -> float | None:
+    """The recall of the template crossing the image's motion from ``previous`` to ``camera``
+    (:func:`~broadtrack_graph.reinit.confidence.recall_across_motion`) on the frame's marking map; None without one
+    (labelled lines or keypoints: not measured)."""
+    if detections is None or detections.marking_mask is None or not detections.marking_mask.any():
+        return None
+    motion = image_motion_vector(previous, camera)
+    return recall_across_motion(camera, detections.marking_mask, motion, curves, field_mask=detections.field_mask,
+                                player_mask=detections.player_mask)[0]
 
 
 def frame_confidence(

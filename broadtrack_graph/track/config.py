@@ -26,6 +26,9 @@ class TrackingConfig:
     # (pixels at 960 wide; geometry/tripod.image_motion_px): faster, motion blur smears a marking over many times
     # its width, the markings the confidence reads are lost and the flow nears its reach (docs/METHOD.md).
     max_unsure_motion_px: float = 40.0
+    # In such a sweep a camera is written only when the markings crossing the motion are found: at least this share
+    # of them (reinit/confidence.recall_across_motion; the others lie along the sweep and do not check it).
+    min_recall_across_motion: float = 0.2
     # The one margin of re-initialisation: a camera that is not confident replaces another (the held camera of a
     # trusted chain, a refined guess, an earlier search stage's camera) only when this much more confident.
     reinit_switch_margin: float = 0.1
@@ -95,6 +98,8 @@ class TrackingConfig:
             raise ValueError(f"recover_max_frames must be >= 0, got {self.recover_max_frames}")
         if not self.max_unsure_motion_px >= 0.0:
             raise ValueError(f"max_unsure_motion_px must be >= 0, got {self.max_unsure_motion_px}")
+        if not 0.0 <= self.min_recall_across_motion <= 1.0:
+            raise ValueError(f"min_recall_across_motion must be in [0, 1], got {self.min_recall_across_motion}")
         if not 0.0 <= self.confidence_threshold <= 1.0:
             raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
         if not 0.0 <= self.certain_confidence <= 1.0:

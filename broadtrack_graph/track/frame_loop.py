@@ -45,6 +45,7 @@ from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.cheap import refine_guesses
 from broadtrack_graph.reinit.court import court_reinit
 from broadtrack_graph.reinit.field_model import model_reinit_for
+from broadtrack_graph.reinit.frame import frame_recall_across_motion
 from broadtrack_graph.track.backfill import Backfill
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.chain import Chain
@@ -233,9 +234,12 @@ class TrackingRun:
             self.timings["confidence_s"] += time.perf_counter() - started
         moved = None if camera is None or not self._history or reinitialised \
             else image_motion_px(self._history[-1], camera)  # from the chain's previous frame
+        across = None  # read only in a fast sweep (the judge's rule 5)
+        if moved is not None and moved > self.config.max_unsure_motion_px:
+            across = frame_recall_across_motion(camera, self._history[-1], detections, self.curves)
         facts = FrameFacts(confidence, camera is not None, self.chain.trusted, self.chain.trust_at, reinitialised,
                            from_marking_map=detections is not None and detections.marking_mask is not None,
-                           carried=carried, image_motion_px=moved)
+                           carried=carried, image_motion_px=moved, recall_across_motion=across)
         verdict = judge(facts, self.config)
         replaced = False  # the solved camera was replaced by the decision's
         if verdict.action is Action.REINITIALISE and camera is not None and self.chain.trusted \
@@ -255,7 +259,8 @@ class TrackingRun:
             verdict = judge(replace(facts, confidence=confidence, has_camera=camera is not None, asked=True,
                                     replaced=replaced, chain_trusted=self.chain.trusted,
                                     trust_at=self.chain.trust_at,
-                                    image_motion_px=None if replaced else facts.image_motion_px), self.config)
+                                    image_motion_px=None if replaced else facts.image_motion_px,
+                                    recall_across_motion=None if replaced else facts.recall_across_motion), self.config)
         entry.confidence, entry.confidence_camera = confidence, camera
         if verdict.withholds_camera:
             entry.status, entry.reason, entry.suppress_camera = FrameStatus.FAILED, verdict.reason, True

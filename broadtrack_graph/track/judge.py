@@ -16,9 +16,12 @@ confidence threshold, ``L`` the lost confidence and the chain's bar ``T`` once t
 4. **Hold back** a camera of a chain started from the unlabelled marking map that has had no frame at its bar:
    it seeds the next frame, it is not written (a map search can settle on a wrong camera that still explains part
    of the map; labelled lines and keypoints name what they show).
-5. **Hold back** a camera under ``T`` while the image moves more than ``max_unsure_motion_px`` a
-   frame (:func:`~broadtrack_graph.geometry.tripod.image_motion_px` from the chain's previous frame): in a fast
-   sweep motion blur takes the markings the confidence reads, and such a camera is as often wrong as right.
+5. **Hold back** a camera while the image moves more than ``max_unsure_motion_px`` a frame
+   (:func:`~broadtrack_graph.geometry.tripod.image_motion_px` from the chain's previous frame) when it is under
+   ``T``, or when the markings that cross the motion are not found (their recall under
+   ``min_recall_across_motion``, :func:`~broadtrack_graph.reinit.confidence.recall_across_motion`): motion blur
+   smears exactly those, and a camera that only the markings along the sweep explain is not checked along it
+   (it may be off by tens of pixels along the sweep at any confidence).
 6. **Write** any other camera (mid-chain under ``T``: the policy found no better one).
 
 A written camera at ``T`` (not a frame carried on the motion prior) is its camera id's guess from now on
@@ -57,6 +60,7 @@ class FrameFacts:
     carried: bool = False  # the frame is carried on the motion prior: it claims no camera
     image_motion_px: float | None = None  # how far the image moved from the chain's previous frame (960 wide; None:
     #                                       no previous frame, or the camera was re-initialised)
+    recall_across_motion: float | None = None  # the recall of the markings crossing that motion (None: not measured)
 
 
 @dataclass(frozen=True)
@@ -99,14 +103,19 @@ def judge(facts: FrameFacts, config: TrackingConfig) -> Verdict:
             and confidence < lost_at:
         return Verdict(Action.LOST, f"confidence {confidence:.2f} below {lost_at:.2f} and re-initialisation failed",
                        withholds_camera=True)
+    unsure_motion = facts.image_motion_px is not None and facts.image_motion_px > config.max_unsure_motion_px
+    if unsure_motion and facts.recall_across_motion is not None \
+            and facts.recall_across_motion < config.min_recall_across_motion:
+        return Verdict(Action.HOLD_BACK, f"the markings crossing the image's motion ({facts.image_motion_px:.0f} px a "
+                       f"frame) not found (recall {facts.recall_across_motion:.2f}); camera not written",
+                       withholds_camera=True)
     if confidence is not None and confidence >= max(threshold, 0.0 if facts.chain_trusted else facts.trust_at):
         return Verdict(Action.WRITE, f"confidence {confidence:.2f} at the bar {max(bar, threshold):.2f}",
                        trusted=True, confident=not facts.carried)
     if confidence is not None and not facts.chain_trusted and facts.from_marking_map:
         return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {facts.trust_at:.2f} and no confident "
                        "frame since the re-initialisation; camera not written", withholds_camera=True)
-    if confidence is not None and confidence < threshold and facts.image_motion_px is not None \
-            and facts.image_motion_px > config.max_unsure_motion_px:
+    if confidence is not None and confidence < threshold and unsure_motion:
         return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {threshold:.2f} while the image moves "
                        f"{facts.image_motion_px:.0f} px a frame; camera not written", withholds_camera=True)
     reason = "not scored" if confidence is None else \

@@ -181,10 +181,12 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
         lo = max(0, position[first] - config.lag_frames)
         hi = min(len(records), position[last] + 1 + config.lag_frames)
         window = [r for r in records[lo:hi] if r.camera is not None and r.frame_index in observations]
+        # The camera the gap's recovered frames were walked from (its first frame may be one the walks did not reach).
+        gap_camera = next((r.camera_id for r in window if first <= r.frame_index <= last and r.frame_index in recovered),
+                          None)
+        window = [r for r in window if r.camera_id == gap_camera]  # one camera's frames, with its tripod
         if not any(r.frame_index in recovered for r in window):
             continue
-        gap_camera = next(r.camera_id for r in records if r.frame_index == first)
-        window = [r for r in window if r.camera_id == gap_camera]  # one camera's frames, with its tripod
         initial = EstimateSequence([FrameEstimate(r.frame_index, r.camera) for r in window])
         for k in range(1, len(window)):
             if window[k].frame_index != window[k - 1].frame_index + 1:

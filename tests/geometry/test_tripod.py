@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.tripod import image_motion_px
+from broadtrack_graph.geometry.tripod import image_motion_px, image_motion_vector
 
 W, H = 1920, 1080
 
@@ -40,3 +40,18 @@ def test_a_zoom_moves_the_image_side_edges_and_both_ways_alike():
     previous, camera = _camera(), _camera(focal_px=2200.0)
     assert image_motion_px(previous, camera) == pytest.approx(_moved_px(previous, camera, (0.0, H / 2)), rel=0.06)
     assert image_motion_px(camera, previous) == pytest.approx(image_motion_px(previous, camera))
+
+
+def test_the_image_motion_vector_points_where_the_image_moves():
+    previous = _camera()
+    still = image_motion_vector(previous, previous)
+    np.testing.assert_allclose(still, [0.0, 0.0], atol=1e-6)
+    # A pan moves the image sideways, by about the turn times the focal length (image_motion_px's measure).
+    panned = _camera(pan_deg=1.0)
+    motion = image_motion_vector(previous, panned)
+    assert abs(motion[0]) > 20.0 * abs(motion[1])
+    assert np.hypot(*motion) * 960 / W == pytest.approx(image_motion_px(previous, panned), rel=0.02)
+    # The other way round, the other way; a tilt moves it up or down.
+    np.testing.assert_allclose(image_motion_vector(panned, previous), -motion, rtol=0.02, atol=0.5)
+    tilted = image_motion_vector(previous, _camera(tilt_deg=76.0))
+    assert abs(tilted[1]) > 20.0 * abs(tilted[0])

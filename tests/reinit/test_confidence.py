@@ -9,7 +9,8 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
-from broadtrack_graph.reinit.confidence import ConfidenceConfig, confidence_parts, field_coverage, pixels_within
+from broadtrack_graph.reinit.confidence import (ConfidenceConfig, confidence_parts, field_coverage, pixels_within,
+                                                 recall_across_motion)
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -92,3 +93,28 @@ def test_markings_found_on_lines_too_thin_to_expect_are_still_explained():
     # A camera off by a few metres explains far less of the same map.
     off = far.replace(position_m=np.asarray(far.position_m) + [6.0, 0.0, 0.0])
     assert confidence_parts(off, marks, CURVES, field_mask=grass)["precision"] < 0.6
+
+
+def test_a_sweep_is_checked_only_by_the_markings_that_cross_it():
+    # The true camera's map with only the markings along the touchlines left (across the image, seen from the main
+    # stand): a sideways sweep is crossed by none of them; an up-and-down one is crossed by them (and by the flat
+    # parts of the circles, which are not drawn).
+    camera = TRUTH
+    marks = np.zeros((H, W), np.uint8)
+    for name, pts in PITCH.sample_uniform(0.1).items():
+        element = PITCH.elements[name]
+        across_image = hasattr(element, "start_w") and abs(element.end_w[1] - element.start_w[1]) < 1e-6
+        if PITCH.is_on_ground(name) and across_image:
+            uv, front = camera.project(pts)
+            uv = uv[front & np.all(np.abs(uv) < 1e4, axis=1)]
+            if len(uv) >= 2:
+                cv2.polylines(marks, [np.round(uv).astype(np.int32)], False, 1, 2)
+    marks = marks > 0
+    sideways, count = recall_across_motion(camera, marks, np.array([60.0, 0.0]), CURVES)
+    assert count > 300 and sideways < 0.1
+    downwards, count = recall_across_motion(camera, marks, np.array([0.0, 60.0]), CURVES)
+    assert count > 300 and downwards > 0.4
+    # With every marking found, a sideways sweep is checked too; no motion: nothing to say.
+    full, _ = _maps(camera)
+    assert recall_across_motion(camera, full, np.array([60.0, 0.0]), CURVES)[0] > 0.9
+    assert recall_across_motion(camera, full, np.zeros(2), CURVES) == (0.0, 0)

@@ -94,3 +94,16 @@ def test_a_camera_under_the_threshold_in_a_fast_sweep_is_held_back():
     assert judge(replace(fast, image_motion_px=None), CONFIG).action is Action.WRITE
     at_threshold = judge(replace(fast, confidence=0.5), CONFIG)
     assert at_threshold.action is Action.WRITE and at_threshold.confident
+
+
+def test_a_fast_sweep_whose_crossing_markings_are_not_found_is_held_back_at_any_confidence():
+    limit = CONFIG.max_unsure_motion_px
+    sweep = replace(TRUSTED, confidence=0.8, image_motion_px=limit + 30.0, recall_across_motion=0.05)
+    verdict = judge(sweep, CONFIG)
+    assert verdict == Verdict(Action.HOLD_BACK, f"the markings crossing the image's motion ({limit + 30.0:.0f} px a "
+                              "frame) not found (recall 0.05); camera not written", withholds_camera=True)
+    # Found at the bar, or not measured, or a slower image: written.
+    bar = CONFIG.min_recall_across_motion
+    assert judge(replace(sweep, recall_across_motion=bar), CONFIG).action is Action.WRITE
+    assert judge(replace(sweep, recall_across_motion=None), CONFIG).action is Action.WRITE
+    assert judge(replace(sweep, image_motion_px=limit), CONFIG).action is Action.WRITE
