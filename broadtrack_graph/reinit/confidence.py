@@ -161,11 +161,12 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     Returns:
         (recall in [0, 1], the number of crossing samples); (0, 0) when none crosses or the motion is zero.
     """
-    curves = curves or TemplateCurves()
     speed = float(np.hypot(*motion_px))
-    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
+    if speed <= 0:
+        return 0.0, 0
+    compared = _compared(camera, marking_mask, curves or TemplateCurves(), config, field_mask, player_mask)
     uv, detectable = compared.uv, compared.detectable
-    if speed <= 0 or len(uv) < 2:
+    if len(uv) < 2:
         return 0.0, 0
     # The image direction of each sample: towards its neighbours of the same class (samples are about 1 px apart).
     same = compared.class_index[1:] == compared.class_index[:-1]
