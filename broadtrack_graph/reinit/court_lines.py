@@ -322,18 +322,19 @@ def focal_and_mismatch(H_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     least-squares value of both is used (either alone can be degenerate, e.g. the orthogonality when a vanishing
     point is at infinity).
     """
-    h1, h2 = H_n[:, :, 0], H_n[:, :, 1]
-    A1 = h1[:, 0] * h2[:, 0] + h1[:, 1] * h2[:, 1]
-    B1 = h1[:, 2] * h2[:, 2]
-    A2 = (h1[:, 0] ** 2 + h1[:, 1] ** 2) - (h2[:, 0] ** 2 + h2[:, 1] ** 2)
-    B2 = h1[:, 2] ** 2 - h2[:, 2] ** 2
+    h1x, h1y, h1z = H_n[:, 0, 0], H_n[:, 1, 0], H_n[:, 2, 0]
+    h2x, h2y, h2z = H_n[:, 0, 1], H_n[:, 1, 1], H_n[:, 2, 1]
+    P1, P2 = h1x * h1x + h1y * h1y, h2x * h2x + h2y * h2y
+    A1, B1 = h1x * h2x + h1y * h2y, h1z * h2z
+    A2, B2 = P1 - P2, h1z * h1z - h2z * h2z
     with np.errstate(divide="ignore", invalid="ignore"):
-        g = -(A1 * B1 + A2 * B2) / (A1 ** 2 + A2 ** 2)
+        g = -(A1 * B1 + A2 * B2) / (A1 * A1 + A2 * A2)  # 1 / f_n^2
         focal_n = np.where(g > 0, 1.0 / np.sqrt(np.where(g > 0, g, 1.0)), np.nan)
-        a1 = np.column_stack([h1[:, :2] / focal_n[:, None], h1[:, 2]])
-        a2 = np.column_stack([h2[:, :2] / focal_n[:, None], h2[:, 2]])
-        n1, n2 = np.linalg.norm(a1, axis=1), np.linalg.norm(a2, axis=1)
-        mismatch = np.maximum(np.abs(n1 / n2 - 1.0), np.abs(np.einsum("ki,ki->k", a1, a2)) / (n1 * n2))
+        g = np.where(g > 0, g, np.nan)
+        # |a_i|^2 and a1 . a2 with a_i = (h_ix / f, h_iy / f, h_iz).
+        n1 = np.sqrt(P1 * g + h1z * h1z)
+        n2 = np.sqrt(P2 * g + h2z * h2z)
+        mismatch = np.maximum(np.abs(n1 / n2 - 1.0), np.abs(A1 * g + B1) / (n1 * n2))
     return focal_n, np.where(np.isfinite(mismatch), mismatch, np.inf)
 
 
@@ -357,8 +358,8 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     a = H_n * scale_k  # columns a1, a2, a3
     n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
     # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det).
-    det = np.linalg.det(H_n)
-    w0 = np.cross(H_n[:, :, 0], H_n[:, :, 1])[:, 2] / det
+    h12 = np.cross(H_n[:, :, 0], H_n[:, :, 1])
+    w0 = h12[:, 2] / np.einsum("ki,ki->k", h12, H_n[:, :, 2])  # the triple product h1 x h2 . h3 is det H
     sign = np.sign(w0)
     scale = np.sqrt(n1 * n2)
     r1 = sign[:, None] * a[:, :, 0] / n1[:, None]
@@ -379,7 +380,7 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     keep = ((sign != 0) & (height >= config.height_range_m[0]) & (height <= config.height_range_m[1])
             & (np.hypot(C[:, 0], C[:, 1]) <= config.max_distance_m)
             & ((np.abs(C[:, 0]) >= half_l + margin) | (np.abs(C[:, 1]) >= half_w + margin))
-            & (np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)) & (np.linalg.det(R) > 0))
+            & (np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)) & np.all(np.isfinite(R), axis=(1, 2)))
     return PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[keep], sign[keep], scale[keep])
 
 

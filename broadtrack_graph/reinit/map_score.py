@@ -32,7 +32,9 @@ def _ground_template_map(dimensions, resolution_m: float = 0.1):
 
     Returns:
         nearest_xy_w: (h, w, 2) float32 metres, the nearest marking point of each cell;
-        origin_w: (2,) metres of cell (0, 0); resolution_m.
+        origin_w: (2,) metres of cell (0, 0); resolution_m;
+        nearest_x, nearest_y: (h * w,) the two coordinates apart, flat (np.take on a contiguous array is the
+        quick gather).
     """
     pitch = PitchTemplate(dimensions)
     half_l, half_w = dimensions.length_m / 2 + 8.0, dimensions.width_m / 2 + 8.0
@@ -46,7 +48,19 @@ def _ground_template_map(dimensions, resolution_m: float = 0.1):
     _, labels = cv2.distanceTransformWithLabels(image, cv2.DIST_L2, 5, labelType=cv2.DIST_LABEL_PIXEL)
     rows, cols = np.nonzero(image == 0)  # labels number the zero cells in row-major order from 1
     zero_xy = (np.column_stack([cols, rows]) * resolution_m + origin).astype(np.float32)
-    return zero_xy[labels - 1], origin, resolution_m
+    nearest = zero_xy[labels - 1]
+    return (nearest, origin, resolution_m, np.ascontiguousarray(nearest[..., 0]).ravel(),
+            np.ascontiguousarray(nearest[..., 1]).ravel())
+
+
+@functools.lru_cache(maxsize=8)
+def _ground_samples(dimensions, step_m: float) -> np.ndarray:
+    """(S, 3) metres: the painted ground markings sampled ``step_m`` apart (read only)."""
+    pitch = PitchTemplate(dimensions)
+    ground = [n for n in pitch.elements if pitch.is_on_ground(n)]
+    samples = np.vstack(list(pitch.sample_uniform(step_m, classes=ground).values()))
+    samples.flags.writeable = False
+    return samples
 
 
 class MapScorer:
@@ -64,13 +78,13 @@ class MapScorer:
         self.W, self.H = frame_size
         self.config = config
         self.dt, self.scale = _distance_map(marking_mask, config.score_work_width_px, config.score_cap_px, self.W)
-        ground = [n for n in pitch.elements if pitch.is_on_ground(n)]
-        self.samples_w = np.vstack(list(pitch.sample_uniform(config.score_template_step_m, classes=ground).values()))
+        self.samples_w = _ground_samples(pitch.dimensions, config.score_template_step_m)
         points = np.asarray(marking_points_px, float).reshape(-1, 2)
         if len(points) > config.score_max_points:
             points = points[np.linspace(0, len(points) - 1, config.score_max_points).astype(int)]
         self.points_c = points - [self.W / 2.0, self.H / 2.0]
-        self.nearest_xy, self.origin, self.resolution = _ground_template_map(pitch.dimensions)
+        self.nearest_xy, self.origin, self.resolution, self.nearest_x_flat, self.nearest_y_flat = \
+            _ground_template_map(pitch.dimensions)
 
     def camera_cost(self, camera: Camera, hit_px: float, point_px: float) -> float:
         """The cost of one full camera (any roll, k1, focal point) at the frame size."""
@@ -185,40 +199,40 @@ class MapScorer:
         points = self.points_c[::thin] + [self.W / 2.0, self.H / 2.0]
         pu, pv = points[:, 0], points[:, 1]  # (M,) marking points (frame pixels)
         grid_h, grid_w = self.nearest_xy.shape[:2]
-        nearest_flat = self.nearest_xy.reshape(-1, 2)
         tol2 = (point_px / scale) ** 2
         b2 = config.score_beta ** 2
         out = np.full(len(H_px), np.inf)
+        samples_h = np.vstack([x, y, np.ones_like(x)])  # (3, S)
+        points_h = np.vstack([pu, pv, np.ones_like(pu)])  # (3, M)
         for s in range(0, len(H_px), chunk):
             Hk, sg = H_px[s:s + chunk], sign[s:s + chunk, None]
-            Hc = [[Hk[:, i, j, None] for j in range(3)] for i in range(3)]  # (k, 1) entries
-            # The template samples into the image: (k, S) homogeneous pixels.
-            uw = Hc[0][0] * x + Hc[0][1] * y + Hc[0][2]
-            vw = Hc[1][0] * x + Hc[1][1] * y + Hc[1][2]
-            zw = Hc[2][0] * x + Hc[2][1] * y + Hc[2][2]
+            k = len(Hk)
+            # The template samples into the image: (k, S) homogeneous pixels (one matrix product for the chunk).
+            uw, vw, zw = (Hk.reshape(-1, 3) @ samples_h).reshape(k, 3, -1).transpose(1, 0, 2)
             depth = sg * zw
             front = depth > 1e-9
-            inv = np.where(front, 1.0 / np.where(front, zw, 1.0), 0.0)
-            u, v = uw * inv * scale, vw * inv * scale
-            inside = front & (u >= 0) & (u < w - 1) & (v >= 0) & (v < h - 1)
-            d = dt_flat[np.where(inside, v, 0).astype(np.int32) * w + np.where(inside, u, 0).astype(np.int32)]
-            length = np.where(inside, px_per_m_at_unit[s:s + chunk, None] * scale * config.score_template_step_m
-                              * thin / np.where(front, depth, 1.0), 0.0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                inv = scale / zw
+                u = uw * inv
+                v = vw * inv
+                inside = front & (u >= 0) & (u < w - 1) & (v >= 0) & (v < h - 1)
+                index = np.where(inside, v.astype(np.int32) * w + u.astype(np.int32), 0)
+                length = np.where(inside, px_per_m_at_unit[s:s + chunk, None] * scale * config.score_template_step_m
+                                  * thin / depth, 0.0)
+            d = np.take(dt_flat, index)
             recall = np.sum(length * (d <= hit_px), axis=1) / np.maximum(np.sum(length, axis=1),
                                                                          config.score_min_template_px)
             if len(points):
                 # Marking points onto the pitch (H^-1), to their nearest painted marking, and back (H).
-                Hi = np.linalg.inv(Hk)
-                bx = Hi[:, 0, 0, None] * pu + Hi[:, 0, 1, None] * pv + Hi[:, 0, 2, None]
-                by = Hi[:, 1, 0, None] * pu + Hi[:, 1, 1, None] * pv + Hi[:, 1, 2, None]
-                bz = Hi[:, 2, 0, None] * pu + Hi[:, 2, 1, None] * pv + Hi[:, 2, 2, None]
+                bx, by, bz = (np.linalg.inv(Hk).reshape(-1, 3) @ points_h).reshape(k, 3, -1).transpose(1, 0, 2)
                 ahead = sg * bz > 1e-12
                 wz = np.where(ahead, bz, 1.0)
                 col = np.rint((bx / wz - self.origin[0]) / self.resolution).astype(np.int64)
                 row = np.rint((by / wz - self.origin[1]) / self.resolution).astype(np.int64)
                 on_grid = ahead & (col >= 0) & (col < grid_w) & (row >= 0) & (row < grid_h)
-                near = nearest_flat[np.where(on_grid, row * grid_w + col, 0)]  # (k, M, 2)
-                nx, ny = near[..., 0], near[..., 1]
+                cell = np.where(on_grid, row * grid_w + col, 0)
+                nx, ny = np.take(self.nearest_x_flat, cell), np.take(self.nearest_y_flat, cell)  # (k, M) metres
+                Hc = [[Hk[:, i, j, None] for j in range(3)] for i in range(3)]  # (k, 1) entries
                 fz = Hc[2][0] * nx + Hc[2][1] * ny + Hc[2][2]
                 ok = on_grid & (sg * fz > 1e-12)
                 fz = np.where(ok, fz, 1.0)
