@@ -74,10 +74,16 @@ class MapScorer:
     """
 
     def __init__(self, marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size, pitch: PitchTemplate,
-                 config: MaskSearchConfig):
+                 config: MaskSearchConfig, same_map_as: "MapScorer | None" = None):
+        """same_map_as: a scorer of the same marking map and frame size whose distance map is taken when its
+        working width and cap are this config's too (two scorers of one frame)."""
         self.W, self.H = frame_size
         self.config = config
-        self.dt, self.scale = _distance_map(marking_mask, config.score_work_width_px, config.score_cap_px, self.W)
+        if same_map_as is not None and (same_map_as.config.score_work_width_px, same_map_as.config.score_cap_px) == (
+                config.score_work_width_px, config.score_cap_px) and (same_map_as.W, same_map_as.H) == (self.W, self.H):
+            self.dt, self.scale = same_map_as.dt, same_map_as.scale
+        else:
+            self.dt, self.scale = _distance_map(marking_mask, config.score_work_width_px, config.score_cap_px, self.W)
         self.samples_w = _ground_samples(pitch.dimensions, config.score_template_step_m)
         points = np.asarray(marking_points_px, float).reshape(-1, 2)
         if len(points) > config.score_max_points:

@@ -187,7 +187,7 @@ class MapStructures:
         self.scorer = MapScorer(marking_mask, points_px, frame_size, pitch, config)
         self.fine_scorer = MapScorer(marking_mask, points_px, frame_size, pitch,
                                      replace(config, score_template_step_m=config.fit_template_step_m,
-                                             score_max_points=config.fit_max_points))
+                                             score_max_points=config.fit_max_points), same_map_as=self.scorer)
         self.lines = marking_lines(marking_mask, W, config.structures)
         self._ellipses: list | None = None
         self._border: list | None = None
