@@ -20,7 +20,8 @@ report merges them under their names; a section whose data is not given is skipp
 
 Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
 repository. Wall times are of the whole run on the machine as it was (upper bounds on a
-shared machine).
+shared machine). OpenCV runs with ``--threads`` threads, by default those ``track`` gives a run
+(:func:`~broadtrack_graph.track.feed.default_opencv_threads`): the fps are those a user's ``track`` gets.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ import logging
 import time
 from pathlib import Path
 
-from broadtrack_graph.arguments import positive_share
+from broadtrack_graph.arguments import int_at_least, positive_share
 from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers
 from broadtrack_graph.types.modes import MODES
 
@@ -50,6 +51,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", type=Path, default=Path("bench-real"), help="folder for the runs (default ./bench-real)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     parser.add_argument("--video-dir", type=Path, default=None, help="folder of real broadcast videos (*.mp4)")
+    parser.add_argument("--threads", type=int_at_least(1), default=None, metavar="N",
+                        help="OpenCV threads (default: as `track`, the cores the tracking and decoding threads leave, "
+                             "at least 1)")
     add_reinit_model(parser)
     add_search_workers(parser)
     parser.add_argument("--runs", type=Path, default=None,
@@ -148,11 +152,21 @@ SECTIONS = {"tsworldcup": tsworldcup_section, "video": video_section}
 
 
 def run(args) -> dict:
+    import cv2
+
+    from broadtrack_graph.track.feed import default_opencv_threads
+
     report: dict = {"sections": {}}
-    for name, section in SECTIONS.items():
-        figures = section(args)
-        if figures is not None:
-            report["sections"][name] = figures
+    threads = cv2.getNumThreads()
+    cv2.setNumThreads(int(getattr(args, "threads", None) or default_opencv_threads()))
+    report["opencv_threads"] = cv2.getNumThreads()
+    try:
+        for name, section in SECTIONS.items():
+            figures = section(args)
+            if figures is not None:
+                report["sections"][name] = figures
+    finally:
+        cv2.setNumThreads(threads)
     if not report["sections"]:
         from broadtrack_graph.errors import InputError
 

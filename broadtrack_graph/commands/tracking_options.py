@@ -8,7 +8,6 @@ settings as a ``[flow]`` table; flags given on the command line override the fil
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 from broadtrack_graph.actions.track import DetectorOptions
@@ -18,6 +17,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.io.config_file import read_config_file
 from broadtrack_graph.io.tripod_file import read_camera_tripods, read_tripod
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.feed import default_opencv_threads
 from broadtrack_graph.types.modes import MODES
 
 _DEFAULT = TrackingConfig()
@@ -106,16 +106,6 @@ def config_from_args(args) -> TrackingConfig:
     if getattr(args, "write_960x540", False):
         overrides["write_960x540"] = True
     return read_config_file(getattr(args, "config", None), TrackingConfig, overrides)
-
-
-def default_opencv_threads() -> int:
-    """OpenCV's threads for a run: the cores its tracking and decoding threads leave, at least 1.
-
-    Both threads call OpenCV, and each of the search's workers runs it on one thread: a pool on top of them only
-    oversubscribes the cores. On 2 cores, the splice of docs/BENCHMARKS.md tracked with OpenCV's default pool (a
-    thread per core) spent twice the time in the kernel for the same cameras.
-    """
-    return max(1, (os.cpu_count() or 1) - 2)
 
 
 def set_opencv_threads(args) -> int:

@@ -7,9 +7,13 @@ image (:mod:`broadtrack_graph.shots.repeats`), the flow pyramid, the camera-free
 (``find_markings``: grass, field, players, the marking map), and while the thread is far enough ahead, the optical
 flow from the previous frame. The result is the same as doing it all in the tracking
 thread (``BROADTRACK_PREFETCH=0`` does). The progress bar and an interruption (Ctrl-C, SIGTERM) are handled here.
+Both threads call OpenCV: a run is given :func:`default_opencv_threads` threads of OpenCV's own (``track
+--threads``; the benches that time the tracker set the same).
 """
 
 from __future__ import annotations
+
+import os
 
 from tqdm import tqdm
 
@@ -23,6 +27,16 @@ from broadtrack_graph.track.inputs import FrameInput
 FLOW_AHEAD_MIN_LEAD = 2
 """The decoding thread tracks a frame's optical flow ahead only while it is at least this many frames ahead of the
 loop (it has time to spare: the loop is searching, say); else the loop does (the decoding thread is the slower)."""
+
+
+def default_opencv_threads() -> int:
+    """OpenCV's threads for a run: the cores its tracking and decoding threads leave, at least 1.
+
+    Both threads call OpenCV, and each of the search's workers runs it on one thread: a pool on top of them only
+    oversubscribes the cores. On 2 cores, the splice of docs/BENCHMARKS.md tracked with OpenCV's default pool (a
+    thread per core) spent twice the time in the kernel for the same cameras.
+    """
+    return max(1, (os.cpu_count() or 1) - 2)
 
 
 def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = "") -> None:

@@ -72,3 +72,19 @@ def test_report_has_one_section_per_data_kind_and_every_mode(report):
 def test_no_data_folder_is_a_one_line_error(capsys):
     assert main(["bench", "real"]) == 2
     assert "--tsworldcup" in capsys.readouterr().err
+
+
+def test_opencv_runs_as_in_track_and_is_restored_after(report, monkeypatch, tmp_path):
+    # The fps are those a user's `track` gets: the same OpenCV threads (track.feed.default_opencv_threads), and
+    # the process's own setting back after the bench.
+    from broadtrack_graph.track.feed import default_opencv_threads
+
+    assert report["opencv_threads"] == default_opencv_threads()
+    before = cv2.getNumThreads()
+    seen = []
+    monkeypatch.setattr("broadtrack_graph.benchmarks.real.SECTIONS",
+                        {"probe": lambda args: seen.append(cv2.getNumThreads()) or {"ok": True}})
+    path = tmp_path / "report.json"
+    assert main(["bench", "real", "--threads", "3", "--no-progress", "--json", str(path)]) == 0
+    assert seen == [3] and json.loads(path.read_text())["opencv_threads"] == 3
+    assert cv2.getNumThreads() == before
