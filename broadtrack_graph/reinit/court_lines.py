@@ -287,13 +287,9 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
             tau_b = (ends_b @ q)[None, :, :] / np.einsum("qki,pi->pqk", ends_b, v_x)  # (Pa, Pb, 2)
         a_x, b_x = _pair_maps(tau_a, along_x)  # (Pa, Pb, Ma)
         a_y, b_y = _pair_maps(tau_b, along_y)  # (Pa, Pb, Mb)
-        # Most pairings give no camera: the gate on f and the axes (first two columns only) before H is built.
-        with np.errstate(divide="ignore", invalid="ignore"):
-            h1 = -v_x[:, None, None, :] / a_y[..., None]  # (Pa, Pb, Mb, 3)
-            h2 = -v_y[None, :, None, :] / a_x[..., None]  # (Pa, Pb, Ma, 3)
-        focal_n, mismatch = _focal_and_mismatch_of_columns(h1[:, :, None, :, :], h2[:, :, :, None, :])
-        i, j, m, n = np.nonzero(_plausible_focal(focal_n, mismatch, config))  # row-major: the order of H's rows
-        H = homographies_from_maps(v_x[i], v_y[j], a_x[i, j, m], b_x[i, j, m], a_y[i, j, n], b_y[i, j, n])
+        H = homographies_from_maps(v_x[:, None, None, None, :], v_y[None, :, None, None, :],
+                                   a_x[..., :, None], b_x[..., :, None],  # (Pa, Pb, Ma, 1)
+                                   a_y[..., None, :], b_y[..., None, :]).reshape(-1, 3, 3)  # (Pa, Pb, 1, Mb)
         homographies.append(H[np.all(np.isfinite(H), axis=(1, 2))])
     stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
     return cameras_from_homographies(stacked, frame_size, pitch, config)
@@ -326,14 +322,8 @@ def focal_and_mismatch(H_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     least-squares value of both is used (either alone can be degenerate, e.g. the orthogonality when a vanishing
     point is at infinity).
     """
-    return _focal_and_mismatch_of_columns(H_n[:, :, 0], H_n[:, :, 1])
-
-
-def _focal_and_mismatch_of_columns(h1: np.ndarray, h2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`focal_and_mismatch` of the homographies whose first two columns are h1 and h2 (..., 3), broadcast
-    together."""
-    h1x, h1y, h1z = h1[..., 0], h1[..., 1], h1[..., 2]
-    h2x, h2y, h2z = h2[..., 0], h2[..., 1], h2[..., 2]
+    h1x, h1y, h1z = H_n[:, 0, 0], H_n[:, 1, 0], H_n[:, 2, 0]
+    h2x, h2y, h2z = H_n[:, 0, 1], H_n[:, 1, 1], H_n[:, 2, 1]
     P1, P2 = h1x * h1x + h1y * h1y, h2x * h2x + h2y * h2y
     A1, B1 = h1x * h2x + h1y * h2y, h1z * h2z
     A2, B2 = P1 - P2, h1z * h1z - h2z * h2z
@@ -346,13 +336,6 @@ def _focal_and_mismatch_of_columns(h1: np.ndarray, h2: np.ndarray) -> tuple[np.n
         n2 = np.sqrt(P2 * g + h2z * h2z)
         mismatch = np.maximum(np.abs(n1 / n2 - 1.0), np.abs(A1 * g + B1) / (n1 * n2))
     return focal_n, np.where(np.isfinite(mismatch), mismatch, np.inf)
-
-
-def _plausible_focal(focal_n: np.ndarray, mismatch: np.ndarray, config: CourtLineConfig) -> np.ndarray:
-    """Where f is in range and the two axes are orthogonal and of equal norm (within ``max_axis_mismatch``)."""
-    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
-    with np.errstate(invalid="ignore"):
-        return np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi) & (mismatch <= config.max_axis_mismatch)
 
 
 def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
@@ -368,7 +351,8 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     """
     H_n = np.asarray(H_n, float).reshape(-1, 3, 3)
     focal_n, mismatch = focal_and_mismatch(H_n)
-    keep = _plausible_focal(focal_n, mismatch, config)
+    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
+    keep = np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi) & (mismatch <= config.max_axis_mismatch)
     H_n, focal_n = H_n[keep], focal_n[keep]
     scale_k = np.stack([1.0 / focal_n, 1.0 / focal_n, np.ones_like(focal_n)], axis=1)[:, :, None]
     a = H_n * scale_k  # columns a1, a2, a3
