@@ -1,5 +1,5 @@
 """Test helpers shared by the re-initialisation tests: a reference camera, labelled lines, image lines of pitch
-segments, template error."""
+segments, template error, a view of a penalty area and its lines."""
 
 from __future__ import annotations
 
@@ -55,3 +55,18 @@ def image_lines(camera, segments_w):
         half = 0.5 * np.linalg.norm(ub - ua)
         out.append(ImageLine(normal, float(-normal @ centre), centre, direction, (-0.8 * half, 0.8 * half), 1.6 * half))
     return out
+
+
+def box_view() -> Camera:
+    """A camera behind and beside the right goal, seeing the penalty area (both line directions)."""
+    return Camera.from_degrees(1100.0, 0.0, -46.0, 63.0, 0.4, (75.0, 30.0, -22.0), 1280, 720)
+
+
+BOX_SEGMENTS = [  # pieces of the right penalty area's lines that box_view sees
+    ((52.5, -15.0, 0.0), (52.5, 15.0, 0.0)),  # goal line (x = 52.5)
+    ((36.0, -15.0, 0.0), (36.0, 15.0, 0.0)),  # 16.5 m line (x = 36)
+    ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),  # goal area line (x = 47)
+    ((36.5, 20.16, 0.0), (52.0, 20.16, 0.0)),  # penalty area side (y = 20.16)
+    ((36.5, -20.16, 0.0), (52.0, -20.16, 0.0)),  # the other side (y = -20.16)
+    ((47.5, 9.16, 0.0), (52.0, 9.16, 0.0)),  # goal area side (y = 9.16)
+]

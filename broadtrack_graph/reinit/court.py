@@ -42,13 +42,11 @@ from broadtrack_graph.reinit.court_circle import (
     circle_pole_homographies,
     pitch_circle_chords,
 )
+from broadtrack_graph.reinit.court_families import CourtLineConfig, line_families, normalised_lines
 from broadtrack_graph.reinit.court_lines import (
-    CourtLineConfig,
     cameras_from_homographies,
     concatenate,
-    line_families,
     line_hypotheses,
-    normalised_lines,
     pixel_homographies,
 )
 from broadtrack_graph.reinit.court_pencil import CourtPencilConfig, pencil_hypotheses

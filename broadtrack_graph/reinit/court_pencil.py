@@ -29,15 +29,13 @@ import numpy as np
 
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.court_families import CourtLineConfig, distinct_sets, vanishing_votes
 from broadtrack_graph.reinit.court_lines import (
-    CourtLineConfig,
     PlaneHypotheses,
     cameras_from_homographies,
     concatenate,
-    distinct_sets,
     homographies_from_maps,
     pitch_line_offsets,
-    vanishing_votes,
 )
 
 

@@ -1,4 +1,4 @@
-"""Court-model hypotheses: line families, the homographies they make, and their decomposition into cameras."""
+"""Court-model hypotheses: the homographies of line families, and their decomposition into cameras."""
 
 from __future__ import annotations
 
@@ -10,31 +10,16 @@ import pytest
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.court_families import line_families
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
-    line_families,
     line_hypotheses,
     pitch_line_offsets,
 )
-from reinit_helpers import image_lines
+from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
 
 PITCH = PitchTemplate()
 W, H = 1280, 720
-
-
-def _box_view() -> Camera:
-    """A camera behind and beside the right goal, seeing the penalty area (both line directions)."""
-    return Camera.from_degrees(1100.0, 0.0, -46.0, 63.0, 0.4, (75.0, 30.0, -22.0), W, H)
-
-
-BOX_SEGMENTS = [  # pieces of the right penalty area's lines that _box_view sees
-    ((52.5, -15.0, 0.0), (52.5, 15.0, 0.0)),  # goal line (x = 52.5)
-    ((36.0, -15.0, 0.0), (36.0, 15.0, 0.0)),  # 16.5 m line (x = 36)
-    ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),  # goal area line (x = 47)
-    ((36.5, 20.16, 0.0), (52.0, 20.16, 0.0)),  # penalty area side (y = 20.16)
-    ((36.5, -20.16, 0.0), (52.0, -20.16, 0.0)),  # the other side (y = -20.16)
-    ((47.5, 9.16, 0.0), (52.0, 9.16, 0.0)),  # goal area side (y = 9.16)
-]
 
 
 def test_pitch_line_offsets_are_the_painted_lines_of_each_direction():
@@ -43,16 +28,8 @@ def test_pitch_line_offsets_are_the_painted_lines_of_each_direction():
     assert np.allclose(along_y, [-52.5, -47.0, -36.0, 0.0, 36.0, 47.0, 52.5], atol=0.01)
 
 
-def test_line_families_split_the_lines_by_direction():
-    lines = image_lines(_box_view(), BOX_SEGMENTS)
-    splits = line_families(lines, (W, H))
-    assert splits
-    family = splits[0].family
-    assert len(set(family[:3])) == 1 and len(set(family[3:])) == 1 and family[0] != family[3] and -1 not in family
-
-
 def test_a_hypothesis_is_the_true_camera():
-    truth = _box_view()
+    truth = box_view()
     lines = image_lines(truth, BOX_SEGMENTS)
     support = np.array([line.support_px for line in lines])
     hypotheses = line_hypotheses(line_families(lines, (W, H))[0], support, PITCH, (W, H))
@@ -100,7 +77,7 @@ def _normalised_homography(camera: Camera) -> np.ndarray:
 
 @pytest.mark.parametrize("scale", [1.0, -3.5])
 def test_a_homography_decomposes_into_its_camera_whatever_its_scale(scale):
-    truth = _box_view()
+    truth = box_view()
     cameras = cameras_from_homographies(scale * _normalised_homography(truth)[None], (W, H), PITCH)
     assert len(cameras) == 1
     assert np.allclose(cameras.C_w[0], truth.position_m, atol=1e-6)
@@ -116,9 +93,3 @@ def test_implausible_cameras_are_gated():
                         _normalised_homography(rolled), mirrored])
     kept = cameras_from_homographies(stacked, (W, H), PITCH)
     assert len(kept) == 1 and np.allclose(kept.C_w[0], main.position_m, atol=1e-6)
-
-
-def test_too_few_lines_give_no_split():
-    lines = image_lines(_box_view(), BOX_SEGMENTS[:3])  # one direction only
-    assert all(min(np.sum(s.family == 0), np.sum(s.family == 1)) >= 2 for s in line_families(lines, (W, H)))
-    assert line_families(lines[:1], (W, H)) == []

@@ -1,0 +1,185 @@
+"""The image's straight markings split into the pitch's two directions by where they meet. No I/O.
+
+The pitch's straight markings run in two directions (parallel to the touchlines and to the goal lines); in the
+image the lines of each meet at a vanishing point. Every intersection of two solid image lines is a candidate,
+voted for by the support of the lines pointing at it (:func:`vanishing_votes`); the likeliest pairs of distinct
+candidates that a focal length in range can make orthogonal split the lines into two families
+(:func:`line_families`), from which :mod:`broadtrack_graph.reinit.court_lines` forms its homographies.
+
+Image coordinates are normalised as in :mod:`broadtrack_graph.reinit.court_lines`: ``x_n = (u - W / 2) / s``,
+``y_n = (v - H / 2) / s`` with ``s = W / 2``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from broadtrack_graph.detect.marking_structures import HatchRule, ImageLine, hatched
+
+
+@dataclass(frozen=True)
+class CourtLineConfig:
+    """Settings of the line-family hypotheses (angles in degrees, pixels at the frame size unless stated)."""
+
+    max_lines_per_family: int = 4  # the best supported image lines of each family are paired
+    family_angle_px: float = 2.5  # a line joins a vanishing point when its far end is within this of the ray
+    family_angle_min_deg: float = 0.3  # ... an angle tolerance never tighter than this ...
+    family_angle_max_deg: float = 2.5  # ... nor looser than this
+    min_line_coverage: float = 0.45  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
+    hatch: HatchRule = HatchRule()  # the lines of a hatch (a goal net's strands) join no family
+    # Two vanishing points both this near the image (|w| of the unit homogeneous point: within about 1 / w half
+    # widths of the centre) must fit a focal length in range (within a factor 2: a far one is poorly placed)
+    near_vanishing_w: float = 0.15
+    vanishing_candidates: int = 4  # the best distinct vanishing points taken as the first direction ...
+    second_candidates: int = 4  # ... each with this many best distinct ones among the lines it leaves
+    focal_range_per_width: tuple[float, float] = (0.45, 16.0)  # f / W accepted (fields of view about 126 to 3.6 deg)
+    max_axis_mismatch: float = 0.3  # |K^-1 h1| / |K^-1 h2| - 1 and the cosine between them, at most
+    height_range_m: tuple[float, float] = (2.0, 150.0)  # focal point above the grass
+    max_distance_m: float = 250.0  # focal point within this horizontal distance of the centre spot
+    max_roll_deg: float = 10.0  # |roll| of a broadcast camera
+    off_pitch_margin_m: float = 0.5  # the focal point stands off the playing area by at least this
+
+
+@dataclass(frozen=True)
+class LineFamilies:
+    """The image lines split into the pitch's two directions.
+
+    lines_n: (L, 3) every image line, normalised coordinates, ``a^2 + b^2 = 1``.
+    family: (L,) 0 or 1 for the family a line joined, -1 for none.
+    vanishing_n: (2, 3) the families' vanishing points (homogeneous, unit norm); rows of a family with
+        fewer than two lines are NaN.
+    scale_px: s of the normalisation; centre_px: (2,) the image centre.
+    """
+
+    lines_n: np.ndarray
+    family: np.ndarray
+    vanishing_n: np.ndarray
+    scale_px: float
+    centre_px: np.ndarray
+
+    def members(self, k: int, max_lines: int, support_px: np.ndarray) -> np.ndarray:
+        """Indices of family k's lines, the best supported ``max_lines`` of them."""
+        own = np.nonzero(self.family == k)[0]
+        return own[np.argsort(-support_px[own])][:max_lines]
+
+
+def normalised_lines(lines: list[ImageLine], frame_size: tuple[int, int]) -> tuple[np.ndarray, float, np.ndarray]:
+    """(L, 3) the lines ``n . p + o = 0`` (frame pixels) in normalised coordinates, with s and the image centre."""
+    W, H = frame_size
+    s, centre = W / 2.0, np.array([W / 2.0, H / 2.0])
+    if not lines:
+        return np.zeros((0, 3)), s, centre
+    normals = np.array([line.normal for line in lines], float)
+    offsets = np.array([line.offset_px for line in lines], float)
+    out = np.column_stack([normals * s, normals @ centre + offsets])
+    return out / np.linalg.norm(out[:, :2], axis=1, keepdims=True), s, centre
+
+
+def _meets(lines_n: np.ndarray, centres_n: np.ndarray, tolerances: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(P, L) whether each line points at each homogeneous point (P, 3), within its angle tolerance (L,) radians."""
+    to_point = points[:, None, :2] - centres_n[None, :, :] * points[:, None, 2:3]  # (P, L, 2), valid at infinity
+    norm = np.linalg.norm(to_point, axis=2)
+    along = np.stack([-lines_n[:, 1], lines_n[:, 0]], axis=1)  # line directions (L, 2)
+    sine = np.abs(to_point[..., 0] * along[None, :, 1] - to_point[..., 1] * along[None, :, 0]) / np.maximum(norm, 1e-12)
+    return sine < np.sin(tolerances)[None, :]
+
+
+@dataclass(frozen=True)
+class VanishingVotes:
+    """Every intersection of two solid image lines as a candidate vanishing point, with the lines pointing at it.
+
+    lines_n: (L, 3) the lines, normalised coordinates; scale_px, centre_px: the normalisation; support_px: (L,);
+    solid: (L,) the lines that may join a direction (drawn along, not a hatch's); i, j: (P,) the two lines of each
+    point; meets: (P, L) the solid lines pointing at each point.
+    """
+
+    lines_n: np.ndarray
+    scale_px: float
+    centre_px: np.ndarray
+    support_px: np.ndarray
+    solid: np.ndarray
+    i: np.ndarray
+    j: np.ndarray
+    meets: np.ndarray
+
+
+def vanishing_votes(lines: list[ImageLine], frame_size: tuple[int, int],
+                    config: CourtLineConfig = CourtLineConfig()) -> VanishingVotes | None:
+    """The candidate vanishing points of the lines (:class:`VanishingVotes`); None under two solid lines."""
+    lines_n, s, centre = normalised_lines(lines, frame_size)
+    if len(lines_n) < 2:
+        return None
+    centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
+    lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
+    support = np.array([line.support_px for line in lines])
+    crowded = hatched(lines, frame_size[0], config.hatch)
+    solid = (support >= config.min_line_coverage * lengths_px) & ~crowded
+    tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
+                         math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
+    i, j = np.triu_indices(len(lines_n), 1)
+    pair_ok = solid[i] & solid[j]
+    i, j = i[pair_ok], j[pair_ok]
+    if not len(i):
+        return None
+    points = np.cross(lines_n[i], lines_n[j])
+    points /= np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
+    meets = _meets(lines_n, centres_n, tolerances, points) & solid[None, :]
+    return VanishingVotes(lines_n, s, centre, support, solid, i, j, meets)
+
+
+def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
+                  config: CourtLineConfig = CourtLineConfig()) -> list[LineFamilies]:
+    """Ways of splitting the image lines into the pitch's two directions, likeliest first.
+
+    Every intersection of two lines is a candidate vanishing point, voted for by the support (map
+    pixels) of the lines pointing at it. Each of the ``vanishing_candidates`` best distinct points
+    (their line sets overlapping by at most half) is a first direction, paired with the
+    ``second_candidates`` best distinct points of the lines it leaves; a pair is kept when the two
+    directions can be orthogonal for some focal length in range (two finite vanishing points v1, v2 of orthogonal
+    directions satisfy ``v1 . v2 = -f^2`` about the image centre). Each family's vanishing point is the
+    least-squares meeting point of its lines. A goal net's strands or a board's edges make vanishing
+    points of their own: the pairs of the map's few best points are all kept, and the map decides.
+    Lines drawn along less than ``min_line_coverage`` of their extent (a Hough line through scattered
+    specks) and lines of a hatch (:func:`~broadtrack_graph.detect.marking_structures.hatched`: a goal net's strands)
+    join no family.
+    """
+    votes = vanishing_votes(lines, frame_size, config)
+    if votes is None or len(votes.lines_n) < 4:
+        return []
+    lines_n, s, centre, support, i, j, meets = (votes.lines_n, votes.scale_px, votes.centre_px, votes.support_px,
+                                                votes.i, votes.j, votes.meets)
+    L = len(lines_n)
+    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)
+    out = []
+    for first in distinct_sets(meets, meets @ support, config.vanishing_candidates):
+        rest = ~first  # the second direction among the lines the first leaves
+        second_votes = np.where(rest[i] & rest[j], (meets & rest[None, :]) @ support, -1.0)
+        for second in distinct_sets(meets & rest[None, :], second_votes, config.second_candidates):
+            vanishing = np.stack([np.linalg.svd(lines_n[first])[2][-1], np.linalg.svd(lines_n[second])[2][-1]])
+            w1, w2 = vanishing[:, 2]
+            if min(abs(w1), abs(w2)) > config.near_vanishing_w:  # both near the image: the orthogonality gives f
+                f2 = -(vanishing[0, :2] @ vanishing[1, :2]) / (w1 * w2)
+                if not (f_lo / 2) ** 2 <= f2 <= (2 * f_hi) ** 2:
+                    continue
+            family = np.full(L, -1)
+            family[first], family[second] = 0, 1
+            out.append(LineFamilies(lines_n, family, vanishing, s, centre))
+    return out
+
+
+def distinct_sets(meets: np.ndarray, votes: np.ndarray, count: int) -> list[np.ndarray]:
+    """Up to ``count`` line sets (rows of meets, (P, L) bool) of at least two lines, best voted first, each sharing
+    at most half its lines with a set taken before it."""
+    taken: list[np.ndarray] = []
+    for k in np.argsort(-votes):
+        members = meets[k]
+        if votes[k] < 0 or members.sum() < 2:
+            break
+        if all(np.sum(members & other) <= 0.5 * min(members.sum(), other.sum()) for other in taken):
+            taken.append(members)
+            if len(taken) >= count:
+                break
+    return taken
