@@ -4,7 +4,7 @@ Synthetic part: the ``broadcast`` clip (:mod:`broadtrack_graph.synth.broadcast`:
 between the main camera, a high camera behind a goal, a low camera on the 16 m line,
 close-ups and crowd shots; default 1500 frames at 1920x1080, seed 0) is rendered once under
 ``--out``/clips (reused when complete) and tracked in every ``--modes`` mode with the
-weight-free detector (:func:`~broadtrack_graph.benchmarks.accuracy.track_clip`, as ``bench
+weight-free detector (:func:`~broadtrack_graph.benchmarks.clips.track_clip`, as ``bench
 accuracy`` does). Per mode (the scoring rules: :mod:`broadtrack_graph.metrics.broadcast`):
 
 * ``fps``: frames / wall seconds of the tracking call; ``reinit_time_share``: summary
@@ -84,7 +84,7 @@ def add_arguments(parser) -> None:
 def ensure_broadcast_clip(clips_dir: Path, frames: int, width_px: int, height_px: int, seed: int,
                           progress: bool = True) -> tuple[Path, bool]:
     """The rendered broadcast clip (reused when complete with its truth files); (folder, rendered now)."""
-    from broadtrack_graph.benchmarks.accuracy import clip_folder_name, ensure_clip
+    from broadtrack_graph.benchmarks.clips import clip_folder_name, ensure_clip
     from broadtrack_graph.io.broadcast_truth import has_broadcast_truth
     from broadtrack_graph.synth.broadcast import BROADCAST_PRESET
     from broadtrack_graph.synth.writer import write_synthetic_clip
@@ -127,9 +127,9 @@ def score_broadcast_run(run_dir: Path, truth, annotations, width_px: int, height
 
     Args:
         run_dir: the run folder; truth: the clip's BroadcastTruth; annotations: its AnnotationSet.
-        width_px, height_px: the clip's size; tracked: :func:`~broadtrack_graph.benchmarks.accuracy.track_clip`'s result.
+        width_px, height_px: the clip's size; tracked: :func:`~broadtrack_graph.benchmarks.clips.track_clip`'s result.
     """
-    from broadtrack_graph.benchmarks.accuracy import stage_timings
+    from broadtrack_graph.benchmarks.clips import stage_timings
     from broadtrack_graph.io.run_folder import RunFolder, read_frame_camera_ids
     from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
     from broadtrack_graph.io.tripod_file import read_tripods_by_camera
@@ -180,7 +180,7 @@ def score_broadcast_run(run_dir: Path, truth, annotations, width_px: int, height
 
 def synthetic_section(args, out: Path, progress: bool) -> dict:
     """Render or reuse the clip, track it per mode, score every run."""
-    from broadtrack_graph.benchmarks.accuracy import track_clip
+    from broadtrack_graph.benchmarks.clips import track_clip
     from broadtrack_graph.io.annotations import read_annotations
     from broadtrack_graph.io.broadcast_truth import read_broadcast_truth
 

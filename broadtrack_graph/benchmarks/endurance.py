@@ -4,7 +4,7 @@ The product's claim (README.md, "Modes"): online tracking keeps a flat per-frame
 match, and an interrupted run keeps every frame it wrote. This suite measures both.
 
 The clip. A segment of ``--unique-frames`` frames of a synthetic preset (default ``long``,
-1920x1080) is rendered once (:func:`~broadtrack_graph.benchmarks.accuracy.ensure_clip`,
+1920x1080) is rendered once (:func:`~broadtrack_graph.benchmarks.clips.ensure_clip`,
 reused from ``--out`` when present) and the ``--frames``-frame clip (default 20,000) is a
 folder of numbered images that plays the segment forwards, backwards, forwards...
 (``frames/000001.jpg`` ... as symbolic links to the segment's JPEGs; see
@@ -128,7 +128,8 @@ def track_timed(clip: Path, run_dir: Path, config, progress: bool, block: int | 
 
 
 def run(args) -> dict:
-    from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite
+    from broadtrack_graph.benchmarks.accuracy import prepare_suite
+    from broadtrack_graph.benchmarks.clips import ensure_clip
     from broadtrack_graph.benchmarks.speed import stage_figures
     from broadtrack_graph.errors import InputError
     from broadtrack_graph.track.config import TrackingConfig

@@ -199,7 +199,7 @@ def _jitter_stats(values: np.ndarray) -> dict:
 
 def _synthetic(args, progress: bool) -> dict:
     from broadtrack_graph.actions.players import PlayersOptions, players_from_run
-    from broadtrack_graph.benchmarks.accuracy import ensure_clip, track_clip
+    from broadtrack_graph.benchmarks.clips import ensure_clip, track_clip
     from broadtrack_graph.io.jsonfile import read_json
     from broadtrack_graph.io.player_boxes import read_player_boxes
     from broadtrack_graph.io.players_file import positions_from_lines

@@ -360,7 +360,7 @@ def _ray_job(manifest: Path, folder: Path, workers: int, address: str | None, ar
 
 
 def _clips_manifest(args, out: Path) -> Path:
-    from broadtrack_graph.benchmarks.accuracy import ensure_clip
+    from broadtrack_graph.benchmarks.clips import ensure_clip
     from broadtrack_graph.io.manifest import write_manifest
 
     entries = []

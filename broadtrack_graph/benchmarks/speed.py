@@ -85,7 +85,8 @@ def stage_figures(timings_s: dict, frames: int, wall_s: float) -> dict:
 
 def run(args) -> dict:
     from broadtrack_graph.actions.track import DetectorOptions, track_input
-    from broadtrack_graph.benchmarks.accuracy import ensure_clip, prepare_suite, stage_timings
+    from broadtrack_graph.benchmarks.accuracy import prepare_suite
+    from broadtrack_graph.benchmarks.clips import ensure_clip, stage_timings
 
     progress, out = prepare_suite(args)
     started = time.perf_counter()

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from broadtrack_graph.benchmarks.accuracy import clip_folder_name, tripod_error
+from broadtrack_graph.benchmarks.accuracy import tripod_error
+from broadtrack_graph.benchmarks.clips import clip_folder_name
 from broadtrack_graph.benchmarks.speed import STAGES, stage_figures
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.tripod import Tripod
@@ -162,7 +163,8 @@ def test_tripod_error_against_the_clip_tripod(tmp_path):
 
 def test_a_crashing_run_is_reported_and_its_written_frames_kept(tmp_path, monkeypatch):
     import broadtrack_graph.actions.track as tracking
-    from broadtrack_graph.benchmarks.accuracy import run_figures, track_clip
+    from broadtrack_graph.benchmarks.accuracy import run_figures
+    from broadtrack_graph.benchmarks.clips import track_clip
     from broadtrack_graph.track.config import TrackingConfig
 
     def crashing_track_input(clip, out_dir, config, detector, progress=True):
