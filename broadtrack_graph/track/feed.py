@@ -8,7 +8,7 @@ image (:mod:`broadtrack_graph.shots.repeats`), the flow pyramid, the camera-free
 flow from the previous frame. The result is the same as doing it all in the tracking
 thread (``BROADTRACK_PREFETCH=0`` does). The progress bar and an interruption (Ctrl-C, SIGTERM) are handled here.
 Both threads call OpenCV: a run is given :func:`default_opencv_threads` threads of OpenCV's own (``track
---threads``; the benches that time the tracker set the same).
+--threads``; ``bench real`` times its runs with the same).
 """
 
 from __future__ import annotations
