@@ -17,7 +17,7 @@ import numpy as np
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state, rotation_from_angles
 from factors.custom import Residuals, custom_factor
-from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows
+from factors.robust import INVALID_RESIDUAL_SIGMAS, robust_rows
 
 
 @dataclass(frozen=True)
@@ -205,8 +205,10 @@ def make_line_factor(
     height_px: int,
     sigma_px: float,
     cauchy_scale: float | None,
+    loss: str = "cauchy",
 ):
-    """CustomFactor on one camera state: all line points of a frame (residual length N)."""
+    """CustomFactor on one camera state: all line points of a frame (residual length N), each point through the
+    robust ``loss`` of scale ``cauchy_scale`` sigmas (:func:`factors.robust.robust_rows`)."""
     uv_px = np.ascontiguousarray(uv_px, dtype=float)
     class_index = np.asarray(class_index, dtype=int)
     setup = LineSetup.of(uv_px, class_index, polylines) if len(uv_px) else None
@@ -216,7 +218,7 @@ def make_line_factor(
                                       setup)
         r = np.where(valid, r / sigma_px, INVALID_RESIDUAL_SIGMAS)[:, None]
         Js = None if Js is None else [(Js[0] / sigma_px)[:, None, :]]
-        r, Js = cauchy_rows(r, Js, cauchy_scale)
+        r, Js = robust_rows(r, Js, cauchy_scale, loss)
         return r[:, 0], None if Js is None else [Js[0][:, 0, :]]
 
     return custom_factor([key], [STATE_SIZE], len(uv_px), fn)

@@ -128,7 +128,7 @@ class GraphBuilder:
             if len(uv) >= MIN_LINE_POINTS:
                 out.add("lines", make_line_factor(
                     key, uv, cls, self.polylines, self.width_px, self.height_px, m.line_sigma_px,
-                    scale(m.line_sigma_px, m.line_cauchy_sigmas),
+                    scale(m.line_sigma_px, m.line_cauchy_sigmas), m.line_loss,
                 ), len(uv))
         kp = observations.keypoints
         if cfg.use_keypoints and kp is not None and len(kp) > 0:

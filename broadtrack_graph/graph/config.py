@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from factors.robust import LOSSES
 from factors.tripod import DEFAULT_TRIPOD_MODEL
 
 
@@ -21,7 +22,11 @@ class MeasurementSigmas:
     """Measurement noise and Cauchy scales (scales in sigmas)."""
 
     line_sigma_px: float = 1.0  # line/circle point to projected marking distance
-    line_cauchy_sigmas: float = 2.5  # Cauchy scale of the line factor
+    line_cauchy_sigmas: float = 2.5  # scale of the line factor's robust loss (sigmas; the name is the first loss's)
+    # The line factor's per-point loss (factors/robust.py): "cauchy" (default) or "geman-mcclure" (redescending: a
+    # band of wrongly named points, the boards' ridges named as the far touchline in a blurred sweep, stops pulling;
+    # but biased far points stop pulling too). The trade-off measured: docs/BENCHMARKS.md, "Why the defaults".
+    line_loss: str = "cauchy"
     keypoint_sigma_px: float = 2.0  # keypoint reprojection at confidence 1
     keypoint_cauchy_sigmas: float = 2.5
     flow_sigma_px: float = 1.0  # flow transfer through the ground plane
@@ -38,6 +43,10 @@ class MeasurementSigmas:
     tripod_lambda_sigma_m: float | None = 0.25
     line_step_m: float = 1.0  # sampling of straight markings for the projected polylines
     arc_step_m: float = 0.25  # sampling of circle arcs
+
+    def __post_init__(self) -> None:
+        if self.line_loss not in LOSSES:
+            raise ValueError(f"line_loss must be one of {', '.join(LOSSES)}, got {self.line_loss!r}")
 
 
 @dataclass(frozen=True)

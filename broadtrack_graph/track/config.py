@@ -12,6 +12,7 @@ from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStre
 from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD
 from broadtrack_graph.shots.repeats import RepeatConfig
 from broadtrack_graph.types.modes import MODES
+from factors.robust import LOSSES
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,7 @@ class TrackingConfig:
     mask_graphics: bool = True  # video/image input: mask static broadcast graphics out of detection and flow
     use_tripod: bool = True  # tripod factor (known, fitted online, or estimated in batch)
     estimate_k1: bool = True  # False: k1 held at 0
+    line_loss: str = "cauchy"  # the line factor's per-point loss: "cauchy" or "geman-mcclure" (GraphConfig's line_loss)
     tripod_fit_frames: int = 150  # online without a tripod: confident frames tracked before fitting it
     tripod_provisional_frames: int = 25  # ... and before a provisional tripod holds the focal point (0: none)
     tripod_fit_min_confidence: float = 0.6  # only frames at least this confident enter the online tripod fit
@@ -116,13 +118,17 @@ class TrackingConfig:
             raise ValueError(f"search_workers must be >= 0, got {self.search_workers}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
+        if self.line_loss not in LOSSES:
+            raise ValueError(f"line_loss must be one of {', '.join(LOSSES)}, got {self.line_loss!r}")
 
 
 def graph_config_for(config: TrackingConfig, base: GraphConfig | None = None) -> GraphConfig:
-    """The solver settings implied by the tracking options (flow / tripod / k1 switches)."""
+    """The solver settings implied by the tracking options (flow / tripod / k1 switches, the line factor's loss)."""
     base = base or GraphConfig()
     changes = {"use_flow": config.use_flow, "use_tripod": config.use_tripod}
     graph = replace(base, **{k: v for k, v in changes.items() if hasattr(base, k)})
+    if config.line_loss != graph.measurements.line_loss:
+        graph = replace(graph, measurements=replace(graph.measurements, line_loss=config.line_loss))
     if not config.estimate_k1 and hasattr(graph.priors, "k1_fixed"):
         graph = replace(graph, priors=replace(graph.priors, k1_fixed=True))
     return graph

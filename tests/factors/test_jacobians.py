@@ -15,7 +15,7 @@ from factors.keypoints import keypoint_residuals, make_keypoint_factor
 from factors.lines import MarkingPolylines, line_residuals, make_line_factor
 from factors.motion import random_walk_residuals, smoothness_residuals
 from factors.priors import range_residuals
-from factors.robust import cauchy_rows
+from factors.robust import INVALID_RESIDUAL_SIGMAS, cauchy_rows, robust_rows
 from factors.tripod import tripod_residual
 
 W, H = 960, 540
@@ -190,6 +190,25 @@ def test_cauchy_rows_cost_and_weights():
     assert r_lin[1, 1] < 2.0  # the 50-sigma outlier is strongly down-weighted
 
 
+def test_geman_mcclure_rows_cost_weights_and_the_pull_of_far_points():
+    residuals = np.array([[0.5], [2.0], [20.0], [200.0]])
+    e2 = residuals[:, 0] ** 2
+    r_err, _ = robust_rows(residuals, None, 2.0, "geman-mcclure")
+    # 0.5 |r|^2 per row equals the Geman-McClure cost c^2 e^2 / (2 (c^2 + e^2)), bounded by c^2 / 2.
+    np.testing.assert_allclose(0.5 * np.sum(r_err**2, axis=1), 0.5 * 4.0 * e2 / (4.0 + e2))
+    J = np.ones((4, 1, 3))
+    r_lin, (J_lin,) = robust_rows(residuals, [J], 2.0, "geman-mcclure")
+    np.testing.assert_allclose(J_lin[:, 0, 0], 4.0 / (4.0 + e2))  # sqrt of the weight c^4 / (c^2 + e^2)^2
+    # The pull of a point (its weighted residual times its weighted Jacobian) falls with distance beyond the scale,
+    # where Cauchy's keeps about c^2 / e: ten points 20 sigmas off pull less than one point 2 sigmas off.
+    pull = r_lin[:, 0] * J_lin[:, 0, 0]
+    assert 10 * pull[2] < pull[1] and pull[3] < pull[2]
+    r_c, (J_c,) = cauchy_rows(residuals, [J], 2.0)
+    assert 10 * r_c[2, 0] * J_c[2, 0, 0] > r_c[1, 0] * J_c[1, 0, 0]
+    with pytest.raises(ValueError, match="unknown robust loss"):
+        robust_rows(residuals, None, 2.0, "huber")
+
+
 def test_gtsam_wrappers_linearize_like_numpy(ground_points):
     pitch = PitchTemplate()
     polylines = MarkingPolylines.from_pitch(pitch)
@@ -213,6 +232,11 @@ def test_gtsam_wrappers_linearize_like_numpy(ground_points):
     assert kp.error(values) == pytest.approx(expected)
     lines = make_line_factor(1, uv_cur[:5], np.zeros(5, int), polylines, W, H, 1.0, 2.0)
     assert lines.linearize(values).jacobian()[0].shape == (5, 8)
+    # Line factor with Geman-McClure: the error is the summed Geman-McClure cost of its points.
+    gm = make_line_factor(1, uv_cur[:5], np.zeros(5, int), polylines, W, H, 1.0, 2.0, "geman-mcclure")
+    r_line, _, valid = line_residuals(s_cur, uv_cur[:5], np.zeros(5, int), polylines, W, H, False)
+    e2 = np.where(valid, r_line, INVALID_RESIDUAL_SIGMAS) ** 2
+    assert gm.error(values) == pytest.approx(np.sum(0.5 * 4.0 * e2 / (4.0 + e2)))
 
 
 def test_tripod_axis_point_model_zero_on_tripod_and_jacobians():

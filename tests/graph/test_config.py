@@ -24,6 +24,11 @@ def test_config_from_dict_sets_values_and_rejects_unknown_keys():
         GraphConfig.from_dict({"lines": {}})
     with pytest.raises(ValueError, match="line_sigma"):
         GraphConfig.from_dict({"measurements": {"line_sigma": 1.0}})
+    assert GraphConfig().measurements.line_loss == "cauchy"
+    assert GraphConfig.from_dict({"measurements": {"line_loss": "geman-mcclure"}}).measurements.line_loss == \
+        "geman-mcclure"
+    with pytest.raises(ValueError, match="line_loss must be one of cauchy, geman-mcclure"):
+        GraphConfig.from_dict({"measurements": {"line_loss": "huber"}})
 
 
 def test_random_walk_vector_order_and_focal_range():

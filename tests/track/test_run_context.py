@@ -32,6 +32,11 @@ def test_the_solver_settings_follow_the_tracking_switches():
     assert RunContext(config).graph() == graph_config_for(config)
     base = GraphConfig()
     assert RunContext(config, graph_config=base).graph() == graph_config_for(config, base)
+    assert graph_config_for(config).measurements.line_loss == "cauchy"
+    redescending = TrackingConfig(line_loss="geman-mcclure")
+    assert graph_config_for(redescending).measurements.line_loss == "geman-mcclure"
+    with pytest.raises(ValueError, match="line_loss must be one of"):
+        TrackingConfig(line_loss="huber")
 
 
 def test_a_pass_that_differs_runs_on_a_copy():
