@@ -123,8 +123,8 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     expected = int(np.count_nonzero(detectable))
     if len(uv) and marking_pixels:
         near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
-        found = marks.ravel()[np.where(near[detectable], pixel[detectable], 0)] & near[detectable]
-        recall = float(np.count_nonzero(found.any(axis=1)) / max(expected, config.min_template_px))
+        recall = float(np.count_nonzero(_found(marks, near[detectable], pixel[detectable])) /
+                       max(expected, config.min_template_px))
         # A marking found where the template has a line too thin to expect is still explained by it.
         explained = np.zeros(h * w, bool)
         explained[pixel[near]] = True
@@ -180,10 +180,14 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     count = int(np.count_nonzero(crossing))
     if count == 0:
         return 0.0, 0
-    w, h = compared.size
-    near, pixel = pixels_within(uv[crossing], (w, h), config.tolerance_px)
-    found = compared.marks.ravel()[np.where(near, pixel, 0)] & near
-    return float(np.count_nonzero(found.any(axis=1)) / count), count
+    near, pixel = pixels_within(uv[crossing], compared.size, config.tolerance_px)
+    return float(np.count_nonzero(_found(compared.marks, near, pixel)) / count), count
+
+
+def _found(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray:
+    """(N,) whether each template sample has a marking pixel of ``marks`` (h, w) within the tolerance (``near`` and
+    ``pixel`` of :func:`pixels_within`): what the recall counts."""
+    return (marks.ravel()[np.where(near, pixel, 0)] & near).any(axis=1)
 
 
 @dataclass(frozen=True)
