@@ -50,6 +50,7 @@ from broadtrack_graph.reinit.court_lines import (
     pixel_homographies,
 )
 from broadtrack_graph.reinit.court_pencil import CourtPencilConfig, pencil_hypotheses
+from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import best_distinct
 from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map
@@ -157,6 +158,9 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         if best[0] >= search.accept_fit_score:
             break  # a fit this good is not beaten by a worse-scoring hypothesis
     camera = _main_side(best[1], config.twin_tie_m)
+    if not plausible_position(camera.position_m, pitch):
+        return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
+                                            "or under the grass)", tried=len(hypotheses))
     fixed = determinability(camera, pitch, explained_by=marking_mask)
     if not fixes_camera(fixed):
         return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "

@@ -40,7 +40,10 @@ class CourtLineConfig:
     height_range_m: tuple[float, float] = (2.0, 150.0)  # focal point above the grass
     max_distance_m: float = 250.0  # focal point within this horizontal distance of the centre spot
     max_roll_deg: float = 10.0  # |roll| of a broadcast camera
-    off_pitch_margin_m: float = 0.5  # the focal point stands off the playing area by at least this
+    # A hypothesis's focal point stands off the playing area, or at most this far inside it: decomposed from a few
+    # markings (an arc's conic, a short line), it is metres off; the fitted camera must stand off it (reinit.frame.
+    # plausible_position).
+    inside_pitch_slack_m: float = 5.0
 
 
 @dataclass(frozen=True)

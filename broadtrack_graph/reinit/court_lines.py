@@ -210,7 +210,7 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     t = sign[:, None] * a[:, :, 2] / scale[:, None]
     C = -np.einsum("kji,kj->ki", R, t)
     half_l, half_w = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2
-    margin = config.off_pitch_margin_m
+    margin = -config.inside_pitch_slack_m
     height = -C[:, 2]
     angles = angles_from_rotations(R) if len(R) else np.zeros((0, 3))
     keep = ((sign != 0) & (height >= config.height_range_m[0]) & (height <= config.height_range_m[1])

@@ -10,7 +10,7 @@ import pytest
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.reinit.court_families import line_families
+from broadtrack_graph.reinit.court_families import CourtLineConfig, line_families
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
     line_hypotheses,
@@ -39,9 +39,10 @@ def test_a_hypothesis_is_the_true_camera():
     assert gap[k] < 1e-6 * 100
     assert hypotheses.focal_n[k] * W / 2 == pytest.approx(truth.focal_px, rel=1e-6)
     assert np.allclose(hypotheses.angles_rad[k], [truth.pan_rad, truth.tilt_rad, truth.roll_rad], atol=1e-7)
-    # Every hypothesis is a plausible broadcast camera: above the grass, off the playing area.
-    C = hypotheses.C_w
-    assert np.all(C[:, 2] <= -2.0) and np.all((np.abs(C[:, 0]) > 52.5) | (np.abs(C[:, 1]) > 34.0))
+    # Every hypothesis is a plausible broadcast camera: above the grass, off the playing area (or a few metres inside
+    # it: a hypothesis's focal point is only as good as the markings it is decomposed from).
+    C, slack = hypotheses.C_w, CourtLineConfig().inside_pitch_slack_m
+    assert np.all(C[:, 2] <= -2.0) and np.all((np.abs(C[:, 0]) > 52.5 - slack) | (np.abs(C[:, 1]) > 34.0 - slack))
 
 
 def test_a_line_that_joined_a_family_without_being_a_pitch_line_does_not_bend_the_others():
@@ -93,3 +94,14 @@ def test_implausible_cameras_are_gated():
                         _normalised_homography(rolled), mirrored])
     kept = cameras_from_homographies(stacked, (W, H), PITCH)
     assert len(kept) == 1 and np.allclose(kept.C_w[0], main.position_m, atol=1e-6)
+
+
+def test_a_hypothesis_a_few_metres_inside_the_touchline_is_kept_for_the_fit():
+    # A camera at a touchline decomposed from an arc's ellipse can come out metres inside it: kept for the fit (whose
+    # camera must then stand off the pitch, reinit.court), while one deep inside the pitch is not.
+    slack = CourtLineConfig().inside_pitch_slack_m
+    near = Camera.from_degrees(2500.0, 0.0, 180.0, 60.0, 0.0, (-20.0, -(34.0 - 0.5 * slack), -40.0), W, H)
+    deep = near.replace(position_m=np.array([-20.0, -(34.0 - 2.0 * slack), -40.0]))
+    kept = cameras_from_homographies(np.stack([_normalised_homography(near), _normalised_homography(deep)]), (W, H),
+                                     PITCH)
+    assert len(kept) == 1 and np.allclose(kept.C_w[0], near.position_m, atol=1e-6)
