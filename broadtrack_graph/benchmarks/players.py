@@ -16,7 +16,10 @@ no tripod, no temporal link), as a per-frame calibrator does. Figures per source
   against the true distance over the same frames: median and worst |relative error|, and
   the total's inflation; the same for unsmoothed positions;
 * the error of the ground-truth cameras themselves (the floor: box bottoms are not
-  exactly the foot point).
+  exactly the foot point);
+* the weight-free detector's own player boxes on every fifth frame against the ground-truth boxes
+  (:func:`detector_box_bottoms`: matched by IoU; how far each bottom, the foot point, is off, in shares
+  of the player's height).
 
 Real part (``--real VIDEO``, default the shared 720p clip when present): the clip is
 tracked online and with the fixed-lag smoother, players from the detector's own blobs
@@ -237,7 +240,44 @@ def _synthetic(args, progress: bool) -> dict:
             all_jitter_m(positions.frame, positions.track_id, positions.xy_m))
         scored["camera_jitter_second_difference_m"] = _jitter_stats(camera_jitter_m(read_track(run_dir), positions))
         report["sources"][name] = scored
+    report["detector_boxes"] = detector_box_bottoms(clip, boxes)
     return report
+
+
+def detector_box_bottoms(clip: Path, boxes, every: int = 5, min_height_px: float = 30.0) -> dict:
+    """The weight-free detector's player boxes against a clip's ground-truth boxes (every ``every``-th frame).
+
+    Each true box at least ``min_height_px`` tall is matched to the detector's box of largest IoU (at least
+    0.3); the bottom's error (true bottom minus the detector's, positive: the box ends above the feet) is given in
+    shares of the true box's height.
+    """
+    import cv2
+
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+
+    detector = WeightFreeDetector()
+    errors, truths = [], 0
+    for frame in boxes.frames[::every]:
+        image = cv2.imread(str(clip / "img1" / f"{frame.frame_id}.jpg"))
+        if image is None:
+            continue
+        found = detector.find_markings(image).unnamed.player_boxes_px
+        for b in frame.boxes_px[(frame.boxes_px[:, 3] - frame.boxes_px[:, 1]) >= min_height_px]:
+            truths += 1
+            if not len(found):
+                continue
+            ix = np.clip(np.minimum(found[:, 2], b[2]) - np.maximum(found[:, 0], b[0]), 0, None)
+            iy = np.clip(np.minimum(found[:, 3], b[3]) - np.maximum(found[:, 1], b[1]), 0, None)
+            union = (found[:, 2] - found[:, 0]) * (found[:, 3] - found[:, 1]) + (b[2] - b[0]) * (b[3] - b[1]) - ix * iy
+            iou = ix * iy / np.maximum(union, 1e-9)
+            if iou.max() >= 0.3:
+                errors.append((b[3] - found[int(np.argmax(iou)), 3]) / (b[3] - b[1]))
+    e = np.abs(np.array(errors))
+    return {"true_boxes": truths, "matched": len(errors),
+            "bottom_error_share_of_height": {"median": round(float(np.median(errors)), 3) if errors else None,
+                                             "abs_mean": round(float(e.mean()), 3) if errors else None,
+                                             "within_10_pct": round(float(np.mean(e < 0.1)), 3) if errors else None,
+                                             "over_20_pct": round(float(np.mean(e > 0.2)), 3) if errors else None}}
 
 
 # --------------------------------------------------------------------------- real clip

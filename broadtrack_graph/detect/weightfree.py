@@ -9,7 +9,8 @@ mapped back to the frame's pixels. Pipeline:
    large grass regions (so lines and players inside it belong to it);
 2. players and clutter: non-grass blobs inside the field that survive an opening
    larger than a line's width and look like upright bodies -> boxes and a mask
-   (found at half the working width);
+   (found at half the working width); each box then runs on down its legs to the feet
+   (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`; the mask keeps them out);
 3. marking ridges: white top-hat of the grey image, thresholded at a fixed level or, for
    frames not reduced 2x or more to the working width (they keep pixel noise and fine grass
    texture that area averaging removes), above the level the texture reaches on that
@@ -41,6 +42,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
+from broadtrack_graph.detect.player_feet import boxes_to_the_feet
 from broadtrack_graph.detect.point_cells import capped_cell_means, grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
@@ -74,6 +76,10 @@ class WeightFreeConfig:
     player_open_px: int = 5  # opening that removes lines but keeps bodies
     player_min_area_px: int = 40  # smaller non-grass blobs are not players
     player_margin_px: int = 3  # ridge points this close to a player are dropped
+    # A box runs on below the body the opening keeps, down its legs to the feet (detect.player_feet): rows holding a
+    # pixel this much (grey levels) lighter than the grass around, or not grass, at most this share of its height.
+    feet_contrast: float = 25.0
+    feet_max_share: float = 1.0
     gate_px: float = 2.0  # naming gate (working pixels) ...
     gate_sigmas: float = 2.5  # ... plus this many predicted uncertainties (frame pixels, scaled to working ones)
     class_consistency_px: float = 1.0  # band (working pixels) around a class's median distance to its prediction
@@ -329,6 +335,7 @@ class WeightFreeDetector:
         work_h, work_w = grey.shape
         grass, field = self.field_and_grass(small)
         boxes, player_mask = self.players(grass, field)
+        boxes = boxes_to_the_feet(boxes, grey, grass, self.config.feet_contrast, self.config.feet_max_share)
         # Markings lie on grass: keep only field pixels with grass close by (drops boards, stands).
         # The outer edge of the field against boards and stands is a bright step, not a marking: keep
         # ridges a margin inside the filled outline (which has no holes at lines or players; the

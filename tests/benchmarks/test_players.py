@@ -32,3 +32,25 @@ def test_camera_jitter_is_zero_for_a_still_camera():
                                        "box_px": [900, 700, 920, 760], "x_m": 0.0, "y_m": 0.0} for k in range(4)])
     values = camera_jitter_m(track, positions)
     assert len(values) == 2 and np.allclose(values, 0.0)
+
+
+def test_detector_boxes_are_scored_by_their_bottom_against_the_true_boxes(tmp_path):
+    import cv2
+
+    from broadtrack_graph.benchmarks.players import detector_box_bottoms
+    from broadtrack_graph.types.player_boxes import PlayerBoxes
+
+    (tmp_path / "img1").mkdir()
+    boxes = PlayerBoxes()
+    for k in range(2):
+        image = np.zeros((360, 640, 3), np.uint8)
+        image[:] = (40, 140, 50)
+        cv2.rectangle(image, (300, 150), (310, 174), (30, 30, 200), -1)  # a body; its legs below
+        for x in (302, 308):
+            cv2.line(image, (x, 175), (x, 192), (200, 200, 200), 1)
+        cv2.imwrite(str(tmp_path / "img1" / f"{k + 1:06d}.jpg"), image)
+        boxes.add_frame(k, f"{k + 1:06d}", [[300.0, 150.0, 311.0, 193.0], [500.0, 100.0, 520.0, 160.0]])
+    report = detector_box_bottoms(tmp_path, boxes, every=1)
+    assert report["true_boxes"] == 4 and report["matched"] == 2  # the second true box has no player drawn
+    assert abs(report["bottom_error_share_of_height"]["median"]) < 0.1
+    assert report["bottom_error_share_of_height"]["within_10_pct"] == 1.0

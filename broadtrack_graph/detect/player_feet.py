@@ -1,0 +1,55 @@
+"""Player boxes down to the feet: the legs below a body that the detector's opening removed. No I/O.
+
+The weight-free detector finds a player as a non-grass blob that survives an opening wider than a line
+(:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.players`). Legs are thinner than that
+opening, and on broadcast video they blend into grass colour at the working size (a white sock beside grass
+averages to light green), so the blob's box ends at the knees, and a foot point taken from its bottom lies
+metres behind the player on the pitch. :func:`boxes_to_the_feet` moves each box's bottom down its legs.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def boxes_to_the_feet(boxes: np.ndarray, grey: np.ndarray, grass: np.ndarray, contrast: float = 25.0,
+                      max_share: float = 1.0, gap_rows: int = 2) -> np.ndarray:
+    """The boxes with each bottom moved down the legs below it.
+
+    Below a box, in its columns, a row holds a leg when one of its pixels is ``contrast`` grey levels lighter
+    than the grass around (skin, socks) or is not grass (dark boots and socks); a shadow is darker grass and does
+    not count, and a row whose such pixels run on beside the box is a marking crossing under the player. The box
+    ends at the first ``gap_rows`` rows without a leg, at most ``max_share`` of its height below it.
+
+    Args:
+        boxes: (P, 4) [x0, y0, x1, y1] pixels of the bodies (on ``grey``'s grid).
+        grey: (h, w) uint8 grey image.
+        grass: (h, w) uint8 grass mask (non-zero: grass colour).
+        contrast: grey levels above the grass's median (beside and below the box) that make a leg pixel.
+
+    Returns:
+        (P, 4) float boxes, the same but for the bottoms.
+    """
+    out = np.array(boxes, float).reshape(-1, 4)
+    h, w = grey.shape
+    for k, (x0, y0, x1, y1) in enumerate(np.round(out).astype(int)):
+        x0, x1 = max(0, x0), min(w, x1)
+        top, bottom = min(h, y1), min(h, y1 + int(math.ceil(max_share * (y1 - y0))))
+        if bottom - top < gap_rows or x1 <= x0:
+            continue
+        pad = max(1, (x1 - x0) // 2)
+        lo, hi = max(0, x0 - pad), min(w, x1 + pad)
+        region, on_grass = grey[top:bottom, lo:hi].astype(np.float32), grass[top:bottom, lo:hi] > 0
+        if on_grass.sum() < 10:
+            continue
+        off = (region - float(np.median(region[on_grass])) > contrast) | ~on_grass
+        inside = np.zeros(hi - lo, bool)
+        inside[x0 - lo:x1 - lo] = True
+        legs = off[:, inside].any(axis=1)
+        if (~inside).any():
+            legs &= off[:, ~inside].mean(axis=1) < 0.5
+        empty = np.flatnonzero(np.convolve(~legs, np.ones(gap_rows, int), "valid") == gap_rows)
+        out[k, 3] = top + (int(empty[0]) if len(empty) else len(legs))
+    return out

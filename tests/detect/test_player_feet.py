@@ -1,0 +1,57 @@
+"""Player boxes down to the feet (detect/player_feet.py), on frames drawn here and through the detector."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from broadtrack_graph.detect.player_feet import boxes_to_the_feet
+from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.geometry.pitch import PitchTemplate
+
+W, H = 640, 360
+PITCH = PitchTemplate()
+
+
+def _player_on_grass(legs_grey: int, shadow: bool = False, line_below: bool = False):
+    """A 640x360 frame of grass with one player: a red body 10x24 px at (300, 150) over two legs 1 px wide and
+    18 px long (``legs_grey``), a darker-grass shadow under the feet and a marking line 6 px below them if asked."""
+    image = np.zeros((H, W, 3), np.uint8)
+    image[:] = (40, 140, 50)
+    if shadow:
+        cv2.ellipse(image, (305, 193), (14, 4), 0, 0, 360, (25, 90, 32), -1)
+    if line_below:
+        cv2.line(image, (0, 198), (W - 1, 198), (235, 235, 235), 2)
+    cv2.rectangle(image, (300, 150), (310, 174), (30, 30, 200), -1)
+    for x in (302, 308):
+        cv2.line(image, (x, 175), (x, 192), (legs_grey,) * 3, 1)
+    return image
+
+
+def test_a_player_box_ends_at_the_feet_not_at_the_knees():
+    detector = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W))
+    for legs_grey in (200, 15):  # light socks or skin, dark boots and socks
+        for shadow, line_below in ((False, False), (True, False), (False, True)):
+            boxes = detector.detect(_player_on_grass(legs_grey, shadow, line_below)).player_boxes_px
+            assert len(boxes) == 1
+            x0, y0, x1, y1 = boxes[0]
+            assert y0 == pytest.approx(150, abs=2) and y1 == pytest.approx(193, abs=2), (legs_grey, shadow, line_below)
+    # Without legs below it, a body's box is the body's.
+    bare = _player_on_grass(140)
+    bare[175:193, 300:311] = (40, 140, 50)
+    assert detector.detect(bare).player_boxes_px[0][3] == pytest.approx(175, abs=2)
+
+
+
+def test_the_legs_below_a_body_make_its_box_and_nothing_else_does():
+    image = _player_on_grass(200, shadow=True, line_below=True)
+    grey = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    grass = cv2.inRange(cv2.cvtColor(image, cv2.COLOR_BGR2HSV), (30, 40, 30), (95, 255, 255))
+    body = np.array([[300.0, 150.0, 311.0, 175.0]])
+    assert boxes_to_the_feet(body, grey, grass)[0, 3] == pytest.approx(193, abs=1)
+    assert np.array_equal(boxes_to_the_feet(body, grey, grass)[0, :3], body[0, :3])
+    # Capped at max_share of the body's height; a box at the image's bottom edge stays.
+    assert boxes_to_the_feet(body, grey, grass, max_share=0.4)[0, 3] == pytest.approx(175 + 10, abs=1)
+    assert boxes_to_the_feet(np.array([[300.0, 330.0, 311.0, 360.0]]), grey, grass)[0, 3] == 360
+    assert boxes_to_the_feet(np.zeros((0, 4)), grey, grass).shape == (0, 4)
