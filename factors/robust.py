@@ -43,6 +43,14 @@ LOSSES = ("cauchy", "geman-mcclure")
 """The per-point losses :func:`robust_rows` applies."""
 
 
+def check_loss(loss: str, what: str = "line_loss") -> str:
+    """``loss`` when it is one of :data:`LOSSES` (a setting's value); ValueError naming the setting ``what``
+    otherwise."""
+    if loss not in LOSSES:
+        raise ValueError(f"{what} must be one of {', '.join(LOSSES)}, got {loss!r}")
+    return loss
+
+
 def geman_mcclure_rho(e2: np.ndarray, scale: float) -> np.ndarray:
     """Geman-McClure cost ``c^2 e^2 / (2 (c^2 + e^2))`` of squared whitened residual norms e2 (N,)."""
     c2 = scale * scale

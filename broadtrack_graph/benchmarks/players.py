@@ -253,6 +253,7 @@ def detector_box_bottoms(clip: Path, boxes, every: int = 5, min_height_px: float
     """
     import cv2
 
+    from broadtrack_graph.detect.player_ids import box_iou
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
 
     detector = WeightFreeDetector()
@@ -262,22 +263,21 @@ def detector_box_bottoms(clip: Path, boxes, every: int = 5, min_height_px: float
         if image is None:
             continue
         found = detector.find_markings(image).unnamed.player_boxes_px
-        for b in frame.boxes_px[(frame.boxes_px[:, 3] - frame.boxes_px[:, 1]) >= min_height_px]:
-            truths += 1
-            if not len(found):
-                continue
-            ix = np.clip(np.minimum(found[:, 2], b[2]) - np.maximum(found[:, 0], b[0]), 0, None)
-            iy = np.clip(np.minimum(found[:, 3], b[3]) - np.maximum(found[:, 1], b[1]), 0, None)
-            union = (found[:, 2] - found[:, 0]) * (found[:, 3] - found[:, 1]) + (b[2] - b[0]) * (b[3] - b[1]) - ix * iy
-            iou = ix * iy / np.maximum(union, 1e-9)
-            if iou.max() >= 0.3:
-                errors.append((b[3] - found[int(np.argmax(iou)), 3]) / (b[3] - b[1]))
-    e = np.abs(np.array(errors))
-    return {"true_boxes": truths, "matched": len(errors),
-            "bottom_error_share_of_height": {"median": round(float(np.median(errors)), 3) if errors else None,
-                                             "abs_mean": round(float(e.mean()), 3) if errors else None,
-                                             "within_10_pct": round(float(np.mean(e < 0.1)), 3) if errors else None,
-                                             "over_20_pct": round(float(np.mean(e > 0.2)), 3) if errors else None}}
+        true = frame.boxes_px[(frame.boxes_px[:, 3] - frame.boxes_px[:, 1]) >= min_height_px]
+        truths += len(true)
+        if not len(true) or not len(found):
+            continue
+        iou = box_iou(true, found)
+        matched = iou.max(axis=1) >= 0.3
+        bottoms = found[iou.argmax(axis=1), 3]
+        errors.extend(((true[:, 3] - bottoms) / (true[:, 3] - true[:, 1]))[matched])
+    shares = dict.fromkeys(("median", "abs_mean", "within_10_pct", "over_20_pct"))
+    if errors:
+        e = np.abs(np.array(errors))
+        shares.update(median=np.median(errors), abs_mean=e.mean(), within_10_pct=np.mean(e < 0.1),
+                      over_20_pct=np.mean(e > 0.2))
+        shares = {k: round(float(v), 3) for k, v in shares.items()}
+    return {"true_boxes": truths, "matched": len(errors), "bottom_error_share_of_height": shares}
 
 
 # --------------------------------------------------------------------------- real clip

@@ -10,7 +10,7 @@ mapped back to the frame's pixels. Pipeline:
 2. players and clutter: non-grass blobs inside the field that survive an opening
    larger than a line's width and look like upright bodies -> boxes and a mask
    (found at half the working width); each box then runs on down its legs to the feet
-   (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`; the mask keeps them out);
+   (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`; the player mask stays the body's);
 3. marking ridges: white top-hat of the grey image, thresholded at a fixed level or, for
    frames not reduced 2x or more to the working width (they keep pixel noise and fine grass
    texture that area averaging removes), above the level the texture reaches on that

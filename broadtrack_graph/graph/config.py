@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from factors.robust import LOSSES
+from factors.robust import check_loss
 from factors.tripod import DEFAULT_TRIPOD_MODEL
 
 
@@ -45,8 +45,7 @@ class MeasurementSigmas:
     arc_step_m: float = 0.25  # sampling of circle arcs
 
     def __post_init__(self) -> None:
-        if self.line_loss not in LOSSES:
-            raise ValueError(f"line_loss must be one of {', '.join(LOSSES)}, got {self.line_loss!r}")
+        check_loss(self.line_loss)
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ from broadtrack_graph.graph.streaming import FixedLagStreamingSolver, OnlineStre
 from broadtrack_graph.reinit.confidence import DEFAULT_THRESHOLD
 from broadtrack_graph.shots.repeats import RepeatConfig
 from broadtrack_graph.types.modes import MODES
-from factors.robust import LOSSES
+from factors.robust import check_loss
 
 
 @dataclass(frozen=True)
@@ -118,8 +118,7 @@ class TrackingConfig:
             raise ValueError(f"search_workers must be >= 0, got {self.search_workers}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
-        if self.line_loss not in LOSSES:
-            raise ValueError(f"line_loss must be one of {', '.join(LOSSES)}, got {self.line_loss!r}")
+        check_loss(self.line_loss)
 
 
 def graph_config_for(config: TrackingConfig, base: GraphConfig | None = None) -> GraphConfig:
