@@ -6,7 +6,9 @@ behaves the same on 960x540, 1073x603, 1280x720 or 1920x1080 input; results are
 mapped back to the frame's pixels. Pipeline:
 
 1. grass: HSV thresholds on green; the playing field is the filled outline of the
-   large grass regions (so lines and players inside it belong to it);
+   large grass regions (so lines and players inside it belong to it) that are mostly
+   whole grass (green seats or a green-clad crowd are grassy but speckled: not field;
+   :mod:`~broadtrack_graph.detect.playing_field`);
 2. players and clutter: non-grass blobs inside the field that survive an opening
    larger than a line's width and look like upright bodies -> boxes and a mask
    (found at half the working width); each box then runs on down its legs to the feet
@@ -43,6 +45,7 @@ from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet
+from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.point_cells import capped_cell_means, grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
@@ -64,6 +67,8 @@ class WeightFreeConfig:
     grass_reach_px: int = 4  # field pixels farther than this from grass are not field (boards, text)
     boundary_margin_px: int = 5  # ridges this close to the field's outer edge are dropped (board bases, stand edges)
     field_min_area_fraction: float = 0.02  # grass regions smaller than this share of the image are ignored
+    whole_grass_share: float = 0.9  # a 4x4 cell this much grass or white is whole ...
+    field_min_whole_share: float = 0.5  # ... and a field region has at least this share of such cells (0: any)
     presmooth_sigma_px: float = 0.0  # optional Gaussian on the grey image of frames not reduced >= 2x (0 = off)
     tophat_kernel_px: int = 9  # white top-hat size: lines up to about this wide are kept
     tophat_threshold: float = 14.0  # grey levels above the local background (at least) ...
@@ -132,7 +137,6 @@ class WeightFreeDetector:
         self._margin_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (m, m))
         g = 2 * config.grass_reach_px + 1
         self._reach_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (g, g))
-        self._close_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (7, 7))
         # GaussianBlur's kernel for a float image: size round(8 sigma + 1), odd.
         sigma = config.ridge_sigma_px
         self._ridge_kernel = cv2.getGaussianKernel(int(round(sigma * 8 + 1)) | 1, sigma, cv2.CV_32F)
@@ -140,22 +144,10 @@ class WeightFreeDetector:
     # ----------------------------------------------------------------- steps
 
     def field_and_grass(self, small_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(grass, field) uint8 masks (0/255) at the working size; the field is the filled outline of the grass."""
+        """(grass, field) uint8 masks (0/255) at the working size (:func:`~broadtrack_graph.detect.playing_field.grass_and_field`)."""
         c = self.config
-        hsv = cv2.cvtColor(small_bgr, cv2.COLOR_BGR2HSV)
-        grass = cv2.inRange(hsv, (c.grass_hue_min, c.grass_min_saturation, c.grass_min_value), (c.grass_hue_max, 255, 255))
-        h, w = grass.shape
-        tiny = cv2.resize(grass, (max(1, w // 4), max(1, h // 4)), interpolation=cv2.INTER_AREA)
-        tiny = (tiny > 100).astype(np.uint8) * 255
-        tiny = cv2.morphologyEx(tiny, cv2.MORPH_CLOSE, self._close_kernel)
-        contours, _ = cv2.findContours(tiny, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-        filled = np.zeros_like(tiny)
-        min_area = c.field_min_area_fraction * tiny.size
-        big = [cnt for cnt in contours if cv2.contourArea(cnt) >= min_area]
-        if big:
-            cv2.drawContours(filled, big, -1, 255, thickness=cv2.FILLED)
-        field = cv2.resize(filled, (w, h), interpolation=cv2.INTER_NEAREST)
-        return grass, field
+        return grass_and_field(small_bgr, (c.grass_hue_min, c.grass_hue_max), c.grass_min_saturation, c.grass_min_value,
+                               c.whole_grass_share, c.field_min_whole_share, c.field_min_area_fraction)
 
     def players(self, grass: np.ndarray, field: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(boxes (P, 4) working pixels, mask uint8 at the working size) of upright non-grass blobs in the field.
