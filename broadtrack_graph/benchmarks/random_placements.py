@@ -31,8 +31,10 @@ frames, overall, by where the camera stands (main stand, far side, behind a goal
 (low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames
 whose detected markings, read on the true camera's projection, still determine it (the same rule on the marking
 map: what detection leaves a route); ``truth_written`` the frames whose true camera is itself confident enough
-to be written (no route can write more). Frame i of a seed
-is the same in every run (``--first K`` starts at frame K).
+to be written (no route can write more); ``markings_visible`` the frames whose markings, kept only where the
+paint changes the rendered image by :data:`VISIBLE_PAINT_LEVELS` grey levels or more (:func:`visible_paint`),
+still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
+what is not in the image). Frame i of a seed is the same in every run (``--first K`` starts at frame K).
 """
 
 from __future__ import annotations
@@ -49,6 +51,8 @@ WRONG_PX = 10.0
 RANDOM_STREAM = 7311
 """Random stream of the frames (numpy SeedSequence entropy [seed, frame, RANDOM_STREAM, part])."""
 OUTCOMES = ("found", "near", "wrong", "none")
+VISIBLE_PAINT_LEVELS = 8.0
+"""Least change of grey level (0-255, at the detector's 960 px working width) the paint must make to be seen."""
 
 
 def add_arguments(parser) -> None:
@@ -89,6 +93,28 @@ def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> d
     image = render_look(drawn.camera, players, look, named_look(look_name)).image
     return {"drawn": drawn, "look_name": look_name, "look": look, "players": players, "image": image,
             "render_s": time.perf_counter() - started}
+
+
+def visible_paint(frame: dict, work_width_px: int = 960) -> np.ndarray:
+    """(h, w) bool map at the working width of where a frame's paint shows: the frame of :func:`draw_frame` rendered
+    again with the paint left off (the same camera, players, look, noise and compression) and the grey levels
+    compared after both are reduced to the working width."""
+    import dataclasses
+
+    import cv2
+
+    from broadtrack_graph.synth.field_samples import render_look
+    from broadtrack_graph.synth.named_looks import named_look
+
+    unpainted = dataclasses.replace(frame["look"], line_half_width_m=1e-4)
+    bare = render_look(frame["drawn"].camera, frame["players"], unpainted, named_look(frame["look_name"])).image
+    height, width = frame["image"].shape[:2]
+    size = (work_width_px, max(1, round(height * work_width_px / width)))
+
+    def grey(image):
+        return cv2.cvtColor(cv2.resize(image, size, interpolation=cv2.INTER_AREA), cv2.COLOR_BGR2GRAY).astype(np.int16)
+
+    return np.abs(grey(frame["image"]) - grey(bare)) >= VISIBLE_PAINT_LEVELS
 
 
 def outcome(confidence: float | None, error_px: float | None, written_at: float, success_px: float) -> str:
@@ -195,12 +221,15 @@ def run(args) -> dict:
 
             truth_confidence = confidence_of(truth)
             found_markings = determinability(truth, pitch, explained_by=detections.marking_mask)
+            shown_markings = determinability(truth, pitch, explained_by=visible_paint(frame)) if seen.determinable \
+                else seen
             row = {"frame": index, "camera": _camera_info(drawn), "look": frame["look_name"], "class": drawn.stand,
                    "height_m": round(drawn.height_m, 1), "low": drawn.low, "determinable": seen.determinable,
                    "markings": {"x_lines": seen.x_lines, "y_lines": seen.y_lines, "curves": list(seen.curves)},
                    "truth_confidence": _round(truth_confidence, 3),
                    "truth_written": (truth_confidence or 0.0) >= written_at,
                    "markings_detected": found_markings.determinable,
+                   "markings_visible": shown_markings.determinable,
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             for route in routes:
                 if route in ("tracker", "search"):
@@ -268,6 +297,7 @@ def route_figures(rows: list[dict], route: str) -> dict:
     out["wrong_twin_pct"] = round(100.0 * out["wrong_twin"] / n, 1) if n else None
     out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
+    out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
     out["seconds"] = _seconds([r["seconds"] for r in results])
     return out
 
@@ -298,7 +328,7 @@ def summary_table(report: dict) -> str:
     lines = [f"{report['frames']} frames, {report['determinable']} determinable ({report['not_determinable']} apart); "
              f"render {report['render_s']['median']} s, detect {report['detect_s']['median']} s median"]
     lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'twin%':>6} {'near%':>6} "
-                 f"{'none%':>6} {'s med':>6} {'s p95':>6} {'marks ok':>8} {'truth ok':>8}")
+                 f"{'none%':>6} {'s med':>6} {'s p95':>6} {'visible':>7} {'marks ok':>8} {'truth ok':>8}")
     for route, figures in report["by_route"].items():
         groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
                   "not determinable": figures["not_determinable"]}
@@ -307,7 +337,8 @@ def summary_table(report: dict) -> str:
                    for o in ("found", "wrong", "wrong_twin", "near", "none")]
             seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
             lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
-                         f"{pct[4]:>6} {seconds[0]:>6} {seconds[1]:>6} {f['markings_detected']:>8} "
+                         f"{pct[4]:>6} {seconds[0]:>6} {seconds[1]:>6} {f['markings_visible']:>7} "
+                         f"{f['markings_detected']:>8} "
                          f"{f['truth_written']:>8}")
     for note in report["skipped_routes"].values():
         lines.append(note)

@@ -36,7 +36,8 @@ def test_two_frames_end_to_end_with_the_search(tmp_path, capsys):
     rows = report["frames_by_index"]
     assert [row["frame"] for row in rows] == [FIRST, FIRST + 1]
     for row in rows:
-        assert {"camera", "look", "class", "determinable", "markings", "truth_confidence", "render_s"} <= set(row)
+        assert {"camera", "look", "class", "determinable", "markings", "truth_confidence", "render_s",
+                "markings_visible", "markings_detected"} <= set(row)
         assert row["class"] in STANDS and set(row["routes"]) == {"search"}
         assert {"outcome", "confidence", "error_px", "seconds", "reason"} <= set(row["routes"]["search"])
     assert report["determinable"] + report["not_determinable"] == 2
@@ -113,3 +114,22 @@ def test_the_twin_sees_every_marking_where_the_camera_sees_its_mirror_image():
     assert np.array_equal(front, front_twin) and front.any()
     assert np.allclose(uv[front], uv_twin[front], atol=1e-6)
     assert math.isclose(twin_camera(twin_camera(camera)).position_m[0], camera.position_m[0])
+
+
+def test_visible_paint_is_where_the_markings_show_and_fixes_the_camera_only_when_they_do():
+    import dataclasses
+
+    from broadtrack_graph.geometry.determinable import determinability
+    from broadtrack_graph.synth.field_samples import render_look
+    from broadtrack_graph.synth.named_looks import named_look
+
+    frame = random_placements.draw_frame(SEED, FIRST, WIDTH, HEIGHT, ["clean"])
+    truth = frame["drawn"].camera
+    assert determinability(truth).determinable
+    shown = random_placements.visible_paint(frame)
+    assert shown.shape == (540, 960) and 0 < shown.mean() < 0.2
+    assert determinability(truth, explained_by=shown).determinable
+    # The same frame painted 1 cm wide at the grass's own brightness: nothing shows, nothing is determined.
+    faint = dataclasses.replace(frame["look"], line_half_width_m=0.005, line_bgr=(90.0, 140.0, 90.0))
+    frame = {**frame, "look": faint, "image": render_look(truth, frame["players"], faint, named_look("clean")).image}
+    assert not determinability(truth, explained_by=random_placements.visible_paint(frame)).determinable
