@@ -95,17 +95,19 @@ def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> d
             "render_s": time.perf_counter() - started}
 
 
-def visible_paint(frame: dict, work_width_px: int = 960) -> np.ndarray:
+def visible_paint(frame: dict, work_width_px: int | None = None) -> np.ndarray:
     """(h, w) bool map at the working width of where a frame's paint shows: the frame of :func:`draw_frame` rendered
     again with the paint left off (the same camera, players, look, noise and compression) and the grey levels
-    compared after both are reduced to the working width."""
+    compared after both are reduced to the working width (the detector's, by default)."""
     import dataclasses
 
     import cv2
 
+    from broadtrack_graph.detect.weightfree import REFERENCE_WIDTH_PX
     from broadtrack_graph.synth.field_samples import render_look
     from broadtrack_graph.synth.named_looks import named_look
 
+    work_width_px = work_width_px or REFERENCE_WIDTH_PX
     unpainted = dataclasses.replace(frame["look"], line_half_width_m=1e-4)
     bare = render_look(frame["drawn"].camera, frame["players"], unpainted, named_look(frame["look_name"])).image
     height, width = frame["image"].shape[:2]

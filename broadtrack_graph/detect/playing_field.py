@@ -17,6 +17,7 @@ import cv2
 import numpy as np
 
 _CELL_PX = 4
+_GRASSY_LEVEL = 100  # a cell's grass share (0-255) above which it is grassy: about 40 %
 JUDGED_CELLS = 2
 """A grassy region of fewer cells (a single one) is kept unjudged: a speck of grass between posts, lines and
 players, which closing joins to the field around it."""
@@ -40,7 +41,8 @@ def grass_and_field(small_bgr: np.ndarray, hue_range: tuple[int, int], min_satur
     share = cv2.resize(grass, (max(1, w // _CELL_PX), max(1, h // _CELL_PX)), interpolation=cv2.INTER_AREA)
     painted = cv2.bitwise_or(grass, cv2.inRange(hsv, *_WHITE_HSV))
     painted_share = cv2.resize(painted, share.shape[::-1], interpolation=cv2.INTER_AREA)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats((share > 100).astype(np.uint8), connectivity=8)
+    grassy = (share > _GRASSY_LEVEL).astype(np.uint8)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(grassy, connectivity=8)
     whole = np.bincount(labels.ravel(), weights=(painted_share >= 255 * whole_grass_share).ravel(), minlength=count)
     area = stats[:, cv2.CC_STAT_AREA]
     keep = (whole >= field_min_whole_share * area) | (area < JUDGED_CELLS)
