@@ -15,6 +15,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.shots.repeats import reduced_grey
 from broadtrack_graph.types.observations import FlowMatches
 
 
@@ -49,12 +50,15 @@ class FlowFrame:
         return self.grey.shape
 
 
-def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig()) -> FlowFrame:
-    """Grey working image for :func:`grid_flow` (compute once per frame and reuse)."""
+def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig(), grey: np.ndarray | None = None) -> FlowFrame:
+    """Grey working image for :func:`grid_flow` (compute once per frame and reuse).
+
+    grey: the frame's :func:`~broadtrack_graph.shots.repeats.reduced_grey` at the flow's working width when
+    already made (the repeat test's, at the same width); None (or another width): made here.
+    """
     h, w = image_bgr.shape[:2]
-    ww = min(config.work_width_px, w)
-    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)  # grey first: the reduction then moves one channel, not three
-    grey = grey if ww == w else cv2.resize(grey, (ww, int(round(h * ww / w))), interpolation=cv2.INTER_AREA)
+    if grey is None or grey.shape[1] != min(config.work_width_px, w):
+        grey = reduced_grey(image_bgr, config.work_width_px)
     return FlowFrame(_without_shading(grey, config) if config.shading_sigma_px > 0 else grey)
 
 

@@ -41,10 +41,10 @@ def boxes_to_the_feet(boxes: np.ndarray, grey: np.ndarray, grass: np.ndarray, co
             continue
         pad = max(1, (x1 - x0) // 2)
         lo, hi = max(0, x0 - pad), min(w, x1 + pad)
-        region, on_grass = grey[top:bottom, lo:hi].astype(np.float32), grass[top:bottom, lo:hi] > 0
-        if on_grass.sum() < 10:
+        region, on_grass = grey[top:bottom, lo:hi], grass[top:bottom, lo:hi] > 0
+        if np.count_nonzero(on_grass) < 10:
             continue
-        off = (region - float(np.median(region[on_grass])) > contrast) | ~on_grass
+        off = (region.astype(np.float32) - _median_grey(region[on_grass]) > contrast) | ~on_grass
         inside = np.zeros(hi - lo, bool)
         inside[x0 - lo:x1 - lo] = True
         legs = off[:, inside].any(axis=1)
@@ -53,3 +53,12 @@ def boxes_to_the_feet(boxes: np.ndarray, grey: np.ndarray, grass: np.ndarray, co
         empty = np.flatnonzero(np.convolve(~legs, np.ones(gap_rows, int), "valid") == gap_rows)
         out[k, 3] = top + (int(empty[0]) if len(empty) else len(legs))
     return out
+
+
+def _median_grey(values: np.ndarray) -> float:
+    """np.median of uint8 values (the mean of the two middle ones for an even count), from their histogram: the
+    same number at a fraction of the cost on the few hundred pixels of a box."""
+    cumulative = np.cumsum(np.bincount(values, minlength=256))
+    n = int(cumulative[-1])
+    low, high = np.searchsorted(cumulative, [(n - 1) // 2, n // 2], side="right")
+    return 0.5 * (float(low) + float(high))

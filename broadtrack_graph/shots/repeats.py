@@ -35,13 +35,20 @@ class RepeatConfig:
     #                                   (0: no frame repeats)
 
 
+def reduced_grey(image_bgr: np.ndarray, width_px: int) -> np.ndarray:
+    """(h, min(width_px, W)) uint8: the frame made grey, then reduced to that width by area averaging (grey first:
+    the reduction then moves one channel, not three). The repeat test's image and the optical flow's
+    working image (:func:`broadtrack_graph.detect.flow.prepare`) are this."""
+    h, w = image_bgr.shape[:2]
+    width = min(width_px, w)
+    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)
+    return grey if width == w else cv2.resize(grey, (width, max(1, int(round(h * width / w)))),
+                                              interpolation=cv2.INTER_AREA)
+
+
 def repeat_grey(image_bgr: np.ndarray, config: RepeatConfig = RepeatConfig()) -> np.ndarray:
     """(h, work_width_px) uint8 grey image of an (H, W, 3) uint8 BGR frame, for :func:`repeats`."""
-    H, W = image_bgr.shape[:2]
-    width = min(config.work_width_px, W)
-    height = max(1, int(round(H * width / W)))
-    grey = cv2.cvtColor(image_bgr, cv2.COLOR_BGR2GRAY)
-    return grey if width == W else cv2.resize(grey, (width, height), interpolation=cv2.INTER_AREA)
+    return reduced_grey(image_bgr, config.work_width_px)
 
 
 def repeats(previous_grey: np.ndarray | None, grey: np.ndarray, config: RepeatConfig = RepeatConfig()) -> bool:

@@ -50,3 +50,16 @@ def test_flow_of_sharp_frames_is_the_same_with_the_shading_taken_out():
     for sigma in (0.0, 32.0):
         error, count = _median_error_px(prev, cur, FlowConfig(work_width_px=W, grid_step_px=24, shading_sigma_px=sigma), 6)
         assert count > 200 and error < 0.1
+
+
+def test_prepare_takes_the_repeat_tests_grey_unchanged():
+    """The flow's working image made from the repeat test's grey (the same reduction) is the one made from the
+    frame; a grey at another width is not taken."""
+    from broadtrack_graph.shots.repeats import reduced_grey
+
+    rng = np.random.default_rng(4)
+    frame = rng.integers(0, 256, (1080, 1920, 3), dtype=np.uint8)
+    config = FlowConfig()
+    own = prepare(frame, config).grey
+    assert np.array_equal(prepare(frame, config, reduced_grey(frame, config.work_width_px)).grey, own)
+    assert np.array_equal(prepare(frame, config, reduced_grey(frame, 320)).grey, own)

@@ -55,3 +55,15 @@ def test_the_legs_below_a_body_make_its_box_and_nothing_else_does():
     assert boxes_to_the_feet(body, grey, grass, max_share=0.4)[0, 3] == pytest.approx(175 + 10, abs=1)
     assert boxes_to_the_feet(np.array([[300.0, 330.0, 311.0, 360.0]]), grey, grass)[0, 3] == 360
     assert boxes_to_the_feet(np.zeros((0, 4)), grey, grass).shape == (0, 4)
+
+
+def test_the_grass_median_is_numpys():
+    """The grass level below a box, from the histogram of its grey levels, is np.median's (even counts: the mean
+    of the two middle values)."""
+    from broadtrack_graph.detect.player_feet import _median_grey
+
+    rng = np.random.default_rng(2)
+    for size in (1, 2, 3, 10, 11, 400, 401):
+        for _ in range(50):
+            values = rng.integers(0, 256, size).astype(np.uint8)
+            assert _median_grey(values) == float(np.median(values.astype(np.float32)))
