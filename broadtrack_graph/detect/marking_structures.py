@@ -226,15 +226,8 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
     h, w = marking_mask.shape
     unit = w / 960.0
-    pieces_map = marking_mask.astype(np.uint8)
-    if config.ellipse_cut_line_px > 0:
-        to_work = w / frame_width_px
-        thickness = max(1, int(round(2 * config.ellipse_cut_band_px * unit)) + 1)
-        for line in lines:
-            if line.support_px * to_work >= config.ellipse_cut_line_px * unit:
-                ends = [np.rint((line.centre_px + e * line.direction) * to_work).astype(int) for e in line.extent_px]
-                cv2.line(pieces_map, tuple(int(v) for v in ends[0]), tuple(int(v) for v in ends[1]), 0, thickness)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(pieces_map, connectivity=8)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(
+        pieces_cut_along_lines(marking_mask, frame_width_px, lines, config), connectivity=8)
     areas = stats[1:, cv2.CC_STAT_AREA]
     pieces = [1 + k for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= config.ellipse_min_piece_px * unit]
     if not pieces:
@@ -286,6 +279,24 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
         if len(out) >= config.max_ellipses:
             break
     return out
+
+
+def pieces_cut_along_lines(marking_mask: np.ndarray, frame_width_px: int, lines: list[ImageLine],
+                           config: MarkingStructureConfig) -> np.ndarray:
+    """(h, w) uint8 0/1: the map (already at its working width) with the long straight markings of ``lines`` (frame
+    pixels, at least ``ellipse_cut_line_px`` supported) drawn out of it ``ellipse_cut_band_px`` wide, so that an
+    arc meeting its line is a piece of its own (none cut when ``ellipse_cut_line_px`` is 0)."""
+    h, w = marking_mask.shape
+    unit = w / 960.0
+    pieces_map = marking_mask.astype(np.uint8)
+    if config.ellipse_cut_line_px > 0:
+        to_work = w / frame_width_px
+        thickness = max(1, int(round(2 * config.ellipse_cut_band_px * unit)) + 1)
+        for line in lines:
+            if line.support_px * to_work >= config.ellipse_cut_line_px * unit:
+                ends = [np.rint((line.centre_px + e * line.direction) * to_work).astype(int) for e in line.extent_px]
+                cv2.line(pieces_map, tuple(int(v) for v in ends[0]), tuple(int(v) for v in ends[1]), 0, thickness)
+    return pieces_map
 
 
 def outline_in_image(cx: float, cy: float, a: float, b: float, theta: float, w: int, h: int,

@@ -126,7 +126,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
             break
         # Nothing explains the map well yet: a circle with the line across it, then the centre circle with a
         # touchline (more hypotheses, and looser: tried last).
-        ellipses = ellipses or structures.ellipses() + structures.border_ellipses()
+        ellipses = ellipses or _with_arcs(structures.ellipses() + structures.border_ellipses(), structures.arcs())
         circles = _circle_hypotheses(ellipses, lines, (W, H), pitch, config, across)
         hypotheses = concatenate([hypotheses, circles])
         costs = np.concatenate([costs, _scores(circles, structures.scorer, (W, H), search, config.rescore_top)])
@@ -183,6 +183,12 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
             break
     hypotheses = concatenate(parts)
     return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top)
+
+
+def _with_arcs(ellipses: list, arcs: list) -> list:
+    """The map's ellipses and, after them, its arcs that are not one of them (a centre a tenth of the axis apart)."""
+    return ellipses + [arc for arc in arcs if all(
+        np.linalg.norm(arc.centre_px - e.centre_px) >= 0.1 * e.semi_axes_px[0] for e in ellipses)]
 
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):

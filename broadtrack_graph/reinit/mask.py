@@ -20,6 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from broadtrack_graph.detect.marking_arcs import marking_arcs
 from broadtrack_graph.detect.marking_structures import marking_ellipses, marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -191,11 +192,18 @@ class MapStructures:
         self.lines = marking_lines(marking_mask, W, config.structures)
         self._ellipses: list | None = None
         self._border: list | None = None
+        self._arcs: list | None = None
 
     def ellipses(self) -> list:
         if self._ellipses is None:
             self._ellipses = marking_ellipses(self._mask, self._W, self._config.structures, lines=self.lines)
         return self._ellipses
+
+    def arcs(self) -> list:
+        """Single curved pieces of the map as ellipses (a penalty arc: :func:`~broadtrack_graph.detect.marking_arcs.marking_arcs`)."""
+        if self._arcs is None:
+            self._arcs = marking_arcs(self._mask, self._W, self.lines, self._config.structures)
+        return self._arcs
 
     def border_ellipses(self) -> list:
         if self._border is None:
