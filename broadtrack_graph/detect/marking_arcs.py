@@ -27,13 +27,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import (
-    ImageEllipse,
-    ImageLine,
-    MarkingStructureConfig,
-    _at_most_width,
-    pieces_cut_along_lines,
-)
+from broadtrack_graph.detect.marking_structures import ImageEllipse, ImageLine, MarkingStructureConfig, map_pieces
 
 
 @dataclass(frozen=True)
@@ -63,13 +57,9 @@ def marking_arcs(marking_mask: np.ndarray, frame_width_px: int, lines: list[Imag
     Returns:
         Up to ``max_arcs`` :class:`ImageEllipse`, most supported first; ``support_px`` is the piece's pixels.
     """
-    mask = _at_most_width(marking_mask, structures.line_work_width_px)
+    mask, labels, pieces, _ = map_pieces(marking_mask, frame_width_px, lines, structures, config.min_piece_px)
     h, w = mask.shape
     unit = w / 960.0
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(
-        pieces_cut_along_lines(mask, frame_width_px, lines, structures), connectivity=8)
-    areas = stats[1:, cv2.CC_STAT_AREA]
-    pieces = [1 + k for k in np.argsort(-areas)[: structures.ellipse_max_pieces] if areas[k] >= config.min_piece_px * unit]
     if not pieces:
         return []
     ys, xs = np.nonzero(labels)

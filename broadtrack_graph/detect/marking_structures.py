@@ -223,13 +223,10 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     cut along the long straight markings of ``lines`` (frame pixels; ``ellipse_cut_line_px``); the support is
     counted on the whole map.
     """
-    marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
+    marking_mask, labels, pieces, areas = map_pieces(marking_mask, frame_width_px, lines, config,
+                                                     config.ellipse_min_piece_px)
     h, w = marking_mask.shape
     unit = w / 960.0
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(
-        pieces_cut_along_lines(marking_mask, frame_width_px, lines, config), connectivity=8)
-    areas = stats[1:, cv2.CC_STAT_AREA]
-    pieces = [1 + k for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= config.ellipse_min_piece_px * unit]
     if not pieces:
         return []
     ys, xs = np.nonzero(labels > 0)
@@ -281,11 +278,20 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     return out
 
 
-def pieces_cut_along_lines(marking_mask: np.ndarray, frame_width_px: int, lines: list[ImageLine],
-                           config: MarkingStructureConfig) -> np.ndarray:
-    """(h, w) uint8 0/1: the map (already at its working width) with the long straight markings of ``lines`` (frame
-    pixels, at least ``ellipse_cut_line_px`` supported) drawn out of it ``ellipse_cut_band_px`` wide, so that an
-    arc meeting its line is a piece of its own (none cut when ``ellipse_cut_line_px`` is 0)."""
+def map_pieces(marking_mask: np.ndarray, frame_width_px: int, lines: list[ImageLine], config: MarkingStructureConfig,
+               min_piece_px: float) -> tuple[np.ndarray, np.ndarray, list[int], np.ndarray]:
+    """The connected pieces of a marking map that curves are fitted to.
+
+    The map is reduced to ``line_work_width_px`` and the long straight markings of ``lines`` (frame pixels, at
+    least ``ellipse_cut_line_px`` supported) are drawn out of it ``ellipse_cut_band_px`` wide, so that an arc
+    meeting its line is a piece of its own (none cut when ``ellipse_cut_line_px`` is 0).
+
+    Returns:
+        (the map at its working width (h, w) bool, the pieces' labels (h, w) int (0: none), the labels of the up to
+        ``ellipse_max_pieces`` largest pieces of at least ``min_piece_px`` pixels (at 960 px wide), largest first,
+        and every piece's pixel count by label - 1).
+    """
+    marking_mask = _at_most_width(marking_mask, config.line_work_width_px)
     h, w = marking_mask.shape
     unit = w / 960.0
     pieces_map = marking_mask.astype(np.uint8)
@@ -296,7 +302,10 @@ def pieces_cut_along_lines(marking_mask: np.ndarray, frame_width_px: int, lines:
             if line.support_px * to_work >= config.ellipse_cut_line_px * unit:
                 ends = [np.rint((line.centre_px + e * line.direction) * to_work).astype(int) for e in line.extent_px]
                 cv2.line(pieces_map, tuple(int(v) for v in ends[0]), tuple(int(v) for v in ends[1]), 0, thickness)
-    return pieces_map
+    _, labels, stats, _ = cv2.connectedComponentsWithStats(pieces_map, connectivity=8)
+    areas = stats[1:, cv2.CC_STAT_AREA]
+    pieces = [1 + int(k) for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= min_piece_px * unit]
+    return marking_mask, labels, pieces, areas
 
 
 def outline_in_image(cx: float, cy: float, a: float, b: float, theta: float, w: int, h: int,
