@@ -98,25 +98,19 @@ def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> d
 def visible_paint(frame: dict, work_width_px: int | None = None) -> np.ndarray:
     """(h, w) bool map at the working width of where a frame's paint shows: the frame of :func:`draw_frame` rendered
     again with the paint left off (the same camera, players, look, noise and compression) and the grey levels
-    compared after both are reduced to the working width (the detector's, by default)."""
+    compared after both are reduced to the working width (the detector's, by default; at most the frame's own)."""
     import dataclasses
 
-    import cv2
-
     from broadtrack_graph.detect.weightfree import REFERENCE_WIDTH_PX
+    from broadtrack_graph.shots.repeats import reduced_grey
     from broadtrack_graph.synth.field_samples import render_look
     from broadtrack_graph.synth.named_looks import named_look
 
     work_width_px = work_width_px or REFERENCE_WIDTH_PX
     unpainted = dataclasses.replace(frame["look"], line_half_width_m=1e-4)
     bare = render_look(frame["drawn"].camera, frame["players"], unpainted, named_look(frame["look_name"])).image
-    height, width = frame["image"].shape[:2]
-    size = (work_width_px, max(1, round(height * work_width_px / width)))
-
-    def grey(image):
-        return cv2.cvtColor(cv2.resize(image, size, interpolation=cv2.INTER_AREA), cv2.COLOR_BGR2GRAY).astype(np.int16)
-
-    return np.abs(grey(frame["image"]) - grey(bare)) >= VISIBLE_PAINT_LEVELS
+    painted, plain = (reduced_grey(image, work_width_px).astype(np.int16) for image in (frame["image"], bare))
+    return np.abs(painted - plain) >= VISIBLE_PAINT_LEVELS
 
 
 def outcome(confidence: float | None, error_px: float | None, written_at: float, success_px: float) -> str:

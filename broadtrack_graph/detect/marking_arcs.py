@@ -58,7 +58,7 @@ def marking_arcs(marking_mask: np.ndarray, frame_width_px: int, lines: list[Imag
         Up to ``max_arcs`` :class:`ImageEllipse`, most supported first; ``support_px`` is the piece's pixels.
     """
     mask, labels, pieces, _ = map_pieces(marking_mask, frame_width_px, lines, structures, config.min_piece_px)
-    h, w = mask.shape
+    w = mask.shape[1]
     unit = w / 960.0
     if not pieces:
         return []
