@@ -11,6 +11,7 @@ from typing import Callable
 
 import numpy as np
 
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
@@ -58,16 +59,18 @@ class FrameTries:
         self.guess_schedule.confident()
 
     def refined_guess(self, frame_index: int, camera_id: str | None, detections, curves, score,
-                      mapped) -> tuple[ReinitResult | None, str | None, float]:
+                      mapped, held: Camera | None = None) -> tuple[ReinitResult | None, str | None, float]:
         """The best refined guess (result, its camera id, its confidence), or (None, None, 0): the last confident
-        camera of ``camera_id`` (the chain's) on every frame, or, with no camera id (a shot's camera not known), every
-        known camera's on the guess schedule's frames. ``mapped(function, calls, curves)`` runs the refinements (the
-        search's workers)."""
+        camera of ``camera_id`` (the chain's) on every frame, and ``held`` (the chain's camera the solver holds) when
+        given; or, with no camera id (a shot's camera not known), every known camera's on the guess schedule's
+        frames. ``mapped(function, calls, curves)`` runs the refinements (the search's workers)."""
         best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
         every_camera = camera_id is None
         if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
             return best
         guesses = self.registry.guesses(frame_index, camera_id, self.config.max_guess_age_frames)
+        if held is not None:
+            guesses = list(guesses) + [(camera_id, "the held camera", held)]
         refined_guesses = mapped(self.refine, [([(label, camera)], detections) for _, label, camera in guesses], curves)
         for (guess_id, label, camera), refined in zip(guesses, refined_guesses):
             if refined.camera is None:

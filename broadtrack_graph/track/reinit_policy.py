@@ -7,8 +7,9 @@ confidence, the camera id it belongs to, and why. The current camera id and whet
 trusted are the run's :class:`~broadtrack_graph.track.chain.Chain`'s: the policy reads them there
 and keeps no copy. No I/O.
 
-What is tried, cheapest first (for a trusted chain's held camera, the guesses and the search only: the court and
-field models place a camera from nothing, for a chain's start or a lost chain):
+What is tried, cheapest first (for a trusted chain's held camera, the guesses only, the held camera itself among
+them, or on labelled detections without a map the search at its camera's position: the court and field models and
+the search place a camera from nothing, for a chain's start or a lost chain):
 
 1. **Guesses**: the last confident camera of the current camera id (and the same camera
    moved to that camera's known position) or, when the camera id is not known yet (a new
@@ -40,7 +41,9 @@ field models place a camera from nothing, for a chain's start or a lost chain):
      its own position confident by the margin.
    * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, unless the
      chain is trusted (its camera stands where its confident frames put it), its kind's stage; the first confident
-     stage ends it.
+     stage ends it. A trusted chain's held camera on a marking map is not searched for: the held camera refined on
+     the map (a guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
+     chain ends and the next frame is placed from nothing.
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is identified by where it
 stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known
@@ -205,22 +208,29 @@ class ReinitPolicy:
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         score = lambda camera: self.confidence(camera, observations, detections, curves, sampling)  # noqa: E731
         self._frame = (detections, curves, score)  # the frame whose cameras are identified (_fits_known)
+        with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
+        # A trusted chain's held camera is re-examined by what knows its camera: itself and the chain's last confident
+        # camera refined on the map (a search at its position without a map); the single-frame calibrators, which
+        # place a camera from nothing, are for a chain's start.
+        from_nothing = not (held is not None and self.chain.trusted)
         guess, guess_id, guess_confidence = self.tries.refined_guess(i, chain_id, detections, curves, score,
-                                                                     self.stages.mapped)
+                                                                     self.stages.mapped,
+                                                                     held if with_map and not from_nothing else None)
         if guess is not None and guess_confidence >= threshold:
             self.counts["guess_used"] += 1
             return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
                                         "refined " + guess.reason, held, held_confidence)
-        with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
         # The shot's camera not trusted yet (no id, or an untrusted first camera's): judged as at the shot's start.
         untrusted = chain_id is None or chain_id in self.registry.untrusted
         new_camera = untrusted and self.search_positions is None and with_map
         # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
         candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True,
                                                          "refined " + guess.reason)
-        # A trusted chain's held camera is re-examined by what knows its camera (the refined guess, the search at its
-        # position); the single-frame calibrators, which place a camera from nothing, are for a chain's start.
-        from_nothing = not (held is not None and self.chain.trusted)
+        if with_map and not from_nothing:
+            # The held camera refined on the map stands in for the search at its position, at a tenth of its cost.
+            if candidate is not None:
+                return self._candidate_decision(candidate, False, "", held, held_confidence, new_camera)
+            return ReinitDecision(None, None, None, False, False, "no refined guess of the held camera")
         court, court_confidence, court_agrees = self.tries.court_camera(
             observations, detections, curves, score) if from_nothing else (None, 0.0, False)
         accept = max(self.config.court_accept_confidence, threshold + (margin if new_camera else 0.0))

@@ -160,14 +160,23 @@ def test_a_shot_no_known_camera_explains_tries_their_guesses_on_its_first_frames
 def test_a_trusted_chain_s_held_camera_stays_unless_the_new_one_is_better_by_the_margin():
     fakes = Fakes({None: (MAIN, 0.45)})
     held = MAIN.replace(pan_rad=0.3)
-    kept = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=True)
-    assert kept.camera is None and "kept the held camera" in kept.reason
     untrusted = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=False)
     assert untrusted.camera is MAIN  # a chain not trusted yet takes any better camera
-    fakes = Fakes({None: (MAIN, 0.55)})  # confident, but not the margin better than the held 0.48
+    # On a marking map a trusted chain's held camera is refined (the fake refiner echoes it at guess_confidence),
+    # not searched for; the refined camera replaces it only by the margin.
+    fakes = Fakes({None: (MAIN, 0.9)}, guess_confidence=0.45)
+    kept = _decide(_policy(fakes), 0, held=held, held_confidence=0.40, chain_trusted=True)
+    assert kept.camera is None and "kept the held camera" in kept.reason
+    assert fakes.searched == [] and fakes.refined == ["the held camera"]
+    fakes = Fakes(guess_confidence=0.55)  # confident, but not the margin better than the held 0.48
     assert _decide(_policy(fakes), 0, held=held, held_confidence=0.48, chain_trusted=True).camera is None
+    fakes = Fakes(guess_confidence=0.59)
+    assert _decide(_policy(fakes), 0, held=held, held_confidence=0.48, chain_trusted=True).camera is held
+    # Labelled detections (no map, nothing to refine on): the search decides, by the same margin.
+    fakes = Fakes({None: (MAIN, 0.55)})
+    assert _decide(_policy(fakes), 0, None, held=held, held_confidence=0.48, chain_trusted=True).camera is None
     fakes = Fakes({None: (MAIN, 0.59)})
-    assert _decide(_policy(fakes), 0, held=held, held_confidence=0.48, chain_trusted=True).camera is MAIN
+    assert _decide(_policy(fakes), 0, None, held=held, held_confidence=0.48, chain_trusted=True).camera is MAIN
 
 
 def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
@@ -638,13 +647,13 @@ def test_a_new_shot_s_camera_takes_a_known_id_only_when_that_tripod_explains_the
 
 
 def test_a_trusted_chain_s_held_camera_is_not_tried_by_the_calibrators_from_nothing():
-    fakes = Fakes({None: (MAIN, 0.3)})
+    fakes = Fakes({None: (MAIN, 0.3)}, guess_confidence=0.5)
     policy, calls = _court_policy(fakes, CORNER, 0.95)
     policy.chain.identify("main")
     policy.registry.positions["main"] = MAIN.position_m
     held = MAIN.replace(pan_rad=0.3)
     decision = _decide(policy, 0, held=held, held_confidence=0.45, chain_trusted=True)
-    assert calls == [] and policy.counts["court_tried"] == 0 and decision.camera is None
+    assert calls == [] and policy.counts["court_tried"] == 0 and decision.camera is None and fakes.searched == []
     # Lost (no held camera), the court model is tried again.
     decision = _decide(policy, 1)
     assert calls == [(W, H)] and decision.camera is CORNER
@@ -670,6 +679,7 @@ def test_a_chain_s_first_camera_is_dropped_unless_the_markings_it_explains_fix_i
     policy.tripod("main", (0.0, 55.0, -12.0))
     policy.chain.identify("main")
     policy.chain.trust(0)
+    held_camera = MAIN.replace(pan_rad=0.25)
     held = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=np.zeros((9, 16), bool)), pitch,
-                         None, None, held=MAIN.replace(pan_rad=0.25), held_confidence=0.3)
-    assert held.camera is MAIN
+                         None, None, held=held_camera, held_confidence=0.3)
+    assert held.camera is held_camera  # refined (the fake refiner echoes it at 0.8), not dropped by the gate
