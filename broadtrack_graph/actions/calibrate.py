@@ -90,7 +90,7 @@ def calibrate_folder(annotations_path: str | Path, out_dir: str | Path, width_px
         raise InputError(None, f"resolution must be at least 2x2, got {width_px}x{height_px}")
     annotations = read_annotations(annotations_path)
     if not annotations.frames:
-        raise InputError(annotations_path, "no usable annotation file")
+        raise InputError(annotations_path, annotations.no_frames_reason())
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
 

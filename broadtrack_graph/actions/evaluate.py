@@ -58,7 +58,7 @@ def evaluate_folders(annotations_path: Path, cameras_path: Path, width_px: int, 
         raise InputError(None, f"tau must be a finite number of pixels > 0, got {bad[0]}")
     annotations = read_annotations(annotations_path)
     if not annotations.frames:
-        raise InputError(annotations_path, "no usable annotation file")
+        raise InputError(annotations_path, annotations.no_frames_reason())
     cameras_path, _ = resolve_camera_folder(cameras_path)
     cameras, camera_errors = load_cameras(cameras_path, annotations.frames, width_px, height_px)
     report = evaluate_cameras(annotations, cameras, width_px, height_px, taus, camera_errors=camera_errors,

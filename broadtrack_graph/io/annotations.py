@@ -36,6 +36,13 @@ class AnnotationSet:
     errors: dict[str, str] = field(default_factory=dict)
     image_sizes: dict[str, tuple[int, int]] = field(default_factory=dict)
 
+    def no_frames_reason(self) -> str:
+        """Why a set without frames cannot be used, in one line: the unreadable files' count and the first's error."""
+        if not self.errors:
+            return "no usable annotation file"
+        first = self.errors[min(self.errors)]
+        return f"no usable annotation file ({len(self.errors)} unreadable, the first: {first})"
+
 
 def parse_line_annotation(data, source: str | Path) -> LineAnnotation:
     """Validate one ``{class: [{"x":..,"y":..}, ...]}`` object.

@@ -52,3 +52,16 @@ def test_a_run_folder_is_read_through_its_cameras_and_named(tmp_path, capsys):
     assert main(["evaluate", "--annotations", str(tmp_path / "ann"), "--cameras", str(tmp_path / "empty")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no camera_<id>.json file in this folder" in err
+
+
+def test_a_folder_of_unusable_annotations_names_the_first_bad_file(tmp_path, capsys):
+    annotations = tmp_path / "ann"
+    annotations.mkdir()
+    (annotations / "00001.json").write_text("")
+    (annotations / "00002.json").write_text("[1, 2]")
+    cameras = tmp_path / "cams"
+    cameras.mkdir()
+    assert main(["evaluate", "--annotations", str(annotations), "--cameras", str(cameras), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert "no usable annotation file (2 unreadable, the first:" in err[0] and "00001.json: empty file" in err[0]
