@@ -292,13 +292,27 @@ class WeightFreeDetector:
 
     # ----------------------------------------------------------------- detect
 
-    def working_images(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-        """(colour, pre-smoothed grey) working images and the working / frame pixel scale."""
+    def area_working_image(self, image_bgr: np.ndarray) -> np.ndarray | None:
+        """The colour working image of :meth:`working_images` when it is the frame area-averaged down (a frame at
+        least twice the working width), else None. Made once where the frames are decoded (``ShotStream``), the
+        shot step's thumbnail is reduced from it too, not from the whole frame."""
+        H, W = image_bgr.shape[:2]
+        work_w = self.config.work_width_px
+        if 2 * work_w > W:
+            return None
+        return cv2.resize(image_bgr, (work_w, max(1, int(round(H * work_w / W)))), interpolation=cv2.INTER_AREA)
+
+    def working_images(self, image_bgr: np.ndarray, working_bgr: np.ndarray | None = None
+                       ) -> tuple[np.ndarray, np.ndarray, float]:
+        """(colour, pre-smoothed grey) working images and the working / frame pixel scale (``working_bgr``: the
+        colour one when already made, :meth:`area_working_image`)."""
         H, W = image_bgr.shape[:2]
         work_w = self.config.work_width_px
         work_h = max(1, int(round(H * work_w / W)))
         scale = work_w / W
-        if work_w == W:
+        if working_bgr is not None and working_bgr.shape[:2] == (work_h, work_w):
+            small = working_bgr
+        elif work_w == W:
             small = image_bgr
         else:
             # Area averaging for reductions of 2x or more (fast at integer ratios); bilinear for smaller
@@ -312,18 +326,18 @@ class WeightFreeDetector:
             grey = cv2.GaussianBlur(grey, (0, 0), sigma)
         return small, grey, scale
 
-    def find_markings(self, image_bgr: np.ndarray) -> FoundMarkings:
+    def find_markings(self, image_bgr: np.ndarray, working_bgr: np.ndarray | None = None) -> FoundMarkings:
         """The half of :meth:`detect` that needs no camera: grass, field, players and the marking map.
 
         The tracker runs it ahead, in the thread that decodes the frames, and names the result
         with :meth:`name` once the camera is predicted; ``detect(image, predicted)`` is
-        ``name(find_markings(image), predicted)``. Raises ValueError for an image that is not
-        (H, W, 3) uint8.
+        ``name(find_markings(image), predicted)``. ``working_bgr``: the frame's :meth:`area_working_image` when
+        already made (the same numbers). Raises ValueError for an image that is not (H, W, 3) uint8.
         """
         started = time.perf_counter()
         image = check_image(image_bgr)
         H, W = image.shape[:2]
-        small, grey, scale = self.working_images(image)
+        small, grey, scale = self.working_images(image, working_bgr)
         work_h, work_w = grey.shape
         grass, field = self.field_and_grass(small)
         boxes, player_mask = self.players(grass, field)

@@ -70,7 +70,8 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
         keep = None
         if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:
             try:
-                frame.markings = find_markings(frame.image)
+                frame.markings = find_markings(frame.image) if frame.working_bgr is None \
+                    else find_markings(frame.image, frame.working_bgr)  # the working image made by ShotStream
                 keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
             except ValueError:
                 pass  # a bad image: the loop's own detection reports it on this frame

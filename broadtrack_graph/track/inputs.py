@@ -37,6 +37,8 @@ class FrameInput:
     markings: object | None = None  # detect.weightfree.FoundMarkings: the camera-free half of detection, done ahead
     flow_ahead: object | None = None  # detect.flow.FlowCandidates from the previous frame, done ahead (no camera yet)
     repeats_previous: bool = False  # the image is the previous frame's again (shots.repeats), found ahead
+    working_bgr: np.ndarray | None = None  # the detector's colour working image when it is an area reduction of the
+    #                                        image (detect.weightfree.WeightFreeDetector.area_working_image), made once
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:

@@ -90,7 +90,8 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, conte
     if context.detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
         stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,
-                            GraphicsConfig() if config.mask_graphics else None)
+                            GraphicsConfig() if config.mask_graphics else None,
+                            getattr(context.detector, "area_working_image", None))
         frames = stream
     if config.mode != "batch":  # fixed-lag keeps no observations of its own (a long run would grow without bound)
         run = TrackingRun(width_px, height_px, out_dir, replace(context, backfill=recover))

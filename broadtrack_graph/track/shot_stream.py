@@ -8,9 +8,10 @@ the graphics mask look only at the current and past frames.
 from __future__ import annotations
 
 import logging
-from typing import Iterable, Iterator
+from typing import Callable, Iterable, Iterator
 
 import cv2
+import numpy as np
 
 from broadtrack_graph.detect.graphics import GraphicsConfig, StaticGraphics
 from broadtrack_graph.shots.segmenter import ShotConfig, ShotSegmenter
@@ -29,21 +30,30 @@ class ShotStream:
         frames: the loop's frames (image input; frames without an image pass through).
         shots: shot settings, or None to skip shot detection.
         graphics: graphics-mask settings, or None to skip it.
+        reduce: the detector's working image when it is an area reduction of the frame, else None
+            (:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.area_working_image`), or None: made once
+            here (``FrameInput.working_bgr``), the small image is reduced from it instead of from the frame.
     """
 
     def __init__(self, frames: Iterable[FrameInput], shots: ShotConfig | None = ShotConfig(),
-                 graphics: GraphicsConfig | None = GraphicsConfig()) -> None:
+                 graphics: GraphicsConfig | None = GraphicsConfig(),
+                 reduce: Callable[[np.ndarray], np.ndarray | None] | None = None) -> None:
         self.frames = frames
+        self.reduce = reduce
         self.segmenter = ShotSegmenter(shots) if shots is not None else None
         self.graphics = StaticGraphics(graphics) if graphics is not None else None
 
     def __iter__(self) -> Iterator[FrameInput]:
         for frame in self.frames:
             if frame.image is not None:
-                # Both steps work on small images: reduce the frame once (area averaging).
-                H, W = frame.image.shape[:2]
+                # Both steps work on small images: reduce the frame once (area averaging), from the detector's
+                # working image when it is one.
+                if self.reduce is not None and frame.working_bgr is None:
+                    frame.working_bgr = self.reduce(frame.image)
+                source = frame.image if frame.working_bgr is None else frame.working_bgr
+                H, W = source.shape[:2]
                 width = min(W, WORK_WIDTH_PX)
-                small = cv2.resize(frame.image, (width, max(1, int(round(H * width / W)))), interpolation=cv2.INTER_AREA)
+                small = cv2.resize(source, (width, max(1, int(round(H * width / W)))), interpolation=cv2.INTER_AREA)
                 if self.segmenter is not None:
                     frame.shot = self.segmenter.update(frame.frame_index, small)
                 if self.graphics is not None:

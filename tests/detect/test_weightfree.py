@@ -196,3 +196,18 @@ def test_no_point_is_named_inside_a_goal_or_after_a_marking_too_thin_to_see():
     # A marking thinner than min_named_width_px (a far line at a grazing angle) names nothing.
     thin = WeightFreeDetector(PITCH, WeightFreeConfig(min_named_width_px=50.0))
     assert thin.name_points(points, PredictedCamera(camera, 1.0), 1.0, (960, 540)) == {}
+
+
+def test_the_working_image_made_ahead_gives_the_same_markings():
+    truth = Camera.from_degrees(1400.0, 0.0, -8.0, 74.0, 0.0, (0.0, 55.0, -12.0), 1920, 1080)
+    image, _ = draw_frame(truth)
+    detector = WeightFreeDetector(PITCH)
+    working = detector.area_working_image(image)
+    assert working.shape == (540, 960, 3)
+    alone, ahead = detector.find_markings(image), detector.find_markings(image, working)
+    for mask in ("marking_mask", "field_mask", "player_mask"):
+        np.testing.assert_array_equal(getattr(ahead.unnamed, mask), getattr(alone.unnamed, mask))
+    np.testing.assert_array_equal(ahead.unnamed.marking_points_px, alone.unnamed.marking_points_px)
+    assert len(alone.unnamed.marking_points_px) > 100
+    # Under twice the working width the working image is no area reduction: the frame itself is reduced.
+    assert detector.area_working_image(cv2.resize(image, (1280, 720))) is None
