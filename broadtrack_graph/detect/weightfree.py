@@ -294,8 +294,8 @@ class WeightFreeDetector:
 
     def area_working_image(self, image_bgr: np.ndarray) -> np.ndarray | None:
         """The colour working image of :meth:`working_images` when it is the frame area-averaged down (a frame at
-        least twice the working width), else None. Made once where the frames are decoded (``ShotStream``), the
-        shot step's thumbnail is reduced from it too, not from the whole frame."""
+        least twice the working width; fast at integer ratios), else None. Made once where the frames are decoded
+        (``ShotStream``), the shot step's thumbnail is reduced from it too, not from the whole frame."""
         H, W = image_bgr.shape[:2]
         work_w = self.config.work_width_px
         if 2 * work_w > W:
@@ -310,16 +310,16 @@ class WeightFreeDetector:
         work_w = self.config.work_width_px
         work_h = max(1, int(round(H * work_w / W)))
         scale = work_w / W
-        if working_bgr is not None and working_bgr.shape[:2] == (work_h, work_w):
+        if working_bgr is None or working_bgr.shape[:2] != (work_h, work_w):
+            working_bgr = self.area_working_image(image_bgr)
+        if working_bgr is not None:
             small = working_bgr
         elif work_w == W:
             small = image_bgr
         else:
-            # Area averaging for reductions of 2x or more (fast at integer ratios); bilinear for smaller
-            # ones (1280 -> 960: area averaging at a non-integer ratio costs about 6x more for a blur of
-            # well under a pixel) and for enlargements (640x360 -> 960x540).
-            small = cv2.resize(image_bgr, (work_w, work_h),
-                               interpolation=cv2.INTER_AREA if 2 * work_w <= W else cv2.INTER_LINEAR)
+            # Bilinear for reductions under 2x (1280 -> 960: area averaging at a non-integer ratio costs about 6x
+            # more for a blur of well under a pixel) and for enlargements (640x360 -> 960x540).
+            small = cv2.resize(image_bgr, (work_w, work_h), interpolation=cv2.INTER_LINEAR)
         grey = cv2.cvtColor(small, cv2.COLOR_BGR2GRAY)
         sigma = presmooth_sigma(W, work_w, self.config.presmooth_sigma_px)
         if sigma > 0.05:

@@ -70,11 +70,11 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
         keep = None
         if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:
             try:
-                frame.markings = find_markings(frame.image) if frame.working_bgr is None \
-                    else find_markings(frame.image, frame.working_bgr)  # the working image made by ShotStream
+                frame.markings = find_markings(frame.image, frame.working_bgr)  # the working image ShotStream made
                 keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
             except ValueError:
                 pass  # a bad image: the loop's own detection reports it on this frame
+        frame.working_bgr = None  # used: not kept in the queue of frames ready
         lead = count["made"] - 1 - count["taken"]  # frames ready before this one: how far ahead this thread is
         if frame.flow_frame is not None and previous[0] is not None and keep is not None and \
                 lead >= FLOW_AHEAD_MIN_LEAD:

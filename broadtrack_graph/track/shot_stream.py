@@ -30,9 +30,9 @@ class ShotStream:
         frames: the loop's frames (image input; frames without an image pass through).
         shots: shot settings, or None to skip shot detection.
         graphics: graphics-mask settings, or None to skip it.
-        reduce: the detector's working image when it is an area reduction of the frame, else None
-            (:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.area_working_image`), or None: made once
-            here (``FrameInput.working_bgr``), the small image is reduced from it instead of from the frame.
+        reduce: ``image -> the detector's working image, or None`` when that is no area reduction of the frame
+            (:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.area_working_image`); None: not made.
+            Made once here (``FrameInput.working_bgr``, for the detector), the thumbnail is reduced from it.
     """
 
     def __init__(self, frames: Iterable[FrameInput], shots: ShotConfig | None = ShotConfig(),
