@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+import cv2
 import numpy as np
 
 
@@ -62,3 +63,17 @@ def _median_grey(values: np.ndarray) -> float:
     n = int(cumulative[-1])
     low, high = np.searchsorted(cumulative, [(n - 1) // 2, n // 2], side="right")
     return 0.5 * (float(low) + float(high))
+
+
+def with_legs(body_mask: np.ndarray, bodies: np.ndarray, feet: np.ndarray, margin_px: int) -> np.ndarray:
+    """The player mask (h, w) uint8 with each player's legs added: the box from its body's bottom (``bodies``) down
+    to its feet (``feet``, the same boxes from :func:`boxes_to_the_feet`), ``margin_px`` wider on each side and
+    below (a stride is wider than the body). Socks, skin and boots are thin light ridges on grass: the confidence
+    does not count them as markings, nor the flow as grass."""
+    out = body_mask.copy()
+    h, w = out.shape
+    for (x0, _, x1, y_body), (_, _, _, y_feet) in zip(np.round(bodies).astype(int), np.round(feet).astype(int)):
+        if y_feet > y_body:
+            cv2.rectangle(out, (max(0, x0 - margin_px), max(0, y_body - margin_px)),
+                          (min(w - 1, x1 + margin_px), min(h - 1, y_feet + margin_px)), 255, thickness=cv2.FILLED)
+    return out

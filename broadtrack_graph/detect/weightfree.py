@@ -12,7 +12,9 @@ mapped back to the frame's pixels. Pipeline:
 2. players and clutter: non-grass blobs inside the field that survive an opening
    larger than a line's width and look like upright bodies -> boxes and a mask
    (found at half the working width); each box then runs on down its legs to the feet
-   (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`; the player mask stays the body's);
+   (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`); the player mask returned takes the legs
+   too (:func:`~broadtrack_graph.detect.player_feet.with_legs`), but ridges are dropped on the bodies only (a
+   marking running under a player's feet, down the image, would be taken for a leg);
 3. marking ridges: white top-hat of the grey image, thresholded at a fixed level or, for
    frames not reduced 2x or more to the working width (they keep pixel noise and fine grass
    texture that area averaging removes), above the level the texture reaches on that
@@ -44,7 +46,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
-from broadtrack_graph.detect.player_feet import boxes_to_the_feet
+from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.point_cells import capped_cell_means, grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
@@ -341,7 +343,7 @@ class WeightFreeDetector:
         work_h, work_w = grey.shape
         grass, field = self.field_and_grass(small)
         boxes, player_mask = self.players(grass, field)
-        boxes = boxes_to_the_feet(boxes, grey, grass, self.config.feet_contrast, self.config.feet_max_share)
+        feet = boxes_to_the_feet(boxes, grey, grass, self.config.feet_contrast, self.config.feet_max_share)
         # Markings lie on grass: keep only field pixels with grass close by (drops boards, stands).
         # The outer edge of the field against boards and stands is a bright step, not a marking: keep
         # ridges a margin inside the filled outline (which has no holes at lines or players; the
@@ -361,8 +363,8 @@ class WeightFreeDetector:
             width_px=W, height_px=H,
             marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
             marking_mask=marks,
-            player_boxes_px=(boxes / scale) if len(boxes) else boxes,
-            player_mask=player_mask > 0, field_mask=field > 0,
+            player_boxes_px=(feet / scale) if len(feet) else feet,
+            player_mask=with_legs(player_mask, boxes, feet, self.config.player_margin_px) > 0, field_mask=field > 0,
         )
         return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started)
 

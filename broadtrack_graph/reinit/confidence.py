@@ -3,7 +3,9 @@
 Compared only where markings can be detected: template samples inside the image, on
 the field (not under players when a player mask is given) and wide enough in the
 image to be found (a 12 cm line at least ``min_line_width_px`` pixels wide at the working
-width and in the frame itself).
+width and in the frame itself); samples within ``field_edge_px`` of the field's outer edge
+are not expected either (the detector looks for no marking there: the bright step of the
+boards' bases; a far touchline painted a metre or two from the boards runs in that band).
 Both sets live at one reference width (960 px) with a tolerance at that width, so
 the measure does not change with the frame resolution:
 
@@ -11,7 +13,8 @@ the measure does not change with the frame resolution:
   marking pixel (divided by at least ``min_template_px`` samples, so a camera that
   shows almost no template cannot score high);
 * precision P: share of detected marking pixels within ``tolerance_px`` of the template (all of it: a marking
-  found on a line too thin to expect, far off, is still explained by it).
+  found on a line too thin to expect, far off, is still explained by it), players (the mask takes their legs:
+  light socks and skin are ridges as markings are) left out.
 
 confidence = F-beta(P, R) with beta = 2 (recall weighted: grass texture and clutter
 leave specks that no camera explains), scaled down when the camera leaves the playing
@@ -39,6 +42,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.weightfree import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
@@ -62,6 +66,9 @@ class ConfidenceConfig:
     threshold: float = DEFAULT_THRESHOLD  # below: re-initialise
     goal_depth_m: float = 2.5  # the goals' volume left out of both sets: this deep behind the goal line ...
     goal_margin_m: float = 0.5  # ... and this much wider, higher and in front of it (0 depth: not left out)
+    # template samples this close to the field map's outer edge are not compared (0: they are): the weight-free
+    # detector keeps no marking there
+    field_edge_px: int = WeightFreeConfig.boundary_margin_px
 
 
 def pixels_within(points_px: np.ndarray, size: tuple[int, int], tolerance_px: float) -> tuple[np.ndarray, np.ndarray]:
@@ -227,11 +234,15 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
         keep = np.ones(len(uv), bool)
         if field is not None:
             keep &= field[row, col]
+            # Not expected in the band along the field's edge; a marking found there is still explained by them.
+            detectable = detectable & inside_field_edge(field, config.field_edge_px)[row, col]
         if player_mask is not None:
             keep &= ~_resized(player_mask, w, h)[row, col]
         uv, detectable, class_index = uv[keep], detectable[keep], class_index[keep]
     if field is not None:
         marks = marks & field
+    if player_mask is not None:
+        marks = marks & ~_resized(player_mask, w, h)  # legs below a body are ridges, not markings
     goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
     if goals is not None:
         if len(uv):
@@ -239,6 +250,36 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
             uv, detectable, class_index = uv[outside], detectable[outside], class_index[outside]
         marks = marks & ~goals
     return _Compared(marks, uv, detectable, class_index, field, (w, h))
+
+
+_LAST_INSIDE_EDGE: list = []  # [(field map, margin, the map inside its edge band)]: the last one asked
+
+
+def inside_field_edge(field: np.ndarray, margin_px: int) -> np.ndarray:
+    """The field map without the band ``margin_px`` wide along its outer edge, as the weight-free detector's
+    ridges are kept (its outline filled: players' holes do not widen the band; the image border is not an edge).
+
+    Args:
+        field: (h, w) bool field map.
+        margin_px: the band's width (pixels of the map; a disc's reach); 0: the map as it is.
+
+    Returns:
+        (h, w) bool, read only. The same array while the same map (the same array) is asked again: a frame's
+        cameras are all compared with one map.
+    """
+    if margin_px <= 0:
+        return field
+    last = _LAST_INSIDE_EDGE[0] if _LAST_INSIDE_EDGE else None
+    if last is not None and last[0] is field and last[1] == margin_px:
+        return last[2]
+    outline = np.zeros(field.shape, np.uint8)
+    contours, _ = cv2.findContours(field.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    cv2.drawContours(outline, contours, -1, 1, thickness=cv2.FILLED)
+    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin_px + 1, 2 * margin_px + 1))
+    inside = field & (cv2.erode(outline, disc) > 0)
+    inside.setflags(write=False)
+    _LAST_INSIDE_EDGE[:] = [(field, margin_px, inside)]  # the map is held: its id is not reused while cached
+    return inside
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:

@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.player_feet import boxes_to_the_feet
+from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
@@ -55,6 +55,35 @@ def test_the_legs_below_a_body_make_its_box_and_nothing_else_does():
     assert boxes_to_the_feet(body, grey, grass, max_share=0.4)[0, 3] == pytest.approx(175 + 10, abs=1)
     assert boxes_to_the_feet(np.array([[300.0, 330.0, 311.0, 360.0]]), grey, grass)[0, 3] == 360
     assert boxes_to_the_feet(np.zeros((0, 4)), grey, grass).shape == (0, 4)
+
+
+def test_the_player_mask_takes_the_legs_and_the_confidence_leaves_them_out():
+    # Light socks or skin below a body are thin bright ridges on grass, as a marking is: the player mask takes the
+    # legs down to the feet (a stride wider than the body too), and the confidence counts no ridge under it. The
+    # marking map keeps them (a marking running down the image under a player's feet would be taken for a leg).
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.geometry.template import TemplateCurves
+    from broadtrack_graph.reinit.confidence import confidence_parts
+
+    detector = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W))
+    image = _player_on_grass(200, line_below=True)
+    cv2.line(image, (299, 180), (296, 192), (200, 200, 200), 1)  # a leg striding out beside the body
+    found = detector.detect(image)
+    rows, cols = np.nonzero(found.marking_mask)
+    on_legs = (rows >= 176) & (rows <= 193) & (cols >= 294) & (cols <= 314)
+    assert on_legs.sum() >= 10
+    assert found.player_mask[176:194, 298:313].all() and not found.player_mask[197:].any()
+    # Any camera: the legs' ridges are not marking pixels the template must explain.
+    camera = Camera.from_degrees(500.0, 0.0, 0.0, 70.0, 0.0, (0.0, 60.0, -15.0), W, H)
+    curves = TemplateCurves(PITCH)
+    with_mask = confidence_parts(camera, found.marking_mask, curves, player_mask=found.player_mask)
+    without = confidence_parts(camera, found.marking_mask, curves)
+    assert with_mask["marking_pixels"] <= without["marking_pixels"] - on_legs.sum() // 2
+    # The mask itself: the box below each body down to its feet, the margin wider; no legs found, nothing added.
+    bodies = np.array([[300.0, 150.0, 311.0, 175.0]])
+    legs_only = with_legs(np.zeros((H, W), np.uint8), bodies, bodies + [0, 0, 0, 18], 3)
+    assert legs_only[172:197, 297:315].all() and not legs_only[:172].any() and not legs_only[:, :297].any()
+    assert not with_legs(np.zeros((H, W), np.uint8), bodies, bodies, 3).any()
 
 
 def test_the_grass_median_is_numpys():

@@ -9,8 +9,8 @@ import pytest
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
-from broadtrack_graph.reinit.confidence import (ConfidenceConfig, confidence_parts, field_coverage, pixels_within,
-                                                 recall_across_motion)
+from broadtrack_graph.reinit.confidence import (ConfidenceConfig, confidence_parts, field_coverage,
+                                                 inside_field_edge, pixels_within, recall_across_motion)
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -60,6 +60,34 @@ def test_a_camera_that_leaves_the_grass_off_its_pitch_is_scaled_down():
     _, grass_wide = _maps(TRUTH, grass_margin_m=8.0)
     assert field_coverage(TRUTH, grass_wide, PITCH, margin_m=10.0) == pytest.approx(1.0)
     assert field_coverage(TRUTH, grass_wide, PITCH, margin_m=2.0) < 1.0
+
+
+def test_markings_in_the_band_along_the_fields_edge_are_not_expected():
+    # Boards right behind the lines: the field ends at the touch and goal lines, and the detector keeps no marking
+    # within its boundary margin of that edge (the boards' bright base), so the lines along it are not found.
+    marks, grass = _maps(TRUTH, grass_margin_m=0.0)
+    marks = marks & inside_field_edge(grass, 5)
+    compared = confidence_parts(TRUTH, marks, CURVES, field_mask=grass)
+    expecting_the_band = confidence_parts(TRUTH, marks, CURVES, ConfidenceConfig(field_edge_px=0), field_mask=grass)
+    assert compared["recall"] > 0.97 and compared["confidence"] > 0.95
+    assert expecting_the_band["recall"] < 0.85
+    assert compared["template_samples"] < expecting_the_band["template_samples"]
+    # A camera off by 20 px is not helped by it.
+    off = TRUTH.replace(pan_rad=TRUTH.pan_rad + 20.0 / TRUTH.focal_px)
+    assert confidence_parts(off, marks, CURVES, field_mask=grass)["confidence"] < 0.5
+
+
+def test_the_band_runs_along_the_outline_not_round_the_holes_of_players():
+    field = np.zeros((H, W), bool)
+    field[200:, :] = True
+    field[300:340, 400:412] = False  # a player's hole in the grass
+    inside = inside_field_edge(field, 5)
+    assert not inside[200:205].any() and inside[206:].any()  # the outer edge's band (not the image's border)
+    assert inside[300:340, 394:400].all() and inside[300:340, 412:418].all()  # right beside the hole
+    assert not inside[300:340, 400:412].any()  # the hole itself is not field
+    assert inside[H - 1].all() and inside[250:, 0].all()  # the image's border is not an edge
+    assert inside_field_edge(field, 5) is inside  # the same map asked again: made once
+    assert inside_field_edge(field, 0) is field
 
 
 @pytest.mark.parametrize("tolerance_px", [2.5, 1.0, 3.2])

@@ -123,9 +123,10 @@ def test_reinit_from_mask_finds_a_lower_league_camera_at_the_near_positions():
     assert found.score.jaccard > 0.6
     assert _median_template_error_px(found.camera, frame.camera) < 5.0
     assert np.linalg.norm(found.camera.position_m - frame.camera.position_m) < 1.5
-    # The default positions alone settle on a wrong, unconfident camera.
+    # The default positions alone settle on a wrong camera, under what a new chain needs (TrackingConfig's
+    # confidence_threshold + reinit_switch_margin, 0.6; 0.52 here: 3.7 deg wide, a line along the boards' base).
     default = reinit_from_mask(*args, curves=CURVES, field_mask=det.field_mask)
-    assert default.camera is None or default.score.jaccard < 0.5
+    assert default.camera is None or default.score.jaccard < 0.6
     assert default.camera is None or _median_template_error_px(default.camera, frame.camera) > 20.0
 
 
