@@ -1,0 +1,61 @@
+"""The weight-free detector's marking ridges (detect/ridges.py), on images drawn here."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from broadtrack_graph.detect.ridges import marking_ridges
+from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+
+W, H = 320, 200
+
+
+def _ridges(grey, allowed=None, grass=None, config=WeightFreeConfig()):
+    detector = WeightFreeDetector(config=config)
+    allowed = np.full((H, W), 255, np.uint8) if allowed is None else allowed
+    return marking_ridges(grey, allowed, grass, detector._tophat_kernel, detector._ridge_kernel, config)
+
+
+def _line_image(offset_px: float, slope: float = 0.2, width_px: float = 3.0, level: float = 60.0):
+    """Grass (grey 90) with one bright line y = 100 + offset + slope (x - 160), ``width_px`` wide, drawn
+    antialiased by the distance of each pixel centre to the line."""
+    rows, cols = np.mgrid[0:H, 0:W].astype(float)
+    distance = np.abs(rows - (100.0 + offset_px + slope * (cols - 160.0))) / np.hypot(1.0, slope)
+    cover = np.clip(width_px / 2 + 0.5 - distance, 0.0, 1.0)
+    return np.clip(90.0 + level * cover, 0, 255).astype(np.uint8)
+
+
+def test_points_lie_on_the_line_centre_to_a_fraction_of_a_pixel():
+    for offset in (0.0, 0.3, 0.5):
+        points, candidates = _ridges(_line_image(offset))
+        assert len(points) > 200 and candidates.any()
+        inside = (points[:, 0] > 20) & (points[:, 0] < W - 20)  # the line's ends at the image border apart
+        distance = np.abs(points[:, 1] - (100.0 + offset + 0.2 * (points[:, 0] - 160.0))) / np.hypot(1.0, 0.2)
+        assert np.median(distance) < 0.1 and np.max(distance[inside]) < 0.6
+
+
+def test_specks_and_faint_lines_give_no_points_and_where_markings_may_not_be_gives_none():
+    specks = np.full((H, W), 90, np.uint8)
+    for x in range(15, W, 30):
+        for y in range(15, H, 30):
+            cv2.circle(specks, (x, y), 1, 200, -1)  # isolated bright dots: too little support around each
+    assert len(_ridges(specks)[0]) == 0
+    assert len(_ridges(_line_image(0.0, level=10.0))[0]) == 0  # 10 grey levels: under the fixed threshold
+    allowed = np.zeros((H, W), np.uint8)
+    allowed[:, :100] = 255
+    points, _ = _ridges(_line_image(0.0), allowed)
+    assert len(points) > 50 and points[:, 0].max() < 101
+
+
+def test_the_threshold_rises_with_the_grass_texture():
+    # A line 45 grey levels over grass noisy enough that the 90th percentile of its top-hat passes the fixed level:
+    # with the grass map the threshold rises above the noise and only the line's points stay.
+    rng = np.random.default_rng(2)
+    noisy = np.clip(_line_image(0.0, level=45.0).astype(float) + rng.normal(0, 6, (H, W)), 0, 255).astype(np.uint8)
+    grass = np.full((H, W), 255, np.uint8)
+    plain, _ = _ridges(noisy)
+    adapted, _ = _ridges(noisy, grass=grass)
+    on_line = np.abs(adapted[:, 1] - (100.0 + 0.2 * (adapted[:, 0] - 160.0))) < 2.0
+    assert len(plain) > 10 * len(adapted)  # the fixed level takes the noise for thousands of ridge points
+    assert on_line.mean() > 0.95 and on_line.sum() > 300
