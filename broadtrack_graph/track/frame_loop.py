@@ -307,8 +307,8 @@ class TrackingRun:
         extra["timings_s"] = {k: round(v, 3) for k, v in {**self.timings, **model_s}.items()}
         extra["solver_restarts"] = self.solver.rebuilds
         self.policy.close()
-        extra["reinit_searches"] = {**self.policy.counts, "search_workers": self.policy.stages.workers,
-                                    "stages_ahead": self.policy.stages.ahead}
+        extra["reinit_searches"] = {**self.policy.counts, "search_workers": self.policy.searches.stages.workers,
+                                    "stages_ahead": self.policy.searches.stages.ahead}
         extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod, by_camera)

@@ -33,7 +33,8 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    the id of where it stands; else a candidate the search must beat. It tries every frame of a shot's first
    frames it cannot place (up to 10), then waits 1, 2, 4, ... frames after each
    (:class:`~broadtrack_graph.track.search_budget.TrySchedule`): a shot it cannot place costs little.
-4. **The global search** in stages, when the search budget allows.
+4. **The global search** in stages, when the search budget allows
+   (:class:`~broadtrack_graph.track.search_route.SearchRoute`: its stages and its budget).
 
    * A shot whose camera is not known yet: the stages of :mod:`~broadtrack_graph.track.search_stages` (the known
      cameras, the default positions, the other camera kinds), every one (a view of one camera can be explained,
@@ -86,8 +87,9 @@ from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
 from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
-from broadtrack_graph.track.search_budget import SearchBudget, TrySchedule
-from broadtrack_graph.track.search_stages import KNOWN_CAMERAS, search_plan
+from broadtrack_graph.track.search_budget import TrySchedule
+from broadtrack_graph.track.search_route import SearchRoute
+from broadtrack_graph.track.search_stages import search_plan
 from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
@@ -122,25 +124,22 @@ class ReinitPolicy:
                  chain: Chain | None = None) -> None:
         self.config = config
         self.search = search
-        self.stages = StageRunner(search, default_search_workers() if config.search_workers is None
-                                  else config.search_workers)
         self.refine = refine
         self.confidence = confidence
         self.registry = registry or CameraRegistry()
         self.chain = chain or Chain(config, self.registry)
         self.search_positions = None if search_positions is None else [tuple(p) for p in search_positions]
-        share = min(max(config.search_time_share, 1e-3), 1.0)
-        self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
         self._frame = None  # (detections, curves, score) of the frame decided on
-        self._shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
         self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
         self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
                        "global": 0, "stages": 0, "skipped_by_budget": 0}
+        self.searches = SearchRoute(config, StageRunner(search, default_search_workers() if config.search_workers is None
+                                                        else config.search_workers), self.registry, self.counts)
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
 
     def close(self) -> None:
         """Stop the search's workers (the end of the run)."""
-        self.stages.close()
+        self.searches.stages.close()
 
     # ----------------------------------------------------------------- what the loop tells
 
@@ -148,8 +147,7 @@ class ReinitPolicy:
         """A cut or a view change (the chain's camera is unknown: :meth:`Chain.new_stretch`): a never trusted id is
         forgotten; the next search is paid now."""
         self.registry.forget_untrusted()
-        self._shot_start_confidences = None
-        self.budget.restart()
+        self.searches.new_stretch()
         self.tries.new_stretch()
         self.held_schedule.new_stretch()
 
@@ -158,7 +156,7 @@ class ReinitPolicy:
         restarts."""
         if self.chain.camera_id is not None:
             self.registry.trust(self.chain.camera_id, frame_index, camera)
-        self.budget.restart()
+        self.searches.budget.restart()
         self.tries.confident()
         self.held_schedule.confident()
 
@@ -214,7 +212,7 @@ class ReinitPolicy:
         # place a camera from nothing, are for a chain's start.
         from_nothing = not (held is not None and self.chain.trusted)
         guess, guess_id, guess_confidence = self.tries.refined_guess(i, chain_id, detections, curves, score,
-                                                                     self.stages.mapped,
+                                                                     self.searches.stages.mapped,
                                                                      held if with_map and not from_nothing else None)
         if guess is not None and guess_confidence >= threshold:
             self.counts["guess_used"] += 1
@@ -259,24 +257,18 @@ class ReinitPolicy:
             return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
                                   f"cameras to agree ({court_confidence:.2f} on this frame)")
         known = chain_id is not None and chain_id in self.registry.positions
-        if with_map and not self.budget.allows(i, known):
+        if with_map and not self.searches.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
-            why = f"search budget: the next global search at frame {self.budget.next_frame(i, known)}"
+            why = f"search budget: the next global search at frame {self.searches.budget.next_frame(i, known)}"
             if candidate is not None:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
         plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
-                           self._shot_start_confidences, held_trusted=held is not None and self.chain.trusted)
-        paid_before, shot_start = self._paid(), plan.new_shot and self._shot_start_confidences is None
-        found, found_confidence, label, confidences = self._search(plan, observations, detections, pitch, curves,
-                                                                   sampling, score)
-        if shot_start:  # what the shot's later searches try (search_stages.retry_plan)
-            self._shot_start_confidences = confidences
-        self.counts["global"] += 1
-        if with_map:  # found: a camera its chain is trusted from (a new shot's camera: by the margin)
-            trusted_from = threshold + (margin if new_camera else 0.0)
-            self.budget.spend(i, found is not None and found_confidence >= trusted_from,
-                              self._paid() - paid_before, known, shot_start)
+                           self.searches.shot_start_confidences, held_trusted=held is not None and self.chain.trusted)
+        # found: a camera its chain is trusted from (a new shot's camera: by the margin)
+        found, found_confidence, label = self.searches.run(
+            plan, i, known, with_map, threshold + (margin if new_camera else 0.0),
+            (observations, detections, pitch, curves, sampling), score)
         if candidate is not None and (found is None or (found_confidence < threshold
                                                         and found_confidence <= candidate.confidence + margin)):
             # Nothing confident found: the candidate (a refined guess: a confident camera's continuation; or the
@@ -339,49 +331,3 @@ class ReinitPolicy:
                 return ReinitDecision(None, None, None, False, searched,
                                       f"kept the held camera ({held_confidence:.2f}): {reason} scored {confidence:.2f}")
         return ReinitDecision(result.camera, confidence, camera_id, from_guess, searched, reason)
-
-    # ----------------------------------------------------------------- guesses and the search
-
-    def _paid(self) -> int:
-        """Stages paid so far (the budget's unit)."""
-        return self.counts["stages"]
-
-    def _search(self, plan, observations, detections, pitch, curves, sampling,
-                score) -> tuple[ReinitResult | None, float, str, dict[str, float]]:
-        """The global search of a :class:`~broadtrack_graph.track.search_stages.SearchPlan` in stages (module
-        docstring): (best result or None, its confidence, one line, stage label -> the confidence of its camera).
-
-        Without a marking map (keypoints or labelled lines of a detections file) the plan is cheap and
-        labelled: the known cameras' positions, then the default positions (mirrored too) only.
-        """
-        threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
-        # When it ends, which stages it reads: the module docstring.
-        enough = self.config.certain_confidence if plan.new_shot else threshold
-        best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
-        found = []  # (confidence, result, stage label) of every stage's camera
-        stage_results = self.stages.labelled_results(plan.stages, observations, detections, pitch, curves, sampling)
-        for k, (stage_label, result) in enumerate(stage_results):
-            self.counts["stages"] += 1
-            if result.camera is None:
-                reasons.append(f"{stage_label}: {result.reason}")
-                continue
-            confidence = score(result.camera)
-            if confidence is None:  # no marking map: the search's own score
-                confidence = result.score.jaccard if result.score is not None else 0.0
-            found.append((float(confidence), result, stage_label))
-            # The known cameras and the default positions are the likely ones: the better camera of the two wins.
-            # A later stage's camera (a less likely position) must be confident and better by the margin.
-            if best is None or (confidence > best_confidence if k < plan.likely
-                                else confidence >= threshold and confidence > best_confidence + margin):
-                best, best_confidence = result, float(confidence)
-                label = f"global search, {stage_label}: {result.reason}"
-                best_known = stage_label == KNOWN_CAMERAS and self.registry.nearest(  # a returning camera
-                    result.camera.position_m, result.camera.R_cw[2]) is not None
-            if best is not None and best_confidence >= (threshold + margin if best_known else enough):
-                break
-        stage_results.close()
-        confidences = {stage_label: confidence for confidence, _, stage_label in found}
-        if best is None:
-            why = "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
-            return None, 0.0, why, confidences
-        return best, best_confidence, label, confidences

@@ -189,7 +189,7 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     assert not blocked.searched and "next global search at frame" in blocked.reason
     # The shot's own search leaves the bucket empty; a frame refills 1/20 of a stage and, after a failure, the next
     # stage costs 2: searched again at frame 40, on the likely stage only (no stage found a camera to retry).
-    assert policy.budget.next_frame(1) == 40
+    assert policy.searches.budget.next_frame(1) == 40
     searched = [i for i in range(1, 700) if _decide(policy, i).searched]
     # Each retry (one stage) doubles the price, up to 8: gaps of 80, 160, then 160 frames.
     assert searched == [40, 120, 280, 440, 600]
@@ -206,7 +206,7 @@ def test_a_shot_is_searched_again_on_the_stage_that_came_nearest():
     fakes.searched.clear()
     assert _decide(policy, 40).searched and fakes.searched == [None, high_behind]  # the likely stage, the nearest
     fakes.stage_answers[high_behind] = (CORNER, 0.75)  # the frame shows more: the camera is found
-    assert policy.budget.next_frame(41) == 40 + (2 + 2 * 2) * 20  # two stages paid at twice the price, doubled again
+    assert policy.searches.budget.next_frame(41) == 40 + (2 + 2 * 2) * 20  # two stages paid at twice the price, doubled again
     decision = _decide(policy, 160)
     assert decision.camera is CORNER and decision.confidence == 0.75
 

@@ -133,7 +133,7 @@ def test_the_policy_decides_the_same_with_workers():
         finally:
             policy.close()
     assert decisions[0] == decisions[1] == (1004.0, 0.95, "main", 5)
-    assert policy.stages.ahead >= 1
+    assert policy.searches.stages.ahead >= 1
 
 
 def test_workers_of_a_killed_tracker_leave(tmp_path):
