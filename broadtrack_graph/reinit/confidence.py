@@ -228,7 +228,8 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
     min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
     uv, detectable, class_index = template.uv_px, template.width_m_px >= min_width_work_px, template.class_index
     field = None if field_mask is None else _resized(field_mask, w, h)
-    if len(uv) and (field is not None or player_mask is not None):
+    players = None if player_mask is None else _resized(player_mask, w, h)
+    if len(uv) and (field is not None or players is not None):
         col = np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)
         row = np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1)
         keep = np.ones(len(uv), bool)
@@ -236,13 +237,13 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
             keep &= field[row, col]
             # Not expected in the band along the field's edge; a marking found there is still explained by them.
             detectable = detectable & inside_field_edge(field, config.field_edge_px)[row, col]
-        if player_mask is not None:
-            keep &= ~_resized(player_mask, w, h)[row, col]
+        if players is not None:
+            keep &= ~players[row, col]
         uv, detectable, class_index = uv[keep], detectable[keep], class_index[keep]
     if field is not None:
         marks = marks & field
-    if player_mask is not None:
-        marks = marks & ~_resized(player_mask, w, h)  # legs below a body are ridges, not markings
+    if players is not None:
+        marks = marks & ~players  # legs below a body are ridges, not markings
     goals = goal_region(camera, w, h, curves.pitch, config.goal_depth_m, config.goal_margin_m)
     if goals is not None:
         if len(uv):
