@@ -123,7 +123,6 @@ class ReinitPolicy:
                  model: ModelCamera | None = None, court: CourtCamera | None = None,
                  chain: Chain | None = None) -> None:
         self.config = config
-        self.search = search
         self.refine = refine
         self.confidence = confidence
         self.registry = registry or CameraRegistry()
@@ -156,7 +155,7 @@ class ReinitPolicy:
         restarts."""
         if self.chain.camera_id is not None:
             self.registry.trust(self.chain.camera_id, frame_index, camera)
-        self.searches.budget.restart()
+        self.searches.confident()
         self.tries.confident()
         self.held_schedule.confident()
 

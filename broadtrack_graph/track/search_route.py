@@ -52,6 +52,10 @@ class SearchRoute:
         self.shot_start_confidences = None
         self.budget.restart()
 
+    def confident(self) -> None:
+        """A frame whose camera the tracker trusts: the budget restarts."""
+        self.budget.restart()
+
     def run(self, plan, frame_index: int, known: bool, with_map: bool, trusted_from: float, frame: tuple,
             score) -> tuple[ReinitResult | None, float, str]:
         """Search the plan on a frame and pay for it: (the best camera's result or None, its confidence, one line).
