@@ -201,21 +201,8 @@ class WeightFreeDetector:
             return {}
         gate = c.gate_px + c.gate_sigmas * predicted.uncertainty_px * scale
         d, nearest = cKDTree(template_uv).query(points_px, distance_upper_bound=gate)
-        ok = np.isfinite(d)
-        cls = np.full(len(points_px), -1)
-        cls[ok] = template_class[nearest[ok]]
-        out = {}
-        for j in np.unique(cls[ok]):
-            members = cls == j
-            # The prediction error shifts a whole marking about equally: drop points whose distance
-            # to the predicted marking is far from the class's typical one (other markings, clutter).
-            dj = d[members]
-            median = np.median(dj)
-            spread = max(c.class_consistency_px, 2.5 * 1.4826 * np.median(np.abs(dj - median)))
-            keep = np.flatnonzero(members)[np.abs(dj - median) <= spread]
-            if len(keep) >= c.min_points_per_class:
-                out[LINE_CLASSES[j]] = capped_cell_means(points_px[keep], c.point_spacing_px, c.max_points_per_class)
-        return out
+        ok = np.flatnonzero(np.isfinite(d))
+        return _consistent_classes(points_px[ok], template_class[nearest[ok]], d[ok], c)
 
     # ----------------------------------------------------------------- detect
 
@@ -305,6 +292,54 @@ class WeightFreeDetector:
     def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
         """Detect field markings in one (H, W, 3) uint8 BGR frame (see module docstring)."""
         return self.name(self.find_markings(image_bgr), predicted)
+
+
+def _group_medians(values: np.ndarray, starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """np.median of each group of ``values`` (sorted within each group; group g is values[starts[g]:][:counts[g]])."""
+    return 0.5 * (values[starts + (counts - 1) // 2] + values[starts + counts // 2])
+
+
+def _consistent_classes(points_px: np.ndarray, classes: np.ndarray, distance_px: np.ndarray, c: WeightFreeConfig
+                        ) -> dict[str, np.ndarray]:
+    """The named points of each class: those whose distance to their predicted marking is near the class's median
+    distance (within 2.5 robust sigmas, at least ``class_consistency_px``: the prediction error shifts a whole
+    marking about equally, other markings and clutter are off), averaged per cell; classes with fewer than
+    ``min_points_per_class`` left are dropped. All classes at once (sorted by class, then distance).
+
+    Args:
+        points_px: (N, 2) working pixels; classes: (N,) their class indices; distance_px: (N,) to the prediction.
+    """
+    if not len(points_px):
+        return {}
+    order = np.lexsort((distance_px, classes))
+    names, starts, counts = np.unique(classes[order], return_index=True, return_counts=True)
+    median = _group_medians(distance_px[order], starts, counts)
+    group = np.repeat(np.arange(len(names)), counts)  # each sorted point's group
+    deviation = np.abs(distance_px[order] - median[group])
+    by_deviation = np.lexsort((deviation, group))
+    spread = np.maximum(c.class_consistency_px, 2.5 * 1.4826 * _group_medians(deviation[by_deviation], starts, counts))
+    index_group = np.searchsorted(names, classes)
+    keep = np.abs(distance_px - median[index_group]) <= spread[index_group]
+    enough = np.bincount(index_group[keep], minlength=len(names)) >= c.min_points_per_class
+    keep &= enough[index_group]
+    if not keep.any():
+        return {}
+    # Each class's cell means (point_cells.cell_means) at once: the class is the key's leading part.
+    kept, kept_group = points_px[keep], index_group[keep]
+    cells = np.floor(kept / c.point_spacing_px).astype(np.int64)
+    cells -= cells.min(axis=0)  # non-negative: the class stays the key's leading part (the cells' order is kept)
+    keys = kept_group * (1 << 40) + cells[:, 0] * 1_000_003 + cells[:, 1]
+    unique_keys, inverse, cell_counts = np.unique(keys, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    means = np.column_stack([np.bincount(inverse, kept[:, 0]), np.bincount(inverse, kept[:, 1])]) / cell_counts[:, None]
+    cell_group = unique_keys >> 40
+    out = {}
+    for g in np.flatnonzero(enough):
+        class_means = means[cell_group == g]
+        if c.max_points_per_class > 0 and len(class_means) > c.max_points_per_class:
+            class_means = capped_cell_means(kept[kept_group == g], c.point_spacing_px, c.max_points_per_class)
+        out[LINE_CLASSES[names[g]]] = class_means
+    return out
 
 
 @dataclass(frozen=True)

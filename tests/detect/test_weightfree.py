@@ -211,3 +211,37 @@ def test_the_working_image_made_ahead_gives_the_same_markings():
     assert len(alone.unnamed.marking_points_px) > 100
     # Under twice the working width the working image is no area reduction: the frame itself is reduced.
     assert detector.area_working_image(cv2.resize(image, (1280, 720))) is None
+
+
+def _classes_one_by_one(points_px, classes, distance_px, c):
+    """The naming's class rule written plainly, one class at a time (np.median, point_cells.capped_cell_means)."""
+    from broadtrack_graph.detect.point_cells import capped_cell_means
+    from broadtrack_graph.geometry.pitch import LINE_CLASSES
+
+    out = {}
+    for j in np.unique(classes):
+        members = classes == j
+        dj = distance_px[members]
+        median = np.median(dj)
+        spread = max(c.class_consistency_px, 2.5 * 1.4826 * np.median(np.abs(dj - median)))
+        keep = np.flatnonzero(members)[np.abs(dj - median) <= spread]
+        if len(keep) >= c.min_points_per_class:
+            out[LINE_CLASSES[j]] = capped_cell_means(points_px[keep], c.point_spacing_px, c.max_points_per_class)
+    return out
+
+
+def test_all_classes_at_once_name_the_same_points_as_one_class_at_a_time():
+    from broadtrack_graph.detect.weightfree import _consistent_classes
+    from broadtrack_graph.geometry.pitch import LINE_CLASSES
+
+    config = WeightFreeConfig()
+    rng = np.random.default_rng(1)
+    for _ in range(300):
+        n = int(rng.integers(0, 600))
+        points = rng.uniform(-2.0, 962.0, (n, 2))  # a sub-pixel centre may lie just off the image
+        classes = rng.integers(0, int(rng.integers(1, len(LINE_CLASSES) + 1)), n)
+        distance = np.round(rng.gamma(2.0, 1.0, n), int(rng.integers(0, 4)))  # rounded: ties in the medians
+        expected = _classes_one_by_one(points, classes, distance, config)
+        got = _consistent_classes(points, classes, distance, config)
+        assert list(got) == list(expected)
+        assert all(np.array_equal(got[name], expected[name]) for name in expected)
