@@ -7,12 +7,25 @@ Steger's method: the Hessian of the smoothed top-hat gives the direction across 
 eigenvalue's eigenvector) and the offset along it; a candidate whose centre lies within half a pixel, on a ridge
 curved enough, and with enough other centre-line points around it (a marking is long, a speck of texture is not)
 is kept. Derivatives are taken at the candidate pixels only.
+
+Markings wider than the Hessian's scale or the top-hat's kernel (a zoomed view, the near lines of a low camera)
+have a flat top there: the points found lie off the centre or on the line's edges, and past about 12 px there
+are none. :func:`wide_ridges` runs the same steps again on the grey image reduced 2x and 4x (``wide_levels``; the
+same kernels in the reduced pixels, where such a line is narrow again), each level's points mapped back to working
+pixels. A stretch of line belongs to the finest level that finds it as a peaked ridge (curvature across over
+height at least ``wide_min_peak``): a coarser level looks only at its pixels that hold no finer peaked point. There
+a wide line is resolved, so its paint shows at full contrast (the threshold is ``wide_threshold_factor`` times the
+level's) and rises and falls in steps at its edges (the steepest one-pixel step on each side at least
+``wide_edge_share`` of its height: a mown stripe or a soft band of light brightens over many pixels); the finer
+points across such a line within its stretch (its edges, its flat top) give way to its own. The detector asks for
+it only when the predicted camera draws a marking that wide.
 """
 
 from __future__ import annotations
 
 import cv2
 import numpy as np
+from scipy.spatial import cKDTree
 
 
 def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
@@ -21,8 +34,9 @@ def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
 
 
 def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None, tophat_kernel: np.ndarray,
-                   ridge_kernel: np.ndarray, c) -> tuple[np.ndarray, np.ndarray]:
-    """Sub-pixel centre-line points (N, 2) (working pixels) and the candidate map (uint8) (module docstring).
+                   ridge_kernel: np.ndarray, c) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sub-pixel centre-line points (N, 2) (working pixels), whether each lies on a peaked ridge (N,) bool (a line
+    the Hessian's scale resolves; module docstring) and the candidate map (uint8) (module docstring).
 
     Args:
         grey: (h, w) uint8 grey working image (already pre-smoothed as needed).
@@ -31,22 +45,145 @@ def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | No
         tophat_kernel: the top-hat's structuring element (``tophat_kernel_px`` square).
         ridge_kernel: the 1-D float32 Gaussian of the Hessian's scale (``ridge_sigma_px``), applied along both axes.
         c: the detector's settings (:class:`~broadtrack_graph.detect.weightfree.WeightFreeConfig`: its threshold,
-            support and curvature fields).
+            support, curvature and wide-marking fields).
     """
     tophat = cv2.morphologyEx(grey, cv2.MORPH_TOPHAT, tophat_kernel)
+    allowed01 = cv2.threshold(allowed, 0, 1, cv2.THRESH_BINARY)[1]
+    points, peak, _, candidates = _centre_points(tophat, allowed01, _threshold(tophat, grass, c), ridge_kernel, c)
+    return points, peak >= c.wide_min_peak, candidates
+
+
+def wide_ridges(grey: np.ndarray, wide_allowed: np.ndarray, grass: np.ndarray | None, points: np.ndarray,
+                peaked: np.ndarray, tophat_kernel: np.ndarray, ridge_kernel: np.ndarray, c) -> np.ndarray:
+    """The working level's points with the wide markings' found on the reduced levels (module docstring): (M, 2)
+    working pixels, the working level's first (those across a wide line dropped), then each coarser level's.
+
+    Args:
+        grey, grass, tophat_kernel, ridge_kernel, c: as :func:`marking_ridges`.
+        wide_allowed: (h, w) uint8, non-zero where wide markings may be (a wide marking's middle lies farther from
+            grass than a thin one's).
+        points, peaked: :func:`marking_ridges`'s points and peaked flags.
+    """
+    h, w = grey.shape
+    level_grey, level_grass = grey, grass
+    level_allowed = cv2.threshold(wide_allowed, 0, 1, cv2.THRESH_BINARY)[1]
+    kept, peaked = np.asarray(points, float).reshape(-1, 2), np.asarray(peaked, bool)
+    kept_px = np.column_stack([np.clip(np.round(kept[:, 0]).astype(int), 0, w - 1),
+                               np.clip(np.round(kept[:, 1]).astype(int), 0, h - 1)])
+    taken = np.zeros((h, w), np.uint8)  # the pixels holding a peaked point (at the last level's size)
+    taken[kept_px[peaked, 1], kept_px[peaked, 0]] = 1
+    for level in range(1, c.wide_levels + 1):
+        scale = 2 ** level
+        size = (level_grey.shape[1] // 2, level_grey.shape[0] // 2)
+        if min(size) < 2 * tophat_kernel.shape[0]:
+            break
+        rows, cols = 2 * size[1], 2 * size[0]
+        level_grey = cv2.resize(level_grey[:rows, :cols], size, interpolation=cv2.INTER_AREA)
+        # A coarse pixel may hold a marking only where all four of its finer pixels may, and a stretch of line the
+        # finer levels found at their own scale (a coarse pixel holding a peaked ridge point of theirs) is theirs:
+        # only the others are wide lines' candidates.
+        level_allowed, taken = (cv2.morphologyEx(image[:rows, :cols], op, np.ones((2, 2), np.uint8),
+                                                 anchor=(0, 0))[::2, ::2]
+                                for image, op in ((level_allowed, cv2.MORPH_ERODE), (taken, cv2.MORPH_DILATE)))
+        level_grass = None if level_grass is None else level_grass[:rows:2, :cols:2]
+        # The top-hat's border is the image's edge, not grass: a reduced level keeps to its inside.
+        margin = tophat_kernel.shape[0] // 2
+        free = np.zeros_like(level_allowed)
+        free[margin:-margin, margin:-margin] = level_allowed[margin:-margin, margin:-margin]
+        free[taken > 0] = 0
+        tophat = cv2.morphologyEx(level_grey, cv2.MORPH_TOPHAT, tophat_kernel)
+        threshold = _threshold(tophat, level_grass, c) * c.wide_threshold_factor
+        found, peak, normals, _ = _centre_points(tophat, free, threshold, ridge_kernel, c)
+        found = found * scale + (scale - 1) / 2.0  # a level's pixel centre in working pixels
+        if len(found):
+            # A wide line is paint if it has paint's sharp edges; the finer points across it (its edges, its flat
+            # top) give way to its own.
+            edge_px = (scale // 2) * (tophat_kernel.shape[0] // 2 + 1)
+            paint = _sharp_edged(grey, found, normals, 2 * edge_px, c.wide_edge_share)
+            found, peak, normals = found[paint], peak[paint], normals[paint]
+        if len(found):
+            beside = _across(kept, kept_px // scale, found, normals, edge_px, scale / 2.0 + 0.5, scale, free.shape)
+            if beside.any():
+                kept, kept_px, peaked = kept[~beside], kept_px[~beside], peaked[~beside]
+        found_px = np.column_stack([np.clip(np.round(found[:, 0]).astype(int), 0, w - 1),
+                                    np.clip(np.round(found[:, 1]).astype(int), 0, h - 1)])
+        peak = peak >= c.wide_min_peak
+        taken[found_px[peak, 1] // scale, found_px[peak, 0] // scale] = 1
+        kept, kept_px, peaked = np.vstack([kept, found]), np.vstack([kept_px, found_px]), np.concatenate([peaked, peak])
+    return kept
+
+
+def _across(points: np.ndarray, cells: np.ndarray, centres: np.ndarray, normals: np.ndarray, across_px: float,
+            along_px: float, scale: int, level_shape: tuple[int, int]) -> np.ndarray:
+    """(N,) bool: each point (working pixels) within across_px of a centre-line point across its line (along its unit
+    normal) and within along_px along it (that centre's own stretch of line, not its neighbours'). The points near a
+    centre are picked first on the centres' level (``cells``: the points' (col, row) pixels there; scale: working
+    pixels per level pixel; level_shape: its (h, w)), then tested exactly."""
+    out = np.zeros(len(points), bool)
+    if not len(points) or not len(centres):
+        return out
+    reach = float(np.hypot(across_px, along_px))
+    near = np.zeros(level_shape, np.uint8)
+    near[np.clip(np.round(centres[:, 1]).astype(int) // scale, 0, level_shape[0] - 1),
+         np.clip(np.round(centres[:, 0]).astype(int) // scale, 0, level_shape[1] - 1)] = 1
+    reach_cells = int(np.ceil(reach / scale)) + 1
+    near = cv2.dilate(near, np.ones((2 * reach_cells + 1, 2 * reach_cells + 1), np.uint8))
+    close = np.flatnonzero(near[np.minimum(cells[:, 1], level_shape[0] - 1), np.minimum(cells[:, 0], level_shape[1] - 1)])
+    if not len(close):
+        return out
+    pairs = cKDTree(centres).sparse_distance_matrix(cKDTree(points[close], balanced_tree=False), reach,
+                                                    output_type="ndarray")
+    centre, point = pairs["i"], close[pairs["j"]]
+    offset = points[point] - centres[centre]
+    across = np.abs(np.sum(offset * normals[centre], axis=1))
+    along = np.abs(offset[:, 0] * normals[centre, 1] - offset[:, 1] * normals[centre, 0])
+    out[point[(across <= across_px) & (along <= along_px)]] = True
+    return out
+
+
+def _sharp_edged(grey: np.ndarray, points: np.ndarray, normals: np.ndarray, reach_px: int, share: float
+                 ) -> np.ndarray:
+    """(N,) bool: the working grey image across each point's line (along its normal, reach_px each way) rises to it
+    and falls from it in a step: its steepest one-pixel rise before the point and fall after it are each at least
+    ``share`` of the profile's height. Paint has sharp edges at any width; a mown stripe or a soft shadow edge
+    brightens over many pixels."""
+    if not len(points):
+        return np.zeros(0, bool)
+    steps = np.arange(-reach_px, reach_px + 1, dtype=np.float32)
+    xs = (points[:, 0, None] + steps * normals[:, 0, None]).astype(np.float32)
+    ys = (points[:, 1, None] + steps * normals[:, 1, None]).astype(np.float32)
+    profile = cv2.remap(grey, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE).astype(np.float32)
+    height = profile[:, reach_px - 1:reach_px + 2].max(axis=1) - profile.min(axis=1)
+    rise = np.diff(profile[:, :reach_px + 1], axis=1).max(axis=1)
+    fall = -np.diff(profile[:, reach_px:], axis=1).min(axis=1)
+    return (height > 0) & (rise >= share * height) & (fall >= share * height)
+
+
+def _threshold(tophat: np.ndarray, grass: np.ndarray | None, c) -> float:
+    """The top-hat's threshold: ``tophat_threshold``, raised above the level grass texture reaches when a grass map is
+    given (its 90th percentile there plus ``tophat_noise_margin``)."""
     threshold = c.tophat_threshold
     if grass is not None:
         sample = tophat[::4, ::4][grass[::4, ::4] > 0]  # markings are a few per cent of the grass
         if len(sample) > 100:
             threshold = max(threshold, float(np.percentile(sample, 90)) + c.tophat_noise_margin)
-    candidates = cv2.bitwise_and(cv2.threshold(tophat, threshold, 1, cv2.THRESH_BINARY)[1],
-                                 cv2.threshold(allowed, 0, 1, cv2.THRESH_BINARY)[1])
+    return threshold
+
+
+def _centre_points(tophat: np.ndarray, allowed01: np.ndarray, threshold: float, ridge_kernel: np.ndarray, c
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """One level's centre-line points (N, 2) (its pixels), their peakedness (N,), unit normals (N, 2) (across the
+    line) and the candidate map: the top-hat's pixels over the threshold where allowed01 is 1, moved to their
+    ridge's centre and kept on curvature and support (module docstring). Peakedness: the curvature across the
+    ridge over its height (1 / px^2; a line wider than the Hessian's scale has a flat top, under ``wide_min_peak``).
+    """
+    candidates = cv2.bitwise_and(cv2.threshold(tophat, threshold, 1, cv2.THRESH_BINARY)[1], allowed01)
     found = cv2.findNonZero(candidates)
     if found is None:
-        return np.zeros((0, 2)), candidates
+        return np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2)), candidates
     found = found.reshape(-1, 2)
     xs, ys = found[:, 0], found[:, 1]
-    h, w = grey.shape
+    h, w = tophat.shape
     # GaussianBlur's own float kernel and border, filtered straight from the uint8 top-hat (the same numbers
     # without converting the image first).
     smooth = cv2.sepFilter2D(tophat, cv2.CV_32F, ridge_kernel, ridge_kernel)
@@ -98,5 +235,5 @@ def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | No
         support[near] += counts[ys[near], xs[near]]
     ok &= support >= c.min_support
     points = np.column_stack([xs[ok] + t[ok] * nx[ok], ys[ok] + t[ok] * ny[ok]]).astype(float)
-    return points, candidates
+    return points, -lam[ok] / np.maximum(n[0, 0][ok], 1e-6), np.column_stack([nx[ok], ny[ok]]), candidates
 

@@ -23,9 +23,12 @@ mapped back to the frame's pixels. Pipeline:
    Hessian method (offset along the line normal, kept when within half a pixel),
    derivatives taken at the candidate pixels only (:mod:`~broadtrack_graph.detect.ridges`);
 4. naming: with a predicted camera, the template is projected and densified
-   (:func:`~broadtrack_graph.geometry.template.project_template`) and every ridge point takes the class of the nearest
-   projected sample (k-d tree) when within ``gate_px + gate_sigmas * uncertainty``;
-   named points are averaged per small grid cell. Without a prediction only the
+   (:func:`~broadtrack_graph.geometry.template.project_template`); where it draws a marking wider than the
+   working level resolves (``wide_from_px``: a zoomed view, a low camera's near lines), the wide markings are found
+   first on the image reduced 2x and 4x (:func:`~broadtrack_graph.detect.ridges.wide_ridges`) and the frame's
+   marking map is theirs too; every ridge point takes the class of the nearest projected sample (k-d tree) when
+   within ``gate_px + gate_sigmas * uncertainty``; the points of a class that stay
+   (:mod:`~broadtrack_graph.detect.class_points`) are averaged per small grid cell. Without a prediction only the
    unnamed points and the marking map are returned (re-initialisation then works from
    the map, see :func:`broadtrack_graph.reinit.mask.reinit_from_mask`).
 
@@ -46,12 +49,13 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
+from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
-from broadtrack_graph.detect.ridges import marking_ridges
+from broadtrack_graph.detect.ridges import marking_ridges, wide_ridges
 from broadtrack_graph.detect.playing_field import grass_and_field
-from broadtrack_graph.detect.point_cells import capped_cell_means, grid_thin, work_to_frame_px
+from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
-from broadtrack_graph.geometry.pitch import LINE_CLASSES, PitchTemplate
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
 
 REFERENCE_WIDTH_PX = 960
@@ -81,6 +85,17 @@ class WeightFreeConfig:
     orientation_bins: int = 1  # > 2: support counts only neighbours within +-1 of these orientation bins (1: all)
     ridge_sigma_px: float = 1.0  # Gaussian scale of the Hessian
     ridge_min_curvature: float = 1.5  # -lambda_min of the smoothed top-hat (grey levels / px^2)
+    # Markings wider than the top-hat's kernel or the Hessian's scale (zoomed views, a low camera's near lines) are
+    # found again on the image reduced 2x, 4x (detect.ridges.wide_ridges) when the predicted camera draws a marking
+    # at least wide_from_px wide: this many levels; a point whose ridge is flatter than wide_min_peak (curvature
+    # across over height, 1 / px^2) is left to the coarser levels, whose top-hat threshold is wide_threshold_factor
+    # times the working level's (a wide line is resolved: its paint shows at full contrast) and whose lines rise and
+    # fall in steps of at least wide_edge_share of their height (paint, not a mown stripe).
+    wide_levels: int = 2
+    wide_from_px: float = 7.0
+    wide_min_peak: float = 0.06
+    wide_threshold_factor: float = 2.0
+    wide_edge_share: float = 0.15
     player_open_px: int = 5  # opening that removes lines but keeps bodies
     player_min_area_px: int = 40  # smaller non-grass blobs are not players
     player_margin_px: int = 3  # ridge points this close to a player are dropped
@@ -135,6 +150,8 @@ class WeightFreeDetector:
         self._margin_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (m, m))
         g = 2 * config.grass_reach_px + 1
         self._reach_kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (g, g))
+        wide = 2 * config.grass_reach_px * 2 ** config.wide_levels + 1  # a square: the same reach, cheaper
+        self._wide_reach_kernel = cv2.getStructuringElement(cv2.MORPH_RECT, (wide, wide))
         # GaussianBlur's kernel for a float image: size round(8 sigma + 1), odd.
         sigma = config.ridge_sigma_px
         self._ridge_kernel = cv2.getGaussianKernel(int(round(sigma * 8 + 1)) | 1, sigma, cv2.CV_32F)
@@ -172,23 +189,25 @@ class WeightFreeDetector:
         return boxes.astype(float).reshape(-1, 4), mask
 
     def ridges(self, grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None = None
-               ) -> tuple[np.ndarray, np.ndarray]:
-        """Sub-pixel centre-line points (N, 2) (working pixels) and the candidate map (uint8):
-        :func:`~broadtrack_graph.detect.ridges.marking_ridges` with this detector's kernels and settings."""
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Sub-pixel centre-line points (N, 2) (working pixels), their peaked flags (N,) and the candidate map
+        (uint8): :func:`~broadtrack_graph.detect.ridges.marking_ridges` with this detector's kernels and settings."""
         return marking_ridges(grey, allowed, grass, self._tophat_kernel, self._ridge_kernel, self.config)
 
     def name_points(self, points_px: np.ndarray, predicted: PredictedCamera, scale: float,
-                    size: tuple[int, int]) -> dict[str, np.ndarray]:
+                    size: tuple[int, int], template=None) -> dict[str, np.ndarray]:
         """Class of each working-pixel point from the predicted camera (nearest projected marking within the gate).
 
         Args:
             points_px: (N, 2) working pixels; scale: working / frame pixels; size: (w, h) working size.
+            template: the predicted camera's template at the working size, when already projected.
         """
         c = self.config
         w, h = size
         if not len(points_px):
             return {}
-        template = project_template(predicted.camera, self.curves, w, h, c.template_spacing_px)
+        if template is None:
+            template = project_template(predicted.camera, self.curves, w, h, c.template_spacing_px)
         # min_named_width_px is at the reference width, for a frame at least that wide (as the confidence's rule).
         seen = template.width_m_px >= c.min_named_width_px * (w / REFERENCE_WIDTH_PX) * max(
             1.0, REFERENCE_WIDTH_PX / predicted.camera.width_px)
@@ -202,7 +221,8 @@ class WeightFreeDetector:
         gate = c.gate_px + c.gate_sigmas * predicted.uncertainty_px * scale
         d, nearest = cKDTree(template_uv).query(points_px, distance_upper_bound=gate)
         ok = np.flatnonzero(np.isfinite(d))
-        return _consistent_classes(points_px[ok], template_class[nearest[ok]], d[ok], c)
+        return consistent_classes(points_px[ok], template_class[nearest[ok]], d[ok], c.class_consistency_px,
+                                  c.min_points_per_class, c.point_spacing_px, c.max_points_per_class)
 
     # ----------------------------------------------------------------- detect
 
@@ -261,85 +281,82 @@ class WeightFreeDetector:
         # ridges a margin inside the filled outline (which has no holes at lines or players; the
         # image border is not an edge: erosion pads with the maximum).
         inner = cv2.erode(field, self._boundary_kernel) if self.config.boundary_margin_px > 0 else field
+        outline = field
         field = cv2.bitwise_and(field, cv2.dilate(grass, self._reach_kernel))
         allowed = cv2.bitwise_and(cv2.bitwise_and(field, inner), cv2.bitwise_not(player_mask))
         # Frames reduced 2x or more to the working width are averaged clean of pixel noise and fine
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass.
-        points, _ = self.ridges(grey, allowed, grass if W < 2 * work_w else None)
-        # The marking map: the accepted centre-line points, one pixel wide at the working size.
-        marks = np.zeros((work_h, work_w), dtype=bool)
-        if len(points):
-            marks[np.clip(np.round(points[:, 1]).astype(int), 0, work_h - 1),
-                  np.clip(np.round(points[:, 0]).astype(int), 0, work_w - 1)] = True
+        threshold_grass = grass if W < 2 * work_w else None
+        points, peaked, _ = self.ridges(grey, allowed, threshold_grass)
         unnamed = Detections(
             width_px=W, height_px=H,
             marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
-            marking_mask=marks,
+            marking_mask=_marking_map(points, (work_w, work_h)),
             player_boxes_px=(feet / scale) if len(feet) else feet,
             player_mask=with_legs(player_mask, boxes, feet, self.config.player_margin_px) > 0, field_mask=field > 0,
         )
-        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started)
+        # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
+        # lies farther from grass than grass_reach_px.
+        wide = _WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
+                           peaked) if self.config.wide_levels > 0 else None
+        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide)
 
     def name(self, found: FoundMarkings, predicted: PredictedCamera | None = None) -> Detections:
-        """The frame's detections: ``found`` with its points named by the predicted camera (none without one)."""
+        """The frame's detections: ``found`` with its points named by the predicted camera (none without one).
+
+        When the predicted camera draws a marking at least ``wide_from_px`` wide (working pixels: a zoomed view, a
+        low camera's near lines), the wide markings are found first (:func:`~broadtrack_graph.detect.ridges.wide_ridges`)
+        and the frame's marking points and map are those."""
         started = time.perf_counter()
-        lines = self.name_points(found.points_work_px, predicted, found.scale, found.work_size) \
-            if predicted is not None else {}
+        unnamed, points, lines = found.unnamed, found.points_work_px, {}
+        if predicted is not None:
+            w, h = found.work_size
+            template = project_template(predicted.camera, self.curves, w, h, self.config.template_spacing_px)
+            if found.wide is not None and len(template.width_m_px) and \
+                    template.width_m_px.max() >= self.config.wide_from_px:
+                points = self._with_wide(found)
+                unnamed = replace(unnamed, marking_mask=_marking_map(points, found.work_size),
+                                  marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px),
+                                                                     found.scale))
+            lines = self.name_points(points, predicted, found.scale, found.work_size, template)
         detect_s = found.seconds + time.perf_counter() - started
-        return replace(found.unnamed, lines_px={name: work_to_frame_px(p, found.scale) for name, p in lines.items()},
+        return replace(unnamed, lines_px={name: work_to_frame_px(p, found.scale) for name, p in lines.items()},
                        info={"detect_ms": 1000 * detect_s, "work_scale": found.scale})
+
+    def _with_wide(self, found: FoundMarkings) -> np.ndarray:
+        """The frame's points with its wide markings' (:func:`~broadtrack_graph.detect.ridges.wide_ridges`)."""
+        wide = found.wide
+        allowed = cv2.bitwise_and(cv2.bitwise_and(wide.outline, cv2.dilate(wide.grass, self._wide_reach_kernel)),
+                                  wide.inner)
+        return wide_ridges(wide.grey, allowed, wide.threshold_grass, found.points_work_px, wide.peaked,
+                           self._tophat_kernel, self._ridge_kernel, self.config)
 
     def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
         """Detect field markings in one (H, W, 3) uint8 BGR frame (see module docstring)."""
         return self.name(self.find_markings(image_bgr), predicted)
 
 
-def _group_medians(values: np.ndarray, starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """np.median of each group of ``values`` (sorted within each group; group g is values[starts[g]:][:counts[g]])."""
-    return 0.5 * (values[starts + (counts - 1) // 2] + values[starts + counts // 2])
+def _marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """The marking map: the centre-line points (working pixels), one pixel wide at the working size (w, h)."""
+    w, h = size
+    marks = np.zeros((h, w), dtype=bool)
+    if len(points):
+        marks[np.clip(np.round(points[:, 1]).astype(int), 0, h - 1), np.clip(np.round(points[:, 0]).astype(int), 0, w - 1)] = True
+    return marks
 
 
-def _consistent_classes(points_px: np.ndarray, classes: np.ndarray, distance_px: np.ndarray, c: WeightFreeConfig
-                        ) -> dict[str, np.ndarray]:
-    """The named points of each class: those whose distance to their predicted marking is near the class's median
-    distance (within 2.5 robust sigmas, at least ``class_consistency_px``: the prediction error shifts a whole
-    marking about equally, other markings and clutter are off), averaged per cell; classes with fewer than
-    ``min_points_per_class`` left are dropped. All classes at once (sorted by class, then distance).
+@dataclass(frozen=True)
+class _WideInputs:
+    """What :func:`~broadtrack_graph.detect.ridges.wide_ridges` needs of a frame, kept from find_markings: the grey
+    working image, the field's filled outline without players, the ridges' inner field, the grass mask, the grass the
+    threshold adapts to (or None) and the working level's peaked flags."""
 
-    Args:
-        points_px: (N, 2) working pixels; classes: (N,) their class indices; distance_px: (N,) to the prediction.
-    """
-    if not len(points_px):
-        return {}
-    order = np.lexsort((distance_px, classes))
-    names, starts, counts = np.unique(classes[order], return_index=True, return_counts=True)
-    median = _group_medians(distance_px[order], starts, counts)
-    group = np.repeat(np.arange(len(names)), counts)  # each sorted point's group
-    deviation = np.abs(distance_px[order] - median[group])
-    by_deviation = np.lexsort((deviation, group))
-    spread = np.maximum(c.class_consistency_px, 2.5 * 1.4826 * _group_medians(deviation[by_deviation], starts, counts))
-    index_group = np.searchsorted(names, classes)
-    keep = np.abs(distance_px - median[index_group]) <= spread[index_group]
-    enough = np.bincount(index_group[keep], minlength=len(names)) >= c.min_points_per_class
-    keep &= enough[index_group]
-    if not keep.any():
-        return {}
-    # Each class's cell means (point_cells.cell_means) at once: the class is the key's leading part.
-    kept, kept_group = points_px[keep], index_group[keep]
-    cells = np.floor(kept / c.point_spacing_px).astype(np.int64)
-    cells -= cells.min(axis=0)  # non-negative: the class stays the key's leading part (the cells' order is kept)
-    keys = kept_group * (1 << 40) + cells[:, 0] * 1_000_003 + cells[:, 1]
-    unique_keys, inverse, cell_counts = np.unique(keys, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    means = np.column_stack([np.bincount(inverse, kept[:, 0]), np.bincount(inverse, kept[:, 1])]) / cell_counts[:, None]
-    cell_group = unique_keys >> 40
-    out = {}
-    for g in np.flatnonzero(enough):
-        class_means = means[cell_group == g]
-        if c.max_points_per_class > 0 and len(class_means) > c.max_points_per_class:
-            class_means = capped_cell_means(kept[kept_group == g], c.point_spacing_px, c.max_points_per_class)
-        out[LINE_CLASSES[names[g]]] = class_means
-    return out
+    grey: np.ndarray
+    outline: np.ndarray
+    inner: np.ndarray
+    grass: np.ndarray
+    threshold_grass: np.ndarray | None
+    peaked: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -350,6 +367,7 @@ class FoundMarkings:
         players, field).
     points_work_px: (N, 2) sub-pixel centre-line points at the working size (what is named).
     work_size: (w, h) working size; scale: working / frame pixels; seconds: time it took.
+    wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0).
     """
 
     unnamed: Detections
@@ -357,3 +375,4 @@ class FoundMarkings:
     work_size: tuple[int, int]
     scale: float
     seconds: float
+    wide: _WideInputs | None = None

@@ -1,11 +1,11 @@
-"""The weight-free detector's marking ridges (detect/ridges.py), on images drawn here."""
+"""The weight-free detector's marking ridges (detect/ridges.py), on images drawn here: thin lines, wide lines, stripes."""
 
 from __future__ import annotations
 
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.ridges import marking_ridges
+from broadtrack_graph.detect.ridges import marking_ridges, wide_ridges
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 
 W, H = 320, 200
@@ -14,7 +14,9 @@ W, H = 320, 200
 def _ridges(grey, allowed=None, grass=None, config=WeightFreeConfig()):
     detector = WeightFreeDetector(config=config)
     allowed = np.full((H, W), 255, np.uint8) if allowed is None else allowed
-    return marking_ridges(grey, allowed, grass, detector._tophat_kernel, detector._ridge_kernel, config)
+    points, _, candidates = marking_ridges(grey, allowed, grass, detector._tophat_kernel, detector._ridge_kernel,
+                                           config)
+    return points, candidates
 
 
 def _line_image(offset_px: float, slope: float = 0.2, width_px: float = 3.0, level: float = 60.0):
@@ -59,3 +61,47 @@ def test_the_threshold_rises_with_the_grass_texture():
     on_line = np.abs(adapted[:, 1] - (100.0 + 0.2 * (adapted[:, 0] - 160.0))) < 2.0
     assert len(plain) > 10 * len(adapted)  # the fixed level takes the noise for thousands of ridge points
     assert on_line.mean() > 0.95 and on_line.sum() > 300
+
+
+def _wide(grey, config=WeightFreeConfig()):
+    """The working level's points, then the wide markings' (detect.ridges.wide_ridges), markings allowed anywhere."""
+    detector = WeightFreeDetector(config=config)
+    allowed = np.full(grey.shape, 255, np.uint8)
+    points, peaked, _ = marking_ridges(grey, allowed, None, detector._tophat_kernel, detector._ridge_kernel, config)
+    return points, wide_ridges(grey, allowed, None, points, peaked, detector._tophat_kernel, detector._ridge_kernel,
+                               config)
+
+
+def _distance_to_line(points, offset_px: float, slope: float) -> np.ndarray:
+    return np.abs(points[:, 1] - (100.0 + offset_px + slope * (points[:, 0] - 160.0))) / np.hypot(1.0, slope)
+
+
+def test_lines_wider_than_the_kernel_give_their_centre_not_their_edges():
+    # A zoomed view's or a low camera's near line, 8-24 px wide: the working level gives nothing or points off its
+    # centre; with the reduced levels, a row of points on its centre line and none on its edges.
+    for slope in (0.02, 0.3, 1.0, 4.0):
+        for width in (8.0, 12.0, 16.0, 24.0):
+            image = cv2.GaussianBlur(_line_image(0.3, slope=slope, width_px=width, level=50.0), (0, 0), 1.0)
+            working, points = _wide(image)
+            inside = (points[:, 0] > 40) & (points[:, 0] < W - 40) & (points[:, 1] > 40) & (points[:, 1] < H - 40)
+            distance = _distance_to_line(points[inside], 0.3, slope)
+            assert inside.sum() >= 10, (slope, width)
+            assert np.max(distance) < 0.25 * width and np.median(distance) < 0.5, (slope, width)
+            working = working[(working[:, 0] > 40) & (working[:, 0] < W - 40)]
+            assert width < 10 or not len(working) or np.median(_distance_to_line(working, 0.3, slope)) > 0.5
+
+
+def test_narrow_lines_keep_their_points_with_the_reduced_levels():
+    for width in (2.0, 3.0, 5.0):
+        working, points = _wide(_line_image(0.3, width_px=width))
+        assert len(working) > 200 and np.array_equal(points, working)
+
+
+def test_a_soft_wide_stripe_is_not_a_wide_marking():
+    # A mown stripe or a soft band of light, as bright as paint and as wide as a zoomed line but without its sharp
+    # edges: the reduced levels find its ridge and leave it (the working level finds none on it either).
+    rows, cols = np.mgrid[0:H, 0:W].astype(float)
+    distance = (rows - (100.0 + 0.3 * (cols - 160.0))) / np.hypot(1.0, 0.3)
+    stripe = np.clip(90.0 + 50.0 * np.exp(-0.5 * (distance / 6.0) ** 2), 0, 255).astype(np.uint8)
+    assert len(_wide(stripe)[1]) == 0
+    assert len(_wide(stripe, WeightFreeConfig(wide_edge_share=0.0))[1]) > 50  # the rule is what leaves it

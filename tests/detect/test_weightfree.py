@@ -231,7 +231,7 @@ def _classes_one_by_one(points_px, classes, distance_px, c):
 
 
 def test_all_classes_at_once_name_the_same_points_as_one_class_at_a_time():
-    from broadtrack_graph.detect.weightfree import _consistent_classes
+    from broadtrack_graph.detect.class_points import consistent_classes
     from broadtrack_graph.geometry.pitch import LINE_CLASSES
 
     config = WeightFreeConfig()
@@ -242,6 +242,49 @@ def test_all_classes_at_once_name_the_same_points_as_one_class_at_a_time():
         classes = rng.integers(0, int(rng.integers(1, len(LINE_CLASSES) + 1)), n)
         distance = np.round(rng.gamma(2.0, 1.0, n), int(rng.integers(0, 4)))  # rounded: ties in the medians
         expected = _classes_one_by_one(points, classes, distance, config)
-        got = _consistent_classes(points, classes, distance, config)
+        got = consistent_classes(points, classes, distance, config.class_consistency_px, config.min_points_per_class,
+                                 config.point_spacing_px, config.max_points_per_class)
         assert list(got) == list(expected)
         assert all(np.array_equal(got[name], expected[name]) for name in expected)
+
+
+def _zoomed_frame(hfov_deg: float):
+    """A main camera's view of a penalty area at hfov_deg, rendered with the markings' true width (1280x720)."""
+    from broadtrack_graph.synth.field_cameras import aim_angles
+    from broadtrack_graph.synth.field_samples import render_look
+    from broadtrack_graph.synth.named_looks import draw_named_look, named_look
+
+    position, aim = np.array([0.0, 55.0, -14.0]), np.array([-36.0, -10.0, 0.0])
+    pan, tilt = aim_angles(position, aim)
+    camera = Camera(640.0 / np.tan(np.radians(hfov_deg / 2)), 0.0, pan, tilt, 0.0, position, 1280, 720)
+    look = draw_named_look("clean", np.random.default_rng(1), aim)
+    return camera, render_look(camera, None, look, named_look("clean")).image
+
+
+def _template_recall(camera, marking_mask) -> float:
+    """Share of the camera's projected template (at the map's size) within 2 px of a marking pixel."""
+    from scipy.spatial import cKDTree
+
+    from broadtrack_graph.geometry.template import project_template
+
+    h, w = marking_mask.shape
+    template = project_template(camera.rescaled(w, h), TemplateCurves(PITCH), w, h, 0.5)
+    marks = np.column_stack(np.nonzero(marking_mask)[::-1])
+    return float(np.mean(cKDTree(marks).query(template.uv_px)[0] < 2.0))
+
+
+def test_a_zoomed_view_is_named_from_its_wide_markings_and_a_wide_one_from_the_map_as_found():
+    # At 5 deg the markings are about 17 px wide at the working size: the predicted camera asks for the reduced
+    # levels, and the frame's map then lays the template on the lines' centres; at 30 deg (3 px) the map is the
+    # camera-free one, the same pixels.
+    detector = WeightFreeDetector(PITCH)
+    camera, image = _zoomed_frame(5.0)
+    found = detector.find_markings(image)
+    named = detector.name(found, PredictedCamera(camera, 2.0))
+    assert _template_recall(camera, named.marking_mask) > 0.95 > _template_recall(camera, found.unnamed.marking_mask)
+    assert sum(len(p) for p in named.lines_px.values()) > 0
+    camera, image = _zoomed_frame(30.0)
+    found = detector.find_markings(image)
+    named = detector.name(found, PredictedCamera(camera, 2.0))
+    assert np.array_equal(named.marking_mask, found.unnamed.marking_mask)
+    assert np.array_equal(named.marking_points_px, found.unnamed.marking_points_px)
