@@ -14,6 +14,13 @@ def work_to_frame_px(points_work_px, scale: float) -> np.ndarray:
     return (np.asarray(points_work_px, float) + 0.5) / scale - 0.5
 
 
+def pixels_of(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """(N, 2) int (col, row): the pixel of each point (pixels, (N, 2)), rounded and clipped to an image of size (w, h)."""
+    w, h = size
+    return np.column_stack([np.clip(np.round(points[:, 0]).astype(int), 0, w - 1),
+                            np.clip(np.round(points[:, 1]).astype(int), 0, h - 1)]).reshape(-1, 2)
+
+
 def cell_means(points: np.ndarray, spacing: float) -> np.ndarray:
     """The mean of the points in each cell of ``spacing`` pixels: (M, 2), one per occupied cell.
 

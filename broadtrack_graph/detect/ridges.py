@@ -27,6 +27,8 @@ import cv2
 import numpy as np
 from scipy.spatial import cKDTree
 
+from broadtrack_graph.detect.point_cells import pixels_of
+
 
 def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
     """Indices in [-1, size] mapped into [0, size) as OpenCV's BORDER_REFLECT_101 pads (-1 -> 1, size -> size - 2)."""
@@ -68,8 +70,7 @@ def wide_ridges(grey: np.ndarray, wide_allowed: np.ndarray, grass: np.ndarray | 
     level_grey, level_grass = grey, grass
     level_allowed = cv2.threshold(wide_allowed, 0, 1, cv2.THRESH_BINARY)[1]
     kept, peaked = np.asarray(points, float).reshape(-1, 2), np.asarray(peaked, bool)
-    kept_px = np.column_stack([np.clip(np.round(kept[:, 0]).astype(int), 0, w - 1),
-                               np.clip(np.round(kept[:, 1]).astype(int), 0, h - 1)])
+    kept_px = pixels_of(kept, (w, h))
     taken = np.zeros((h, w), np.uint8)  # the pixels holding a peaked point (at the last level's size)
     taken[kept_px[peaked, 1], kept_px[peaked, 0]] = 1
     for level in range(1, c.wide_levels + 1):
@@ -95,37 +96,35 @@ def wide_ridges(grey: np.ndarray, wide_allowed: np.ndarray, grass: np.ndarray | 
         threshold = _threshold(tophat, level_grass, c) * c.wide_threshold_factor
         found, peak, normals, _ = _centre_points(tophat, free, threshold, ridge_kernel, c)
         found = found * scale + (scale - 1) / 2.0  # a level's pixel centre in working pixels
-        if len(found):
-            # A wide line is paint if it has paint's sharp edges; the finer points across it (its edges, its flat
-            # top) give way to its own.
-            edge_px = (scale // 2) * (tophat_kernel.shape[0] // 2 + 1)
-            paint = _sharp_edged(grey, found, normals, 2 * edge_px, c.wide_edge_share)
-            found, peak, normals = found[paint], peak[paint], normals[paint]
-        if len(found):
-            beside = _across(kept, kept_px // scale, found, normals, edge_px, scale / 2.0 + 0.5, scale, free.shape)
-            if beside.any():
-                kept, kept_px, peaked = kept[~beside], kept_px[~beside], peaked[~beside]
-        found_px = np.column_stack([np.clip(np.round(found[:, 0]).astype(int), 0, w - 1),
-                                    np.clip(np.round(found[:, 1]).astype(int), 0, h - 1)])
+        # A wide line is paint if it has paint's sharp edges; the finer points across it (its edges, its flat top)
+        # give way to its own.
+        edge_px = (scale // 2) * (tophat_kernel.shape[0] // 2 + 1)
+        paint = _sharp_edged(grey, found, normals, 2 * edge_px, c.wide_edge_share)
+        found, peak, normals = found[paint], peak[paint], normals[paint]
+        found_px = pixels_of(found, (w, h))
+        beside = _across(kept, kept_px // scale, found, found_px // scale, normals, edge_px, scale / 2.0 + 0.5, scale,
+                         free.shape)
+        if beside.any():
+            kept, kept_px, peaked = kept[~beside], kept_px[~beside], peaked[~beside]
         peak = peak >= c.wide_min_peak
         taken[found_px[peak, 1] // scale, found_px[peak, 0] // scale] = 1
         kept, kept_px, peaked = np.vstack([kept, found]), np.vstack([kept_px, found_px]), np.concatenate([peaked, peak])
     return kept
 
 
-def _across(points: np.ndarray, cells: np.ndarray, centres: np.ndarray, normals: np.ndarray, across_px: float,
-            along_px: float, scale: int, level_shape: tuple[int, int]) -> np.ndarray:
+def _across(points: np.ndarray, cells: np.ndarray, centres: np.ndarray, centre_cells: np.ndarray, normals: np.ndarray,
+            across_px: float, along_px: float, scale: int, level_shape: tuple[int, int]) -> np.ndarray:
     """(N,) bool: each point (working pixels) within across_px of a centre-line point across its line (along its unit
     normal) and within along_px along it (that centre's own stretch of line, not its neighbours'). The points near a
-    centre are picked first on the centres' level (``cells``: the points' (col, row) pixels there; scale: working
-    pixels per level pixel; level_shape: its (h, w)), then tested exactly."""
+    centre are picked first on the centres' level (``cells``, ``centre_cells``: the (col, row) pixels there of the
+    points and of the centres; scale: working pixels per level pixel; level_shape: its (h, w)), then tested
+    exactly."""
     out = np.zeros(len(points), bool)
     if not len(points) or not len(centres):
         return out
     reach = float(np.hypot(across_px, along_px))
     near = np.zeros(level_shape, np.uint8)
-    near[np.clip(np.round(centres[:, 1]).astype(int) // scale, 0, level_shape[0] - 1),
-         np.clip(np.round(centres[:, 0]).astype(int) // scale, 0, level_shape[1] - 1)] = 1
+    near[np.minimum(centre_cells[:, 1], level_shape[0] - 1), np.minimum(centre_cells[:, 0], level_shape[1] - 1)] = 1
     reach_cells = int(np.ceil(reach / scale)) + 1
     near = cv2.dilate(near, np.ones((2 * reach_cells + 1, 2 * reach_cells + 1), np.uint8))
     close = np.flatnonzero(near[np.minimum(cells[:, 1], level_shape[0] - 1), np.minimum(cells[:, 0], level_shape[1] - 1)])

@@ -53,7 +53,7 @@ from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
 from broadtrack_graph.detect.ridges import marking_ridges, wide_ridges
 from broadtrack_graph.detect.playing_field import grass_and_field
-from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
+from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
@@ -340,8 +340,8 @@ def _marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     """The marking map: the centre-line points (working pixels), one pixel wide at the working size (w, h)."""
     w, h = size
     marks = np.zeros((h, w), dtype=bool)
-    if len(points):
-        marks[np.clip(np.round(points[:, 1]).astype(int), 0, h - 1), np.clip(np.round(points[:, 0]).astype(int), 0, w - 1)] = True
+    pixels = pixels_of(points, size)
+    marks[pixels[:, 1], pixels[:, 0]] = True
     return marks
 
 
