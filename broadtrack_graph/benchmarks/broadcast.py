@@ -67,8 +67,10 @@ def add_arguments(parser) -> None:
                         help="real part: splice the *.mp4 videos of this folder with hard cuts and track it online")
     parser.add_argument("--segment-frames", type=int, default=120, help="real part: typical segment length (default 120)")
     parser.add_argument("--segments", type=int, default=6, help="real part: number of segments (default 6)")
-    parser.add_argument("--real-width", type=int, default=1280, help="real part: splice width (default 1280)")
     parser.add_argument("--real-height", type=int, default=720, help="real part: splice height (default 720)")
+    parser.add_argument("--real-width", type=int, default=None,
+                        help="real part: splice width (default 16:9 of --real-height: 1280 at 720, 1920 at 1080); a "
+                             "width off that shape stretches the frames, which no pinhole camera fits")
     parser.add_argument("--out", type=Path, default=Path("bench-broadcast"),
                         help="folder for clips/, runs/ and real/ (default ./bench-broadcast); a complete rendered "
                              "clip found there is reused")
@@ -258,7 +260,13 @@ def run(args) -> dict:
     if args.video_dir is not None:
         from broadtrack_graph.benchmarks.broadcast_real import real_section
 
+        width = args.real_width if args.real_width is not None else splice_width(args.real_height)
         report["real"] = real_section(args.video_dir, out / "real", args.segment_frames, args.segments,
-                                      args.real_width, args.real_height, progress, tracker_options(args))
+                                      width, args.real_height, progress, tracker_options(args))
     print(summary_table(report), file=sys.stderr)
     return report
+
+
+def splice_width(height_px: int) -> int:
+    """The width of a 16:9 frame ``height_px`` high (even, as video encoders want): 1280 at 720, 1920 at 1080."""
+    return 2 * round(height_px * 16 / 9 / 2)

@@ -78,7 +78,7 @@ def report(tmp_path_factory):
         code = main(["bench", "broadcast", "--frames", str(FRAMES), "--width", str(WIDTH), "--height", str(HEIGHT),
                      "--modes", "online", "batch", "--out", str(base / "work"), "--no-progress", "--json", str(out),
                      "--video-dir", str(videos), "--segment-frames", "10", "--segments", "4",
-                     "--real-width", "160", "--real-height", "90"])
+                     "--real-height", "90"])
     finally:
         patch.undo()
     assert code == 0
@@ -118,3 +118,15 @@ def test_real_splice_segments(report):
     assert real["frames"] == 42 and real["cuts"]["true_cuts"] == 3
     assert all(s["frames_with_camera"] == 0 and s["aligned_share"] is None for s in real["segments"])
     assert real["status_counts"] == {"failed": 42}
+    # --real-height alone keeps the 16:9 shape (a stretched frame fits no pinhole camera)
+    capture = cv2.VideoCapture(real["video"])
+    try:
+        assert (capture.get(cv2.CAP_PROP_FRAME_WIDTH), capture.get(cv2.CAP_PROP_FRAME_HEIGHT)) == (160, 90)
+    finally:
+        capture.release()
+
+
+def test_splice_width_is_16_by_9():
+    from broadtrack_graph.benchmarks.broadcast import splice_width
+
+    assert [splice_width(h) for h in (90, 360, 478, 720, 1080)] == [160, 640, 850, 1280, 1920]
