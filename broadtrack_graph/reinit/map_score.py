@@ -338,7 +338,8 @@ def polish_locally(hypotheses: list[Hypothesis], scorer: MapScorer, config: Mask
 
 
 def best_distinct(pans, tilts, focals, costs, count: int, radius_px: float, width_px: int) -> list[int]:
-    """Indices of up to ``count`` best (lowest cost) hypotheses, no two within radius_px (frame pixels) of each other."""
+    """Indices of up to ``count`` best (lowest cost) hypotheses, no two within radius_px (frame pixels) of each other
+    (pans compared round the circle: -179 and 179 deg are 2 deg apart)."""
     order = np.argsort(costs)
     kept: list[int] = []
     for k in order:
@@ -347,7 +348,7 @@ def best_distinct(pans, tilts, focals, costs, count: int, radius_px: float, widt
         f = focals[k]
         close = False
         for m in kept:
-            shift = max(abs(pans[k] - pans[m]) * f, abs(tilts[k] - tilts[m]) * f,
+            shift = max(abs(math.remainder(pans[k] - pans[m], 2 * math.pi)) * f, abs(tilts[k] - tilts[m]) * f,
                         abs(math.log(f / focals[m])) * width_px / 2)
             if shift < radius_px:
                 close = True

@@ -126,3 +126,19 @@ def test_a_fitted_camera_standing_on_the_pitch_is_not_returned(monkeypatch):
         position_m=np.array([10.0, 20.0, -15.0])))  # a fit that walked onto the pitch
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (W, H), PITCH, CURVES, det.field_mask)
     assert result.camera is None and "not a broadcast camera's" in result.reason
+
+
+def test_a_low_camera_on_the_16m_line_is_found_when_its_twin_takes_no_fitting_slot():
+    # The 16 m preset's opening frame (a camera 9 m up beside the penalty area, 29 deg field of view). Its best
+    # hypotheses' twins score exactly as they do; counted as distinct (their pans half a turn apart, unwrapped), a
+    # twin took one of the three fits and the camera came out 7 m back along its line of sight, 14 px off.
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.synth.clip import render_clip
+
+    frame = render_clip("16m", 1, 1920, 1080, seed=0).frames[0]
+    det = WeightFreeDetector(PITCH).detect(frame.image)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1920, 1080), PITCH, CURVES, det.field_mask)
+    assert result.camera is not None, result.reason
+    assert median_template_error_px(result.camera, frame.camera) < 2.0
+    assert np.linalg.norm(result.camera.position_m - frame.camera.position_m) < 1.0
+

@@ -61,6 +61,13 @@ def test_best_distinct_skips_near_copies_and_infinite_costs():
     assert best_distinct(pans, tilts, focals, costs, 2, 5.0, 960) == [1, 3]
 
 
+def test_best_distinct_compares_pans_round_the_circle():
+    # 179.9 and -179.9 deg are 0.2 deg apart (3.5 px at f = 1000): one view, not two
+    pans = np.radians([179.9, -179.9, 90.0])
+    costs = np.array([-0.9, -0.8, -0.5])
+    assert best_distinct(pans, np.zeros(3), np.full(3, 1000.0), costs, 3, 5.0, 960) == [0, 2]
+
+
 def test_polish_locally_brings_a_shifted_hypothesis_onto_the_map_and_leaves_the_rest():
     truth = Camera.from_degrees(1300.0, 0.0, 9.0, 77.0, 0.0, (0.0, 55.0, -12.0), W, H)
     mask, points = _drawn_map(truth)
