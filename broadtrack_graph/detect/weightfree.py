@@ -30,7 +30,8 @@ mapped back to the frame's pixels. Pipeline:
    within ``gate_px + gate_sigmas * uncertainty``; the points of a class that stay
    (:mod:`~broadtrack_graph.detect.class_points`) are averaged per small grid cell. Without a prediction only the
    unnamed points and the marking map are returned (re-initialisation then works from
-   the map, see :func:`broadtrack_graph.reinit.mask.reinit_from_mask`).
+   the map: the court model, :func:`broadtrack_graph.reinit.court.reinit_from_court`, and the search of
+   :func:`broadtrack_graph.reinit.mask.reinit_from_mask`).
 
 Steps 1-3 need no camera (:meth:`WeightFreeDetector.find_markings`, run by the tracker
 ahead of time in the thread that decodes the frames); step 4 is :meth:`~WeightFreeDetector.name`.
