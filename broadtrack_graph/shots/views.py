@@ -69,6 +69,19 @@ def grass_mask(small_bgr: np.ndarray, config: ViewConfig) -> np.ndarray:
                        (config.grass_hue_max, 255, 255))
 
 
+def row_ends(mask: np.ndarray) -> np.ndarray:
+    """(K, 2) int32 (x, y) of the first and the last pixel of each row of a (h, w) bool mask that has one: their
+    convex hull is the mask's (a row's other pixels lie between its two ends), from 2h points instead of every
+    pixel (a tenth of the time on a field-sized region)."""
+    rows = np.flatnonzero(mask.any(axis=1))
+    if not len(rows):
+        return np.zeros((0, 2), np.int32)
+    kept = mask[rows]
+    first = np.argmax(kept, axis=1)
+    last = mask.shape[1] - 1 - np.argmax(kept[:, ::-1], axis=1)
+    return np.concatenate([np.column_stack([first, rows]), np.column_stack([last, rows])]).astype(np.int32)
+
+
 def classify_view(image_bgr: np.ndarray, config: ViewConfig = ViewConfig()) -> ViewResult:
     """Classify one (H, W, 3) uint8 BGR frame (see the module docstring)."""
     H, W = image_bgr.shape[:2]
@@ -82,8 +95,7 @@ def classify_view(image_bgr: np.ndarray, config: ViewConfig = ViewConfig()) -> V
                           grass_share, 0.0)
     count, labels, stats, _ = cv2.connectedComponentsWithStats((grass > 0).astype(np.uint8), connectivity=8)
     largest = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
-    ys, xs = np.nonzero(labels == largest)
-    hull = cv2.convexHull(np.column_stack([xs, ys]).astype(np.int32))
+    hull = cv2.convexHull(row_ends(labels == largest))
     region = np.zeros_like(grass)
     cv2.fillConvexPoly(region, hull, 255)
     other = cv2.bitwise_and(cv2.bitwise_not(grass), region)

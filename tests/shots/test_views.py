@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.shots.segmenter import ShotSegmenter
-from broadtrack_graph.shots.views import VIEW_CLOSE_UP, VIEW_CROWD, VIEW_MAIN, classify_view
+from broadtrack_graph.shots.views import VIEW_CLOSE_UP, VIEW_CROWD, VIEW_MAIN, classify_view, row_ends
 
 
 def grass(h=360, w=640, seed=0) -> np.ndarray:
@@ -106,3 +106,22 @@ def test_place_shot_names_the_pitch_camera():
     assert place_shot(pitch, "high-corner-1").kind == "other-camera"
     assert (place_shot(pitch, None).kind, place_shot(pitch, None).camera_id) == ("pitch", None)
     assert place_shot(Shot(10, 20, "close-up", None), "main").camera_id is None
+
+
+def test_row_ends_give_the_same_filled_hull_as_every_pixel():
+    """The convex hull of each row's two end pixels fills exactly the region the hull of all the pixels fills."""
+    rng = np.random.default_rng(7)
+    for trial in range(40):
+        mask = np.zeros((90, 160), np.uint8)
+        for _ in range(int(rng.integers(1, 6))):  # a few random convex and thin blobs, as grass regions cut by graphics
+            centre = tuple(int(v) for v in rng.integers(0, (160, 90)))
+            axes = tuple(int(v) for v in rng.integers(1, 60, 2))
+            cv2.ellipse(mask, centre, axes, float(rng.uniform(0, 180)), 0, 360, 1, -1)
+        mask[rng.random(mask.shape) < 0.05] ^= 1  # speckle: lone pixels and holes
+        ys, xs = np.nonzero(mask)
+        every = np.zeros_like(mask)
+        cv2.fillConvexPoly(every, cv2.convexHull(np.column_stack([xs, ys]).astype(np.int32)), 1)
+        ends = np.zeros_like(mask)
+        cv2.fillConvexPoly(ends, cv2.convexHull(row_ends(mask > 0)), 1)
+        np.testing.assert_array_equal(ends, every, err_msg=f"trial {trial}")
+    assert row_ends(np.zeros((4, 5), bool)).shape == (0, 2)
