@@ -50,15 +50,17 @@ class FlowFrame:
         return self.grey.shape
 
 
-def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig(), grey: np.ndarray | None = None) -> FlowFrame:
+def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig(), grey: np.ndarray | None = None,
+            reduced_bgr: np.ndarray | None = None) -> FlowFrame:
     """Grey working image for :func:`grid_flow` (compute once per frame and reuse).
 
     grey: the frame's :func:`~broadtrack_graph.shots.repeats.reduced_grey` at the flow's working width when
-    already made (the repeat test's, at the same width); None (or another width): made here.
+    already made (the repeat test's, at the same width); None (or another width): made here, from ``reduced_bgr``
+    when given (as for :func:`~broadtrack_graph.shots.repeats.reduced_grey`).
     """
     h, w = image_bgr.shape[:2]
     if grey is None or grey.shape[1] != min(config.work_width_px, w):
-        grey = reduced_grey(image_bgr, config.work_width_px)
+        grey = reduced_grey(image_bgr, config.work_width_px, reduced_bgr)
     return FlowFrame(_without_shading(grey, config) if config.shading_sigma_px > 0 else grey)
 
 

@@ -57,7 +57,7 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
             return frame
         grey = None
         if run.config.repeats.max_changed_share > 0:
-            grey = repeat_grey(frame.image, run.config.repeats)
+            grey = repeat_grey(frame.image, run.config.repeats, frame.working_bgr)
             frame.repeats_previous = repeats(last_grey[0], grey, run.config.repeats)
             if frame.repeats_previous:
                 # It carries the estimate of the frame it repeats, whose image the next frames are compared with (a
@@ -65,7 +65,7 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
                 return frame
             last_grey[0] = grey
         if run.config.use_flow and frame.flow_frame is None:
-            frame.flow_frame = prepare(frame.image, flow_config, grey)  # the repeat test's grey, at the same width
+            frame.flow_frame = prepare(frame.image, flow_config, grey, frame.working_bgr)  # the repeat test's grey
         other_view = frame.shot is not None and frame.shot.is_other_view
         keep = None
         if find_markings is not None and frame.observations is None and frame.markings is None and not other_view:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from broadtrack_graph.shots.repeats import RepeatConfig, repeat_grey, repeats
+from broadtrack_graph.shots.repeats import RepeatConfig, repeat_grey, repeats, reduced_grey
 
 
 def _frame(seed: int = 0, shift_px: float = 0.0, player_at: int | None = None) -> np.ndarray:
@@ -57,3 +57,16 @@ def test_the_thresholds_are_the_configs():
 def test_nothing_repeats_when_the_share_is_zero():
     first = _frame(player_at=600)
     assert not repeats(repeat_grey(first), repeat_grey(first), RepeatConfig(max_changed_share=0.0))
+
+
+def test_reduced_grey_from_the_working_image_is_the_frames_within_a_grey_level():
+    """Made from the frame's area-averaged working image, the grey image has the same size and differs from the one
+    made from the frame itself by under a grey level on average; a working image narrower than asked is not used."""
+    rng = np.random.default_rng(3)
+    frame = cv2.GaussianBlur(rng.integers(0, 256, (1080, 1920, 3), dtype=np.uint8), (0, 0), 2.0)
+    working = cv2.resize(frame, (960, 540), interpolation=cv2.INTER_AREA)
+    direct, via = reduced_grey(frame, 640), reduced_grey(frame, 640, working)
+    assert via.shape == direct.shape == (360, 640)
+    assert np.abs(via.astype(int) - direct.astype(int)).mean() < 1.0
+    assert not np.array_equal(via, direct)  # it was made from the working image
+    np.testing.assert_array_equal(reduced_grey(frame, 1280, working), reduced_grey(frame, 1280))
