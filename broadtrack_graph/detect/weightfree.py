@@ -27,7 +27,10 @@ mapped back to the frame's pixels. Pipeline:
    working level resolves (``wide_from_px``: a zoomed view, a low camera's near lines), the wide markings are found
    first on the image reduced 2x and 4x (:func:`~broadtrack_graph.detect.ridges.wide_ridges`) and the frame's
    marking map is theirs too; every ridge point takes the class of the nearest projected sample (k-d tree) when
-   within ``gate_px + gate_sigmas * uncertainty``; the points of a class that stay
+   within ``gate_px + gate_sigmas * uncertainty``, except those named after a touchline or a goal line that lie beyond
+   the pitch's outline once the template is registered on the named points (a turn and a zoom of the prediction:
+   :mod:`~broadtrack_graph.detect.registration`; the boards' edge beside a far touchline the frame does not show);
+   the points of a class that stay
    (:mod:`~broadtrack_graph.detect.class_points`) are averaged per small grid cell. Without a prediction only the
    unnamed points and the marking map are returned (re-initialisation then works from
    the map: the court model, :func:`broadtrack_graph.reinit.court.reinit_from_court`, and the search of
@@ -54,10 +57,11 @@ from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
 from broadtrack_graph.detect.ridges import marking_ridges, wide_ridges
 from broadtrack_graph.detect.playing_field import grass_and_field
+from broadtrack_graph.detect.registration import named_off_the_pitch
 from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, project_template
+from broadtrack_graph.geometry.template import ImageTemplate, TemplateCurves, project_template
 
 REFERENCE_WIDTH_PX = 960
 """Working width of the detector; every pixel setting of :class:`WeightFreeConfig` is at this width."""
@@ -106,6 +110,9 @@ class WeightFreeConfig:
     feet_max_share: float = 1.0
     gate_px: float = 2.0  # naming gate (working pixels) ...
     gate_sigmas: float = 2.5  # ... plus this many predicted uncertainties (frame pixels, scaled to working ones)
+    # Named points beyond the pitch's outer lines by more than gate_px + gate_sigmas residual scales of the template
+    # registered on the frame's points (and half a marking's width) are dropped (detect.registration).
+    register_template: bool = True
     class_consistency_px: float = 1.0  # band (working pixels) around a class's median distance to its prediction
     min_points_per_class: int = 4  # fewer named points: the class is dropped
     point_spacing_px: float = 3.0  # named points are averaged per cell of this size (working pixels)
@@ -220,7 +227,13 @@ class WeightFreeDetector:
         if not len(template_uv) or not len(points_px):
             return {}
         gate = c.gate_px + c.gate_sigmas * predicted.uncertainty_px * scale
-        d, nearest = cKDTree(template_uv).query(points_px, distance_upper_bound=gate)
+        # Midpoint splits: built in half the time and queried faster than the default's median splits.
+        tree = cKDTree(template_uv, balanced_tree=False, compact_nodes=False)
+        d, nearest = tree.query(points_px, distance_upper_bound=gate)
+        if c.register_template:  # nothing painted lies beyond the pitch's outer lines (detect.registration)
+            visible = ImageTemplate(template_uv, template_class, template.width_m_px[seen])
+            d[named_off_the_pitch(visible, tree, points_px, d, nearest, gate, predicted.camera.rescaled(w, h),
+                                  self.pitch.dimensions, c.template_spacing_px, c.gate_px, c.gate_sigmas)] = np.inf
         ok = np.flatnonzero(np.isfinite(d))
         return consistent_classes(points_px[ok], template_class[nearest[ok]], d[ok], c.class_consistency_px,
                                   c.min_points_per_class, c.point_spacing_px, c.max_points_per_class)

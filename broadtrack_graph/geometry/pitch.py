@@ -62,6 +62,8 @@ ALL_ANNOTATION_CLASSES: tuple[str, ...] = LINE_CLASSES + UNKNOWN_CLASSES
 
 GOAL_CLASSES: tuple[str, ...] = tuple(name for name in LINE_CLASSES if name.startswith("Goal"))
 CIRCLE_CLASSES: tuple[str, ...] = ("Circle central", "Circle left", "Circle right")
+OUTER_LINES: tuple[str, ...] = ("Side line bottom", "Side line left", "Side line right", "Side line top")
+"""The touchlines and goal lines: the pitch's outline, every other marking inside it."""
 
 
 def _mirror_name(name: str) -> str:
