@@ -35,16 +35,25 @@ class RepeatConfig:
     #                                   (0: no frame repeats)
 
 
+AREA_STEP_WIDTH_PX = 960
+"""Frames at least twice as wide are first area-averaged to this width in colour (the weight-free detector's working
+image, which the decoding thread makes once a frame), then made grey and reduced."""
+
+
 def reduced_grey(image_bgr: np.ndarray, width_px: int, reduced_bgr: np.ndarray | None = None) -> np.ndarray:
     """(h, min(width_px, W)) uint8: the frame made grey, then reduced to that width by area averaging (grey first:
-    the reduction then moves one channel, not three). The repeat test's image and the optical flow's
-    working image (:func:`broadtrack_graph.detect.flow.prepare`) are this.
+    the reduction then moves one channel, not three). A frame at least twice :data:`AREA_STEP_WIDTH_PX` wide is
+    first area-averaged to that width (a 1920 px frame's grey and reduction cost about five times more; averaging
+    in two steps changes a pixel by half a grey level on average), whichever way the frame comes. The repeat test's
+    image and the optical flow's working image (:func:`broadtrack_graph.detect.flow.prepare`) are this.
 
-    reduced_bgr: the frame already area-averaged down to a width of at least ``width_px`` (the detector's working
-    image), or None. Made from it instead: a 1920 px frame's grey and reduction cost about five times more than
-    the 960 px image's, and averaging in two steps changes a pixel by half a grey level on average.
+    reduced_bgr: that area-averaged image when already made (the detector's working image), or None.
     """
-    if reduced_bgr is not None and min(width_px, image_bgr.shape[1]) <= reduced_bgr.shape[1] < image_bgr.shape[1]:
+    H, W = image_bgr.shape[:2]
+    if W >= 2 * AREA_STEP_WIDTH_PX and width_px <= AREA_STEP_WIDTH_PX:
+        if reduced_bgr is None or reduced_bgr.shape[1] != AREA_STEP_WIDTH_PX:
+            reduced_bgr = cv2.resize(image_bgr, (AREA_STEP_WIDTH_PX, max(1, int(round(H * AREA_STEP_WIDTH_PX / W)))),
+                                     interpolation=cv2.INTER_AREA)
         image_bgr = reduced_bgr
     h, w = image_bgr.shape[:2]
     width = min(width_px, w)
