@@ -227,7 +227,7 @@ class WeightFreeDetector:
         if not len(template_uv) or not len(points_px):
             return {}
         gate = c.gate_px + c.gate_sigmas * predicted.uncertainty_px * scale
-        # Midpoint splits: built in half the time and queried faster than the default's median splits.
+        # Midpoint splits: built and queried faster than with the default median splits (docs/BENCHMARKS.md).
         tree = cKDTree(template_uv, balanced_tree=False, compact_nodes=False)
         d, nearest = tree.query(points_px, distance_upper_bound=gate)
         if c.register_template:  # nothing painted lies beyond the pitch's outer lines (detect.registration)

@@ -71,8 +71,8 @@ def grass_mask(small_bgr: np.ndarray, config: ViewConfig) -> np.ndarray:
 
 def row_ends(mask: np.ndarray) -> np.ndarray:
     """(K, 2) int32 (x, y) of the first and the last pixel of each row of a (h, w) bool mask that has one: their
-    convex hull is the mask's (a row's other pixels lie between its two ends), from 2h points instead of every
-    pixel (a tenth of the time on a field-sized region)."""
+    convex hull is the mask's (a row's other pixels lie between its two ends), from at most 2h points instead of
+    every pixel of a field-sized region."""
     rows = np.flatnonzero(mask.any(axis=1))
     if not len(rows):
         return np.zeros((0, 2), np.int32)
