@@ -112,8 +112,9 @@ def template_normals(template_uv: np.ndarray, index: np.ndarray, spacing_px: flo
     uv = np.asarray(template_uv, float).reshape(-1, 2)
     index = np.asarray(index, int)
     tangent = np.zeros((len(index), 2))
-    for side in (-1, 1):
-        step = side * (uv[np.clip(index + side, 0, len(uv) - 1)] - uv[index])
+    at = uv[index]
+    for side, beside in ((-1, np.maximum(index - 1, 0)), (1, np.minimum(index + 1, len(uv) - 1))):
+        step = side * (uv[beside] - at)
         step[np.einsum("ij,ij->i", step, step) > (3.0 * spacing_px) ** 2] = 0.0  # a jump to the next piece
         tangent += step
     norm = np.sqrt(np.einsum("ij,ij->i", tangent, tangent))
