@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -52,7 +53,6 @@ class Registration:
     rotation: (3, 3) the turn, applied to the camera's rays (camera frame: x right, y down, z along the axis).
     focal_px: the zoomed focal length; centre_px: (2,) the principal point; predicted_focal_px: the prediction's.
     scale_px: robust scale of the registered residuals (pixels, 1.4826 times their median).
-    points: how many ridge points measured it.
     """
 
     rotation: np.ndarray
@@ -60,7 +60,6 @@ class Registration:
     centre_px: np.ndarray
     predicted_focal_px: float
     scale_px: float
-    points: int
 
     def apply(self, uv_px: np.ndarray) -> np.ndarray:
         """(M, 2) predicted-template pixels where the registered camera draws them."""
@@ -79,25 +78,6 @@ def _turned(uv_px: np.ndarray, rotation: np.ndarray, from_focal_px: float, to_fo
     rays = np.column_stack([(uv - centre_px) / from_focal_px, np.ones(len(uv))])
     turned = rays @ rotation.T
     return centre_px + to_focal_px * turned[:, :2] / turned[:, 2:3]
-
-
-def _median(values: np.ndarray) -> float:
-    """np.median of a (N,) array, N >= 1 (the same number, without its general-purpose overhead)."""
-    half = len(values) // 2
-    if len(values) % 2:
-        return float(np.partition(values, half)[half])
-    low, high = np.partition(values, (half - 1, half))[half - 1:half + 1]
-    return 0.5 * (float(low) + float(high))
-
-
-def _rotation_of(vector: np.ndarray) -> np.ndarray:
-    """(3, 3) rotation by a rotation vector (Rodrigues)."""
-    angle = float(np.linalg.norm(vector))
-    if angle < 1e-12:
-        return np.eye(3)
-    k = vector / angle
-    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + np.sin(angle) * cross + (1.0 - np.cos(angle)) * cross @ cross
 
 
 def template_normals(template_uv: np.ndarray, index: np.ndarray, spacing_px: float) -> np.ndarray:
@@ -154,7 +134,7 @@ def register_template(template_uv: np.ndarray, points_px: np.ndarray, nearest: n
         points, nearest = points[pick], nearest[pick]
     template_uv = np.asarray(template_uv, float).reshape(-1, 2)
     centre = np.asarray(centre_px, float)
-    rotation, focal, scale, used, moved_px = np.eye(3), float(focal_px), 0.25, 0, 0.0
+    rotation, focal, moved_px = np.eye(3), float(focal_px), 0.0
     for round_index in range(rounds):
         if round_index == 0 or (tree is not None and moved_px > REPAIR_PX):
             if round_index:
@@ -164,12 +144,11 @@ def register_template(template_uv: np.ndarray, points_px: np.ndarray, nearest: n
             n = template_normals(template_uv, np.maximum(nearest, 0), spacing_px)
             has = n.any(axis=1) & (nearest >= 0)
             q, n, p = template_uv[nearest[has]], n[has], points[has]
-            used = len(p)
-            if used < min_points:
+            if len(p) < min_points:
                 return None
         m = _turned(q, rotation, focal_px, focal, centre)  # a small turn keeps the samples' normals
         residual = np.einsum("ij,ij->i", n, p - m)
-        scale = max(1.4826 * _median(np.abs(residual)), 0.25)
+        scale = max(1.4826 * float(np.median(np.abs(residual))), 0.25)
         u = np.abs(residual) / (TUKEY_C * scale)
         weight = np.where(u < 1.0, (1.0 - u * u) ** 2, 0.0)
         # Image motion of a small turn (ax, ay, az, applied to the rays) and zoom z at normalised (x, y):
@@ -180,12 +159,12 @@ def register_template(template_uv: np.ndarray, points_px: np.ndarray, nearest: n
                                           -nx * y + ny * x, nx * x + ny * y])
         weighted = design * weight[:, None]
         step = np.linalg.solve(design.T @ weighted + damping * focal * focal * np.eye(4), weighted.T @ residual)
-        rotation = _rotation_of(step[:3]) @ rotation
+        rotation = cv2.Rodrigues(step[:3])[0] @ rotation
         focal *= 1.0 + step[3]
         moved_px = focal * float(np.max(np.abs(step)))  # about how far the step moved the template
         if moved_px < SETTLED_PX:
             break
-    return Registration(rotation, focal, centre, float(focal_px), scale, used)
+    return Registration(rotation, focal, centre, float(focal_px), scale)
 
 
 def off_the_pitch(points_px: np.ndarray, registration: Registration, camera: Camera, half_length_m: float,

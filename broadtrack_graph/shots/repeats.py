@@ -44,8 +44,9 @@ def reduced_grey(image_bgr: np.ndarray, width_px: int, reduced_bgr: np.ndarray |
     """(h, min(width_px, W)) uint8: the frame made grey, then reduced to that width by area averaging (grey first:
     the reduction then moves one channel, not three). A frame at least twice :data:`AREA_STEP_WIDTH_PX` wide is
     first area-averaged to that width, whichever way the frame comes (that image exists already where the frames
-    are decoded: reducing it is far cheaper than the whole frame's grey and reduction, for a grey level or less). The repeat test's
-    image and the optical flow's working image (:func:`broadtrack_graph.detect.flow.prepare`) are this.
+    are decoded: reducing it is far cheaper than the whole frame's grey and reduction, for a grey level or less).
+    The repeat test's image and the optical flow's working image (:func:`broadtrack_graph.detect.flow.prepare`) are
+    this.
 
     reduced_bgr: that area-averaged image when already made (the detector's working image), or None.
     """
