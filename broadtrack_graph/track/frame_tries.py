@@ -15,6 +15,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.reinit_decision import Candidate, CourtCandidate
 from broadtrack_graph.track.search_budget import TrySchedule
 
 ModelCamera = Callable[[np.ndarray], ReinitResult]
@@ -59,12 +60,12 @@ class FrameTries:
         self.guess_schedule.confident()
 
     def refined_guess(self, frame_index: int, camera_id: str | None, detections, curves, score,
-                      mapped, held: Camera | None = None) -> tuple[ReinitResult | None, str | None, float]:
-        """The best refined guess (result, its camera id, its confidence), or (None, None, 0): the last confident
+                      mapped, held: Camera | None = None) -> Candidate | None:
+        """The best refined guess, continuing its camera id's chain (None when there is none): the last confident
         camera of ``camera_id`` (the chain's) on every frame, and ``held`` (the chain's camera the solver holds) when
         given; or, with no camera id (a shot's camera not known), every known camera's on the guess schedule's
         frames. ``mapped(function, calls, curves)`` runs the refinements (the search's workers)."""
-        best: tuple[ReinitResult | None, str | None, float] = (None, None, 0.0)
+        best: Candidate | None = None
         every_camera = camera_id is None
         if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
             return best
@@ -80,17 +81,19 @@ class FrameTries:
                 continue  # at a shot's start, a known camera's guess that moved elsewhere: another camera's view
             # The refiner scores with the tracker's confidence on the marking map; anything else is judged here.
             confidence = refined.score.jaccard if refined.score is not None else score(refined.camera)
-            if confidence is not None and (best[0] is None or confidence > best[2]):
-                best = (refined, guess_id, float(confidence))
+            if confidence is not None and (best is None or confidence > best.confidence):
+                best = Candidate(refined, guess_id, float(confidence), True, "refined " + refined.reason)
         if every_camera and guesses:
-            self.guess_schedule.tried(frame_index, best[2] >= self.config.confidence_threshold)
+            confident = best is not None and best.confidence >= self.config.confidence_threshold
+            self.guess_schedule.tried(frame_index, confident)
         return best
 
-    def model_camera(self, frame_index: int, image, detections, curves, score) -> tuple[ReinitResult | None, float]:
-        """The field model's camera for the frame, refined on the marking map, and its confidence; (None, 0) when
-        there is no model or image, the model is backing off, or it found nothing."""
+    def model_camera(self, frame_index: int, image, detections, curves, score) -> Candidate | None:
+        """The field model's camera for the frame, refined on the marking map, with its confidence; None when there
+        is no model or image, the model is backing off, or it found nothing. Its camera id is given only if it is
+        taken (by where it stands)."""
         if self.model is None or image is None or not self.model_schedule.allows(frame_index):
-            return None, 0.0
+            return None
         self.counts["model_tried"] += 1
         result = self.model(image)
         found = None
@@ -100,24 +103,26 @@ class FrameTries:
             confidence = score(camera)
             if confidence is None:  # no marking map and no lines: the model's own keypoints
                 confidence = result.score.inlier_share if result.score is not None else 0.0
-            found = (ReinitResult(camera, result.score, result.hypothesis), float(confidence))
-        self.model_schedule.tried(frame_index, found is not None and found[1] >= self.config.confidence_threshold)
-        return found if found is not None else (None, 0.0)
+            found = Candidate(ReinitResult(camera, result.score, result.hypothesis), None, float(confidence), False,
+                              result.hypothesis)
+        confident = found is not None and found.confidence >= self.config.confidence_threshold
+        self.model_schedule.tried(frame_index, confident)
+        return found
 
-    def court_camera(self, observations, detections, curves, score) -> tuple[ReinitResult | None, float, bool]:
+    def court_camera(self, observations, detections, curves, score) -> CourtCandidate | None:
         """The court model's camera for the frame (or its twin, when a known camera stands where the twin does), its
         confidence, and whether it agrees with the court model's camera of a frame shortly before in the stretch
-        (both confident by the margin and standing in one place: ``court_agreement_frames``); (None, 0, False)
-        without a court model or a marking map, while it backs off, or when it found nothing."""
+        (both confident by the margin and standing in one place: ``court_agreement_frames``); None without a court
+        model or a marking map, while it backs off, or when it found nothing."""
         i = observations.frame_index
         if self.court is None or getattr(detections, "marking_mask", None) is None or not self.court_schedule.allows(i):
-            return None, 0.0, False
+            return None
         self.counts["court_tried"] += 1
         result = self.court(detections, (observations.width_px, observations.height_px), curves)
         if result.camera is None:
             if result.tried:  # a frame that formed no hypothesis cost the map's structures only: it is no try
                 self.court_schedule.tried(i, False)
-            return None, 0.0, False
+            return None
         camera, twin = result.camera, result.twin
         if twin is not None and self.registry.nearest(camera.position_m, camera.R_cw[2]) is None \
                 and self.registry.nearest(twin.position_m, twin.R_cw[2]) is not None:
@@ -132,7 +137,8 @@ class FrameTries:
             self._last_court = (i, camera)
             if self._first_court_frame is None:
                 self._first_court_frame = i
-        return replace(result, camera=camera, twin=twin), confidence, agrees
+        return CourtCandidate(replace(result, camera=camera, twin=twin), None, confidence, False, result.hypothesis,
+                              agrees=agrees)
 
     def court_may_agree(self, frame_index: int) -> bool:
         """Whether a court camera confident by the margin, on this frame or one before in the stretch, can still be

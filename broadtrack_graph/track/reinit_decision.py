@@ -1,5 +1,6 @@
-"""What the re-initialisation decision returns, and the candidate it carries while deciding: the value types of
-:class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`. No I/O.
+"""What the re-initialisation decision returns, and the candidates its tries return while it decides: the value
+types of :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy` and
+:class:`~broadtrack_graph.track.frame_tries.FrameTries`. No I/O.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ class ReinitDecision:
 
 @dataclass(frozen=True)
 class Candidate:
-    """The best camera so far that is not taken at once; a later try must beat it.
+    """A try's camera: taken at once when confident enough, else the best camera so far that a later try must beat.
 
     result: the camera's re-initialisation; camera_id: its id when it continues a chain (a refined guess), else
     None (given by where it stands if taken); confidence: the tracker's confidence of it; continues_chain: a
@@ -48,3 +49,14 @@ class Candidate:
     confidence: float
     continues_chain: bool
     label: str
+
+
+@dataclass(frozen=True)
+class CourtCandidate(Candidate):
+    """The court model's camera for a frame (:meth:`~broadtrack_graph.track.frame_tries.FrameTries.court_camera`).
+
+    agrees: it is confident by the margin and the court camera of a frame shortly before in the stretch, as
+    confident, stood in the same place (``court_agreement_frames``).
+    """
+
+    agrees: bool = False

@@ -210,51 +210,45 @@ class ReinitPolicy:
         # camera refined on the map (a search at its position without a map); the single-frame calibrators, which
         # place a camera from nothing, are for a chain's start.
         from_nothing = not (held is not None and self.chain.trusted)
-        guess, guess_id, guess_confidence = self.tries.refined_guess(i, chain_id, detections, curves, score,
-                                                                     self.searches.stages.mapped,
-                                                                     held if with_map and not from_nothing else None)
-        if guess is not None and guess_confidence >= threshold:
+        guess = self.tries.refined_guess(i, chain_id, detections, curves, score, self.searches.stages.mapped,
+                                         held if with_map and not from_nothing else None)
+        if guess is not None and guess.confidence >= threshold:
             self.counts["guess_used"] += 1
-            return self._switch_or_keep(guess, guess_confidence, guess_id, True, False,
-                                        "refined " + guess.reason, held, held_confidence)
+            return self._switch_or_keep(guess.result, guess.confidence, guess.camera_id, True, False, guess.label,
+                                        held, held_confidence)
         # The shot's camera not trusted yet (no id, or an untrusted first camera's): judged as at the shot's start.
         untrusted = chain_id is None or chain_id in self.registry.untrusted
         new_camera = untrusted and self.search_positions is None and with_map
-        # The best camera so far that is not confident: (result, camera id, confidence, continues a chain, label).
-        candidate = None if guess is None else Candidate(guess, guess_id, guess_confidence, True,
-                                                         "refined " + guess.reason)
+        candidate = guess  # the best camera so far that is not confident
         if with_map and not from_nothing:
             # The held camera refined on the map stands in for the search at its position, at a tenth of its cost.
             if candidate is not None:
                 return self._candidate_decision(candidate, False, "", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, "no refined guess of the held camera")
-        court, court_confidence, court_agrees = self.tries.court_camera(
-            observations, detections, curves, score) if from_nothing else (None, 0.0, False)
+        court = self.tries.court_camera(observations, detections, curves, score) if from_nothing else None
         accept = max(self.config.court_accept_confidence, threshold + (margin if new_camera else 0.0))
-        if court is not None and (court_confidence >= accept or court_agrees):
+        if court is not None and (court.confidence >= accept or court.agrees):
             # The primary route: a camera from the markings alone, taken when sure enough to skip the search (or
             # confident by the margin on two frames that agree). Otherwise dropped, not kept as a candidate: a
             # wrong camera the solver held would block the search's.
             self.counts["court_used"] += 1
-            return self._decision(court, court_confidence, self._camera_id_of(court, court_confidence), False,
-                                  False, court.hypothesis, held, held_confidence, new_camera)
-        modelled, modelled_confidence = self.tries.model_camera(
-            i, image, detections, curves, score) if from_nothing else (None, 0.0)
+            return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
+                                  False, False, court.label, held, held_confidence, new_camera)
+        modelled = self.tries.model_camera(i, image, detections, curves, score) if from_nothing else None
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
             # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").
-            if modelled_confidence >= (self.config.certain_confidence if new_camera else threshold):
+            if modelled.confidence >= (self.config.certain_confidence if new_camera else threshold):
                 self.counts["model_used"] += 1
-                camera_id = self._camera_id_of(modelled, modelled_confidence)
-                return self._decision(modelled, modelled_confidence, camera_id, False, False, modelled.hypothesis,
+                camera_id = self._camera_id_of(modelled.result, modelled.confidence)
+                return self._decision(modelled.result, modelled.confidence, camera_id, False, False, modelled.label,
                                       held, held_confidence, new_camera)
-            if candidate is None or modelled_confidence > candidate.confidence:
-                # Its camera id is given only if it is taken (a new id is registered where it stands).
-                candidate = Candidate(modelled, None, modelled_confidence, False, modelled.hypothesis)
+            if candidate is None or modelled.confidence > candidate.confidence:
+                candidate = modelled  # its camera id is given only if it is taken
         if new_camera and self.tries.court_may_agree(i):
             # A court camera confident by the margin is confirmed (or not) by the next frames' before a search is paid.
             return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
-                                  f"cameras to agree ({court_confidence:.2f} on this frame)")
+                                  f"cameras to agree ({court.confidence if court else 0.0:.2f} on this frame)")
         known = chain_id is not None and chain_id in self.registry.positions
         if with_map and not self.searches.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
@@ -282,11 +276,10 @@ class ReinitPolicy:
     def _candidate_decision(self, candidate: Candidate, searched: bool, why: str, held, held_confidence,
                             new_camera: bool) -> ReinitDecision:
         """The decision for the best camera so far that is not confident, ``why`` appended to its label."""
-        result, camera_id, confidence, continues, label = (candidate.result, candidate.camera_id, candidate.confidence,
-                                                           candidate.continues_chain, candidate.label)
-        camera_id = camera_id if continues else self._camera_id_of(result, confidence)
-        return self._decision(result, confidence, camera_id, continues, searched, label + why, held, held_confidence,
-                              new_camera and not continues)
+        continues = candidate.continues_chain
+        camera_id = candidate.camera_id if continues else self._camera_id_of(candidate.result, candidate.confidence)
+        return self._decision(candidate.result, candidate.confidence, camera_id, continues, searched,
+                              candidate.label + why, held, held_confidence, new_camera and not continues)
 
     def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
         """A found camera's id: the shot's, or by where it stands (a new id is provisional until trusted)."""
