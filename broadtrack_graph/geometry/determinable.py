@@ -150,17 +150,18 @@ def _on_map(uv_px: np.ndarray, marking_map: np.ndarray, width_px: int) -> np.nda
     return inside & near[rows, cols]
 
 
-def fixes_camera(seen: Determinability) -> bool:
-    """Whether the markings counted in ``seen`` give a camera's unknowns as many constraints: 2 for each distinct
-    straight marking, 5 for a circle shown over MIN_CURVE_SHARE of its length (an ellipse), 3 for an arc over
-    MIN_ARC_SHARE (its place, size and bend), at least CAMERA_UNKNOWNS in all, with lines of both directions or a
-    circle among them (parallel lines alone leave the camera free to slide along them).
+def fixes_camera(seen: Determinability, surplus: int = 0) -> bool:
+    """Whether the markings counted in ``seen`` give a camera's unknowns as many constraints (and ``surplus`` more): 2
+    for each distinct straight marking, 5 for a circle shown over MIN_CURVE_SHARE of its length (an ellipse), 3 for an
+    arc over MIN_ARC_SHARE (its place, size and bend), at least CAMERA_UNKNOWNS + ``surplus`` in all, with lines of
+    both directions or a circle among them (parallel lines alone leave the camera free to slide along them).
 
     Two lines of each direction, or a circle and a line, as the rule of the module docstring; three lines of one
-    direction and one of the other also fix it; two and one do not (one unknown is left).
+    direction and one of the other also fix it; two and one do not (one unknown is left). A camera the markings fix
+    exactly (a circle and a line) can be laid on them whichever markings they are; a surplus is what checks it.
     """
     constraints = 2 * (seen.x_lines + seen.y_lines)
     shares = list(seen.curve_shares.values())
     constraints += sum(5 if share >= MIN_CURVE_SHARE else 3 if share >= MIN_ARC_SHARE else 0 for share in shares)
     crossing = (seen.x_lines >= 1 and seen.y_lines >= 1) or any(share >= MIN_ARC_SHARE for share in shares)
-    return constraints >= CAMERA_UNKNOWNS and crossing
+    return constraints >= CAMERA_UNKNOWNS + surplus and crossing

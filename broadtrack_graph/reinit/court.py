@@ -10,9 +10,10 @@ scored at once
 on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
 found in the map and the map explained by the template); the best distinct few are fitted with the
 label-and-fit rounds (:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point
-free) and the best fit is returned with its confidence, when the markings it explains fix it
-(:func:`~broadtrack_graph.geometry.determinable.fixes_camera`: as many constraints as the camera has unknowns,
-counted on the map); a camera that only lays one line on the one marking in view is not returned.
+free) and the best fit is returned with its confidence, when the markings it explains fix it with a constraint to
+spare (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`: counted on the map, one more constraint than
+the camera has unknowns, ``surplus_constraints``): a camera that only lays one line on the one marking in view is
+not returned, nor one that a circle and a line fix exactly (laid on them, a wrong camera explains them as well).
 
 The twin: the markings are unchanged by a half turn about the centre spot, so every hypothesis has
 a twin that explains the map as well (the same view from the other end). The rule that decides
@@ -84,6 +85,9 @@ class CourtConfig:
     refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
     twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
+    # The markings the best camera explains must give this many constraints more than its 7 unknowns: a camera from
+    # nothing that they fix exactly (a circle and one line) lays itself on them whether it is right or not.
+    surplus_constraints: int = 1
     rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
     circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
     centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
@@ -162,7 +166,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
                                             "or under the grass)", tried=len(hypotheses))
     fixed = determinability(camera, pitch, explained_by=marking_mask)
-    if not fixes_camera(fixed):
+    if not fixes_camera(fixed, config.surplus_constraints):
         return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "
                                             f"{fixed.y_lines} lines, {len(fixed.curves)} circles)", tried=len(hypotheses))
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)

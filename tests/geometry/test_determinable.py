@@ -104,3 +104,17 @@ def test_only_the_markings_on_the_map_count_when_a_map_is_given():
 def test_a_camera_is_fixed_by_as_many_constraints_as_it_has_unknowns(x_lines, y_lines, shares, fixed):
     seen = Determinability(False, x_lines, y_lines, (), curve_shares=shares)
     assert fixes_camera(seen) is fixed
+
+
+@pytest.mark.parametrize("x_lines, y_lines, shares, surplus, fixed", [
+    (1, 0, {"Circle central": 0.5}, 0, True),  # a circle and a line fix it exactly ...
+    (1, 0, {"Circle central": 0.5}, 1, False),  # ... with nothing over
+    (2, 2, {}, 1, True),  # a homography's 8 constraints: one over
+    (3, 1, {}, 1, True),
+    (2, 1, {"Circle central": 0.27}, 2, True),  # 6 + 3
+    (2, 1, {"Circle central": 0.27}, 3, False),
+    (4, 0, {}, 0, False),  # the surplus does not make parallel lines cross
+])
+def test_a_surplus_asks_for_that_many_constraints_over_the_unknowns(x_lines, y_lines, shares, surplus, fixed):
+    seen = Determinability(False, x_lines, y_lines, (), curve_shares=shares)
+    assert fixes_camera(seen, surplus) is fixed

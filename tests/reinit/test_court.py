@@ -100,21 +100,27 @@ def test_a_frame_whose_markings_do_not_fix_a_camera_gets_none_and_says_so():
     assert "do not fix it" in result.reason
 
 
-def test_a_penalty_arc_and_its_line_seen_from_just_off_the_touchline_give_the_camera():
+def test_a_penalty_arc_and_its_line_seen_from_just_off_the_touchline_give_the_camera_they_fix_exactly():
     """Frame 45 of ``bench placements --random --seed 3``: a camera 1.6 m off the far touchline, 46 m up, zoomed on a
     penalty arc and the 16.5 m line. The arc's ellipse (a third of it in view) puts the hypothesis's focal point 1.7 m
-    inside the touchline; kept for the fit, it gives the camera (its twin: the far side)."""
+    inside the touchline; kept for the fit, it gives the camera (its twin: the far side). An arc and one line fix the
+    camera exactly (7 constraints, 7 unknowns), and a camera they fix exactly is not returned by default: laid on them,
+    a wrong camera explains them as well."""
     from broadtrack_graph.benchmarks.random_placements import draw_frame
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.reinit.court import CourtConfig
     from broadtrack_graph.synth.named_looks import LOOK_NAMES
 
     frame = draw_frame(3, 45, 1280, 720, list(LOOK_NAMES))
     truth = frame["drawn"].camera
     det = WeightFreeDetector(PITCH).detect(frame["image"])
-    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
+                               CourtConfig(surplus_constraints=0))
     assert result.camera is not None, result.reason
     assert median_template_error_px(result.twin, truth) < 2.0
     assert result.score.jaccard >= 0.7
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert result.camera is None and "do not fix it" in result.reason
 
 
 def test_a_fitted_camera_standing_on_the_pitch_is_not_returned(monkeypatch):
