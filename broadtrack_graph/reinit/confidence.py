@@ -11,7 +11,11 @@ the measure does not change with the frame resolution:
 
 * recall R: share of the detectable template within ``tolerance_px`` of a detected
   marking pixel (divided by at least ``min_template_px`` samples, so a camera that
-  shows almost no template cannot score high);
+  shows almost no template cannot score high). The template too thin to expect joins both
+  counts as far as the map shows it anyway: with a share s of it found, weighted
+  (s - ``thin_found_share``) / (1 - ``thin_found_share``), nothing at that share or under (a
+  wide view from far away, every line under the width, is judged on the lines the detector
+  finds there; a camera whose thin lines fall on grass is not helped by them);
 * precision P: share of detected marking pixels within ``tolerance_px`` of the template (all of it: a marking
   found on a line too thin to expect, far off, is still explained by it), players (the mask takes their legs:
   light socks and skin are ridges as markings are) left out.
@@ -58,6 +62,9 @@ class ConfidenceConfig:
     tolerance_px: float = 2.5  # a template sample / marking pixel this close to the other set agrees
     template_spacing_px: float = 1.0  # densified template sampling
     min_line_width_px: float = 1.4  # template parts thinner than this (working pixels, and pixels of the frame) are not detectable
+    # the template thinner than that is expected in part when over this share of it is found anyway, in whole when
+    # all of it is (the detector evidently sees lines that thin in this frame); 1: never
+    thin_found_share: float = 0.5
     min_template_px: int = 150  # recall denominator floor (samples, about pixels of template)
     beta: float = 2.0  # F-beta weight of recall over precision
     field_margin_m: float = 10.0  # grass this far outside the lines still counts as explained (run-off, benches)
@@ -130,8 +137,10 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     expected = int(np.count_nonzero(detectable))
     if len(uv) and marking_pixels:
         near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
-        recall = float(np.count_nonzero(_found(marks, near[detectable], pixel[detectable])) /
-                       max(expected, config.min_template_px))
+        found = _found(marks, near, pixel)
+        thin_expected, thin_found = _thin_markings_seen(found, detectable, compared.class_index, config)
+        recall = float((np.count_nonzero(found & detectable) + thin_found) /
+                       max(expected + thin_expected, config.min_template_px))
         # A marking found where the template has a line too thin to expect is still explained by it.
         explained = np.zeros(h * w, bool)
         explained[pixel[near]] = True
@@ -189,6 +198,20 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
         return 0.0, 0
     near, pixel = pixels_within(uv[crossing], compared.size, config.tolerance_px)
     return float(np.count_nonzero(_found(compared.marks, near, pixel)) / count), count
+
+
+def _thin_markings_seen(found: np.ndarray, detectable: np.ndarray, class_index: np.ndarray,
+                        config: ConfidenceConfig) -> tuple[float, float]:
+    """(samples, of them found) of the template too thin to expect, weighted by how much of it the map shows anyway:
+    share s of it found, weight (s - t) / (1 - t) for ``t = thin_found_share`` (0 at t and under: not expected; 1
+    when all of it is found: the detector evidently sees lines that thin here)."""
+    thin = ~detectable
+    total, hit = int(np.count_nonzero(thin)), int(np.count_nonzero(thin & found))
+    t = config.thin_found_share
+    if hit <= t * total:  # none found, or too little of it (t = 1: never counted)
+        return 0.0, 0.0
+    weight = (hit / total - t) / (1.0 - t)
+    return weight * total, weight * hit
 
 
 def _found(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray:

@@ -146,3 +146,21 @@ def test_a_sweep_is_checked_only_by_the_markings_that_cross_it():
     full, _ = _maps(camera)
     assert recall_across_motion(camera, full, np.array([60.0, 0.0]), CURVES)[0] > 0.9
     assert recall_across_motion(camera, full, np.zeros(2), CURVES) == (0.0, 0)
+
+
+def test_a_view_whose_lines_are_all_too_thin_to_expect_is_judged_on_the_thin_lines_the_map_shows():
+    # A wide camera far behind the touchline: every 12 cm line projects under min_line_width_px. Where the detector
+    # finds them anyway, the recall counts them, found and missed; where it finds little of them, they count not at all.
+    wide = Camera.from_degrees(700.0, 0.0, 0.0, 70.0, 0.0, (0.0, 100.0, -40.0), W, H)
+    marks, grass = _maps(wide)
+    parts = confidence_parts(wide, marks, CURVES, field_mask=grass)
+    assert parts["template_samples"] < 50  # nothing wide enough to expect
+    assert parts["recall"] > 0.95 and parts["confidence"] > 0.9
+    never = confidence_parts(wide, marks, CURVES, ConfidenceConfig(thin_found_share=1.0), field_mask=grass)
+    assert never["confidence"] < 0.3  # judged on the wide template alone: nothing to find
+    # Only the left third of the map kept: too little of the thin template found for it to count.
+    part = marks.copy()
+    part[:, W // 3:] = False
+    kept = confidence_parts(wide, part, CURVES, field_mask=grass)
+    alone = confidence_parts(wide, part, CURVES, ConfidenceConfig(thin_found_share=1.0), field_mask=grass)
+    assert kept["recall"] == pytest.approx(alone["recall"])
