@@ -180,7 +180,10 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
 
     f and the axes' mismatch: :func:`focal_and_mismatch`. Kept: f in range, the two axes
     orthogonal and of equal norm within ``max_axis_mismatch``, the focal point above the grass, off
-    the playing area, within reach, and a roll a broadcast camera has.
+    the playing area, within reach, a roll a broadcast camera has, and upright: the image's down
+    direction points down in the world (``R_cw[1, 2] > 0``). An image turned half round shows a centre
+    circle and the halfway line through it as they were, and its camera decomposes with roll 0 and
+    the tilt negated: the roll alone does not tell it.
 
     Args:
         H_n: (K, 3, 3) homographies, pitch (x, y, 1) metres -> normalised image points.
@@ -216,7 +219,8 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     keep = ((sign != 0) & (height >= config.height_range_m[0]) & (height <= config.height_range_m[1])
             & (np.hypot(C[:, 0], C[:, 1]) <= config.max_distance_m)
             & ((np.abs(C[:, 0]) >= half_l + margin) | (np.abs(C[:, 1]) >= half_w + margin))
-            & (np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)) & np.all(np.isfinite(R), axis=(1, 2)))
+            & (np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)) & (R[:, 1, 2] > 0)
+            & np.all(np.isfinite(R), axis=(1, 2)))
     return PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[keep], sign[keep], scale[keep])
 
 

@@ -90,8 +90,9 @@ def test_implausible_cameras_are_gated():
     on_pitch = main.replace(position_m=np.array([0.0, 20.0, -15.0]))
     rolled = main.replace(roll_rad=math.radians(25.0))
     mirrored = _normalised_homography(main) @ np.diag([1.0, -1.0, 1.0])  # the pitch seen in a mirror
+    upside_down = main.replace(roll_rad=math.pi)  # decomposes as pan + 180 deg, tilt -75 deg, roll 0
     stacked = np.stack([_normalised_homography(main), _normalised_homography(on_pitch),
-                        _normalised_homography(rolled), mirrored])
+                        _normalised_homography(rolled), mirrored, _normalised_homography(upside_down)])
     kept = cameras_from_homographies(stacked, (W, H), PITCH)
     assert len(kept) == 1 and np.allclose(kept.C_w[0], main.position_m, atol=1e-6)
 
