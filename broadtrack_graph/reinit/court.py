@@ -13,7 +13,8 @@ label-and-fit rounds (:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 an
 free) and the best fit is returned with its confidence, when the markings it explains fix it with a constraint to
 spare (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`: counted on the map, one more constraint than
 the camera has unknowns, ``surplus_constraints``): a camera that only lays one line on the one marking in view is
-not returned, nor one that a circle and a line fix exactly (laid on them, a wrong camera explains them as well).
+not returned. One that a circle and a line fix exactly is returned only at ``exact_fit_confidence``: laid on them, a
+wrong camera explains them as well, so the agreement of an exact fit with its markings is optimistic.
 
 The twin: the markings are unchanged by a half turn about the centre spot, so every hypothesis has
 a twin that explains the map as well (the same view from the other end). The rule that decides
@@ -88,6 +89,9 @@ class CourtConfig:
     # The markings the best camera explains must give this many constraints more than its 7 unknowns: a camera from
     # nothing that they fix exactly (a circle and one line) lays itself on them whether it is right or not.
     surplus_constraints: int = 1
+    # ... or, fixed exactly (no constraint to spare), at this confidence at least: the fit lays the camera on the
+    # markings whether it is right or not, so its agreement with them is optimistic (1.01: never)
+    exact_fit_confidence: float = 0.8
     rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
     circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
     centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
@@ -166,10 +170,12 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
                                             "or under the grass)", tried=len(hypotheses))
     fixed = determinability(camera, pitch, explained_by=marking_mask)
-    if not fixes_camera(fixed, config.surplus_constraints):
-        return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "
-                                            f"{fixed.y_lines} lines, {len(fixed.curves)} circles)", tried=len(hypotheses))
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
+    if not fixes_camera(fixed, config.surplus_constraints) and not (
+            fixes_camera(fixed) and confidence >= config.exact_fit_confidence):
+        return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "
+                                            f"{fixed.y_lines} lines, {len(fixed.curves)} circles; confidence "
+                                            f"{confidence:.2f})", tried=len(hypotheses))
     position = tuple(round(float(v)) for v in camera.position_m)
     return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0),
                                 f"court model at {position}", tried=len(hypotheses)), twin=twin_camera(camera))
