@@ -122,37 +122,73 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     structures = map_structures(marking_mask, points_px, (W, H), pitch, config.search)
     lines = structures.lines
     hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config)
-    search = config.search
-    if len(lines) >= 4 and not (len(costs) and -costs.min() >= config.circles_below_score):
-        # Nothing explains the map well yet: three lines of one direction and one across (a zoomed goal mouth).
-        pencil = pencil_hypotheses(lines, (W, H), pitch, config.pencil, config.lines)
-        hypotheses = concatenate([hypotheses, pencil])
-        costs = np.concatenate([costs, _scores(pencil, structures.scorer, (W, H), search, config.rescore_top)])
-    ellipses = []
-    for across in (True, False):
-        if not lines or (len(costs) and -costs.min() >= config.circles_below_score):
-            break
-        # Nothing explains the map well yet: a circle with the line across it, then the centre circle with a
-        # touchline (more hypotheses, and looser: tried last).
-        ellipses = ellipses or _with_arcs(structures.ellipses() + structures.border_ellipses(), structures.arcs())
-        circles = _circle_hypotheses(ellipses, lines, (W, H), pitch, config, across)
-        hypotheses = concatenate([hypotheses, circles])
-        costs = np.concatenate([costs, _scores(circles, structures.scorer, (W, H), search, config.rescore_top)])
+    tiers = _later_tiers(structures, (W, H), pitch, config)
+    # Each later tier joins while nothing explains the map well yet (circles_below_score) ...
+    while tiers and not (len(costs) and -costs.min() >= config.circles_below_score):
+        hypotheses, costs = _joined(hypotheses, costs, tiers.pop(0)(), structures, (W, H), config)
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
-                                            f"straight, {len(ellipses)} ellipses)")
+                                            "straight, no circle with them)")
+    result = _judged(_fitted(hypotheses, costs, np.arange(len(costs)), structures, points_px, (W, H), curves, config),
+                     marking_mask, field_mask, pitch, curves, config)
+    # ... and the tiers left join when the best camera so far is not one to return: their hypotheses alone are
+    # fitted then (the rejected ones would be chosen again).
+    left = [tier() for tier in tiers] if result.camera is None else []
+    if any(len(part) for part in left):
+        first = len(costs)
+        for part in left:
+            hypotheses, costs = _joined(hypotheses, costs, part, structures, (W, H), config)
+        later = _judged(_fitted(hypotheses, costs, np.arange(first, len(costs)), structures, points_px, (W, H),
+                                curves, config), marking_mask, field_mask, pitch, curves, config)
+        result = later if later.camera is not None else result
+    return replace(result, tried=len(hypotheses))
+
+
+def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig) -> list:
+    """The hypotheses tried after the straight markings', in order, each a call (an empty set when its markings are
+    missing): three lines of one direction and one across (a zoomed goal mouth), a circle with the
+    line across it, then the centre circle with a touchline (more hypotheses, and looser: tried last)."""
+    lines = structures.lines
+
+    def pencil():
+        if len(lines) < 4:
+            return concatenate([])
+        return pencil_hypotheses(lines, frame_size, pitch, config.pencil, config.lines)
+
+    def circles(across: bool):
+        if not lines:
+            return concatenate([])
+        ellipses = _with_arcs(structures.ellipses() + structures.border_ellipses(), structures.arcs())
+        return _circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)
+
+    return [pencil, lambda: circles(True), lambda: circles(False)]
+
+
+def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig):
+    """The hypotheses and costs with ``part``'s (scored on the map) after them."""
+    if not len(part):
+        return hypotheses, costs
+    scores = _scores(part, structures.scorer, frame_size, config.search, config.rescore_top)
+    return concatenate([hypotheses, part]), np.concatenate([costs, scores])
+
+
+def _fitted(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size, curves: TemplateCurves,
+            config: CourtConfig) -> Camera | None:
+    """The best camera fitted from the best distinct few of the hypotheses ``among`` (indices), or None."""
+    W, H = frame_size
+    search = config.search
     H_px = pixel_homographies(hypotheses, (W, H))
     # A hypothesis and its twin score the same: the twin rule orders them before the distinct choice.
-    C = hypotheses.C_w
+    C = hypotheses.C_w[among]
     twin_side = np.where(np.abs(C[:, 1]) >= config.twin_tie_m, C[:, 1] < 0, C[:, 0] > 0)
-    focal_px = hypotheses.focal_n * (W / 2.0)
-    pans, tilts = hypotheses.angles_rad[:, 0], hypotheses.angles_rad[:, 1]
+    focal_px = hypotheses.focal_n[among] * (W / 2.0)
+    pans, tilts = hypotheses.angles_rad[among, 0], hypotheses.angles_rad[among, 1]
     # The image of a hypothesis and of its twin are the same: distinct by image, the kept side first.
-    order_costs = costs + 1e-6 * twin_side
-    chosen = best_distinct(np.where(twin_side, pans + math.pi, pans), tilts, focal_px, order_costs,
-                           config.refine_top_k, config.distinct_per_width * W, W)
+    order_costs = costs[among] + 1e-6 * twin_side
+    chosen = [int(among[k]) for k in best_distinct(np.where(twin_side, pans + math.pi, pans), tilts, focal_px,
+                                                    order_costs, config.refine_top_k, config.distinct_per_width * W, W)]
     if not chosen:
-        return ReinitResult(None, None, "", "no hypothesis shows the template in the image", tried=len(hypotheses))
+        return None
     points = fit_points(points_px, search)
     best = None  # (fit score, camera)
     for k in chosen:
@@ -165,20 +201,27 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
             best = (score, camera)
         if best[0] >= search.accept_fit_score:
             break  # a fit this good is not beaten by a worse-scoring hypothesis
-    camera = _main_side(best[1], config.twin_tie_m)
+    return _main_side(best[1], config.twin_tie_m)
+
+
+def _judged(camera: Camera | None, marking_mask, field_mask, pitch: PitchTemplate, curves: TemplateCurves,
+            config: CourtConfig) -> ReinitResult:
+    """The fitted camera returned with its confidence and twin, or None and why (module docstring)."""
+    if camera is None:
+        return ReinitResult(None, None, "", "no hypothesis shows the template in the image")
     if not plausible_position(camera.position_m, pitch):
         return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
-                                            "or under the grass)", tried=len(hypotheses))
+                                            "or under the grass)")
     fixed = determinability(camera, pitch, explained_by=marking_mask)
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
     if not fixes_camera(fixed, config.surplus_constraints) and not (
             fixes_camera(fixed) and confidence >= config.exact_fit_confidence):
         return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "
                                             f"{fixed.y_lines} lines, {len(fixed.curves)} circles; confidence "
-                                            f"{confidence:.2f})", tried=len(hypotheses))
+                                            f"{confidence:.2f})")
     position = tuple(round(float(v)) for v in camera.position_m)
-    return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0),
-                                f"court model at {position}", tried=len(hypotheses)), twin=twin_camera(camera))
+    return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"court model at {position}"),
+                   twin=twin_camera(camera))
 
 
 def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: CourtConfig):
