@@ -48,6 +48,9 @@ class TrackingConfig:
     # ... or from the margin when the court model's camera of a frame at most this many frames before, in the same
     # stretch, stood in the same place (two frames agreeing; 0: never)
     court_agreement_frames: int = 5
+    # ... the two frames' views this far apart at least (share of the image width): a still camera's frames show the
+    # same markings, and a wrong camera laid on them agrees with itself
+    court_agreement_view_change: float = 0.02
     # A new shot's camera this confident is certain: the search stops at it (the later stages cannot do better by
     # the margin) and the field model's camera is taken without a search; below it, every stage is searched.
     certain_confidence: float = 0.9
@@ -94,6 +97,8 @@ class TrackingConfig:
             raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
         if self.court_agreement_frames < 0:
             raise ValueError(f"court_agreement_frames must be >= 0, got {self.court_agreement_frames}")
+        if self.court_agreement_view_change < 0:
+            raise ValueError(f"court_agreement_view_change must be >= 0, got {self.court_agreement_view_change}")
         if self.lag_frames < 1:
             raise ValueError(f"lag_frames must be >= 1, got {self.lag_frames}")
         if self.recover_max_frames < 0:

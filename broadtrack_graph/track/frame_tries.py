@@ -6,6 +6,7 @@ The decision that takes or passes them is :class:`~broadtrack_graph.track.reinit
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from typing import Callable
 
@@ -42,7 +43,7 @@ class FrameTries:
         self.model, self.court, self.counts = model, court, counts
         self.model_schedule, self.court_schedule = TrySchedule(), TrySchedule()
         self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
-        self._last_court: tuple[int, object] | None = None  # (frame, camera) of the stretch's last court camera
+        self._court_cameras: list[tuple[int, object]] = []  # (frame, camera): the stretch's court cameras
         self._first_court_frame: int | None = None  # the stretch's first frame with a court camera confident by the margin
 
     def new_stretch(self) -> None:
@@ -50,7 +51,7 @@ class FrameTries:
         self.model_schedule.new_stretch()
         self.court_schedule.new_stretch()
         self.guess_schedule.new_stretch()
-        self._last_court = None
+        self._court_cameras = []
         self._first_court_frame = None
 
     def confident(self) -> None:
@@ -131,10 +132,12 @@ class FrameTries:
         self.court_schedule.tried(i, confidence >= self.config.confidence_threshold)
         agrees = False
         if confidence >= self.config.confidence_threshold + self.config.reinit_switch_margin:
-            last = self._last_court
-            agrees = last is not None and 0 < i - last[0] <= self.config.court_agreement_frames \
-                and self.registry.same_place(last[1].position_m, camera.position_m, camera.R_cw[2])
-            self._last_court = (i, camera)
+            window = self.config.court_agreement_frames
+            self._court_cameras = [(k, c) for k, c in self._court_cameras if 0 < i - k <= window]
+            agrees = any(self.registry.same_place(c.position_m, camera.position_m, camera.R_cw[2])
+                         and view_change_share(c, camera) >= self.config.court_agreement_view_change
+                         for _, c in self._court_cameras)
+            self._court_cameras.append((i, camera))
             if self._first_court_frame is None:
                 self._first_court_frame = i
         return CourtCandidate(replace(result, camera=camera, twin=twin), None, confidence, False, result.hypothesis,
@@ -146,3 +149,13 @@ class FrameTries:
         shot's global search waits for them."""
         first = self._first_court_frame
         return first is not None and 0 <= frame_index - first < self.config.court_agreement_frames
+
+
+def view_change_share(a, b) -> float:
+    """How far the view of camera ``b`` is from ``a``'s, as a share of the image width: the turn of the line of sight
+    and the change of focal length, in pixels at the wider view (the largest of the two)."""
+    cos = float(np.clip(np.dot(a.R_cw[2], b.R_cw[2]), -1.0, 1.0))
+    focal_px = min(a.focal_px, b.focal_px)
+    turn_px = focal_px * math.acos(cos)
+    zoom_px = abs(a.focal_px / b.focal_px - 1.0) * a.width_px / 2.0
+    return max(turn_px, zoom_px) / a.width_px

@@ -56,7 +56,8 @@ class CourtCandidate(Candidate):
     """The court model's camera for a frame (:meth:`~broadtrack_graph.track.frame_tries.FrameTries.court_camera`).
 
     agrees: it is confident by the margin and the court camera of a frame shortly before in the stretch, as
-    confident, stood in the same place (``court_agreement_frames``).
+    confident, stood in the same place (``court_agreement_frames``) with a view at least
+    ``court_agreement_view_change`` of the width away.
     """
 
     agrees: bool = False

@@ -23,7 +23,8 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    across it, the centre circle with a touchline), wherever it stands
    (:func:`~broadtrack_graph.reinit.court.court_reinit`, :class:`~broadtrack_graph.track.frame_tries.FrameTries`):
    taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), or confident by the
-   margin when the court camera of a frame shortly before stood in the same place, with the id of where it stands
+   margin when the court camera of a frame shortly before stood in the same place with its view moved on
+   (``court_agreement_view_change``: a still camera's frames show the same markings), with the id of where it stands
    (its twin when a known camera stands there); otherwise dropped. On its own
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`. A new shot's court camera confident by the margin
    defers the shot's global search for ``court_agreement_frames``: the next frames' court cameras confirm it or not.

@@ -468,8 +468,9 @@ def _a_new_shot_s_decision(image: np.ndarray, frame_index: int):
 def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frames(real_video_dir, tmp_path):
     """The FA Cup clip's first frame cut to its middle 574 rows and written as MPEG-4 video, as a screen recording
     is: a centre-circle view whose boards' lettering passes for markings. Its camera sees the centre spot 9.3 deg
-    below the horizon (12.4 deg for the main-camera guesses of the search, whose best is a camera behind the goal,
-    0.36): the court model places it wherever it stands (0.65, taken when the next frame's agrees)."""
+    below the horizon (12.4 deg for the main-camera guesses of the search). The court model places it (0.65, under
+    its bar); a still camera's next frames show the same view, so their agreeing court cameras are no check, and the
+    staged search's camera is taken once they have been waited for."""
     import cv2
 
     capture = cv2.VideoCapture(str(real_video_dir / "facup-wembley-720p.mp4"))
@@ -485,7 +486,7 @@ def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frames(r
     decision = _a_new_shot_s_decision(image, 0)
     camera = decision.camera
     assert camera is not None and decision.confidence > 0.6 and decision.camera_id == "main", decision.reason
-    assert decision.reason.startswith("court model"), decision.reason
+    assert decision.reason.startswith("global search"), decision.reason
     # The camera this clip is tracked with (every frame passes the alignment check of `bench real`); one frame
     # leaves the distance along the line of sight loose (f scales with it), the image is what must agree.
     tracked = Camera(4045.0, 0.56, np.radians(-7.29), np.radians(81.87), np.radians(-0.12), (0.19, 74.87, -12.43),
@@ -621,16 +622,29 @@ def test_two_frames_whose_court_cameras_agree_place_the_camera_under_the_bar():
     between = config.confidence_threshold + config.reinit_switch_margin + 0.02  # confident by the margin only
     assert between < config.court_accept_confidence
     fakes = Fakes()
+    panned = CORNER.replace(pan_rad=CORNER.pan_rad + 0.01)  # the same tripod, the view 44 px (3 %) along
     policy, _ = _court_policy(fakes, CORNER, between)
     assert _decide(policy, 0).camera is None  # one frame: under the bar
-    assert _decide(policy, 1).camera is CORNER  # the next agrees: taken
+    policy.tries.court = _court_policy(fakes, panned, between)[0].tries.court
+    assert _decide(policy, 1).camera is panned  # the next agrees from a view moved on: taken
     assert policy.counts["court_used"] == 1
+    # A still camera: the next frame shows the same markings, and the same camera from them is no check.
+    policy, _ = _court_policy(Fakes(), CORNER, between)
+    assert _decide(policy, 0).camera is None and _decide(policy, 1).camera is None
+    slightly = CORNER.replace(pan_rad=CORNER.pan_rad + 0.002)  # 9 px: under court_agreement_view_change
+    policy, _ = _court_policy(fakes, CORNER, between)
+    _decide(policy, 0)
+    policy.tries.court = _court_policy(fakes, slightly, between)[0].tries.court
+    assert _decide(policy, 1).camera is None
     fakes = Fakes()
     policy, _ = _court_policy(fakes, CORNER, between, court_agreement_frames=0)
-    assert _decide(policy, 0).camera is None and _decide(policy, 1).camera is None
+    assert _decide(policy, 0).camera is None
+    policy.tries.court = _court_policy(fakes, panned, between)[0].tries.court
+    assert _decide(policy, 1).camera is None  # no agreement asked
     policy, _ = _court_policy(Fakes(), CORNER, between)
     _decide(policy, 0)
     _cut(policy)  # a cut between the two frames: no agreement across it
+    policy.tries.court = _court_policy(fakes, panned, between)[0].tries.court
     assert _decide(policy, 1).camera is None
 
 
