@@ -8,7 +8,9 @@ principal point at the image centre and gated on plausibility; when none explain
 of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`). All hypotheses are
 scored at once
 on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
-found in the map and the map explained by the template); the best distinct few are fitted with the
+found in the map and the map explained by the template), the best ``refit_top`` are solved again on every straight
+marking each explains and join as hypotheses of their own (:mod:`.court_refit`: four lines place a narrow view's
+vanishing points poorly); the best distinct few are fitted with the
 label-and-fit rounds (:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point
 free) and the best fit is returned with its confidence, when the markings it explains fix it with a constraint to
 spare (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`: counted on the map, one more constraint than
@@ -49,9 +51,11 @@ from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
     concatenate,
     line_hypotheses,
+    pitch_line_offsets,
     pixel_homographies,
 )
 from broadtrack_graph.reinit.court_pencil import CourtPencilConfig, pencil_hypotheses
+from broadtrack_graph.reinit.court_refit import pitch_lines, refit_on_lines
 from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import best_distinct
@@ -92,6 +96,9 @@ class CourtConfig:
     # ... or, fixed exactly (no constraint to spare), at this confidence at least: the fit lays the camera on the
     # markings whether it is right or not, so its agreement with them is optimistic (1.01: never)
     exact_fit_confidence: float = 0.8
+    refit_top: int = 32  # the best hypotheses solved again on every straight marking they explain ...
+    refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
+    refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line
     rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
     circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
     centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
@@ -126,6 +133,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     # Each later tier joins while nothing explains the map well yet (circles_below_score) ...
     while tiers and not (len(costs) and -costs.min() >= config.circles_below_score):
         hypotheses, costs = _joined(hypotheses, costs, tiers.pop(0)(), structures, (W, H), config)
+    hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
+                                structures, (W, H), config)
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             "straight, no circle with them)")
@@ -142,6 +151,22 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                                 curves, config), marking_mask, field_mask, pitch, curves, config)
         result = later if later.camera is not None else result
     return replace(result, tried=len(hypotheses))
+
+
+def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, config: CourtConfig):
+    """The ``refit_top`` best hypotheses solved again on every straight marking each explains
+    (:func:`~broadtrack_graph.reinit.court_refit.refit_on_lines`), as hypotheses of their own."""
+    top = np.argsort(costs)[:config.refit_top]
+    top = top[np.isfinite(costs[top])]
+    lines = structures.lines
+    if not len(top) or len(lines) < config.refit_min_lines:
+        return concatenate([])
+    W, _ = frame_size
+    s, centre = W / 2.0, np.array(frame_size, float) / 2.0
+    ends = np.array([[line.centre_px + e * line.direction for e in line.extent_px] for line in lines])
+    H_n, refitted = refit_on_lines(hypotheses.H_n[top], (ends - centre) / s, pitch_lines(*pitch_line_offsets(pitch)),
+                                   config.refit_gate_per_width * 2.0, config.refit_min_lines)
+    return cameras_from_homographies(H_n[refitted], frame_size, pitch, config.lines)
 
 
 def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig) -> list:
