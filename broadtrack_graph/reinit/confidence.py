@@ -138,7 +138,7 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     if len(uv) and marking_pixels:
         near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
         found = _found(marks, near, pixel)
-        thin_expected, thin_found = _thin_markings_seen(found, detectable, compared.class_index, config)
+        thin_expected, thin_found = _thin_markings_seen(found, detectable, config)
         recall = float((np.count_nonzero(found & detectable) + thin_found) /
                        max(expected + thin_expected, config.min_template_px))
         # A marking found where the template has a line too thin to expect is still explained by it.
@@ -200,8 +200,7 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     return float(np.count_nonzero(_found(compared.marks, near, pixel)) / count), count
 
 
-def _thin_markings_seen(found: np.ndarray, detectable: np.ndarray, class_index: np.ndarray,
-                        config: ConfidenceConfig) -> tuple[float, float]:
+def _thin_markings_seen(found: np.ndarray, detectable: np.ndarray, config: ConfidenceConfig) -> tuple[float, float]:
     """(samples, of them found) of the template too thin to expect, weighted by how much of it the map shows anyway:
     share s of it found, weight (s - t) / (1 - t) for ``t = thin_found_share`` (0 at t and under: not expected; 1
     when all of it is found: the detector evidently sees lines that thin here)."""

@@ -161,11 +161,11 @@ def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, c
     lines = structures.lines
     if not len(top) or len(lines) < config.refit_min_lines:
         return concatenate([])
-    W, _ = frame_size
-    s, centre = W / 2.0, np.array(frame_size, float) / 2.0
+    _, s, centre = normalised_lines(lines, frame_size)  # the hypotheses' image coordinates: (u - centre) / s
     ends = np.array([[line.centre_px + e * line.direction for e in line.extent_px] for line in lines])
+    gate_n = config.refit_gate_per_width * frame_size[0] / s
     H_n, refitted = refit_on_lines(hypotheses.H_n[top], (ends - centre) / s, pitch_lines(*pitch_line_offsets(pitch)),
-                                   config.refit_gate_per_width * 2.0, config.refit_min_lines)
+                                   gate_n, config.refit_min_lines)
     return cameras_from_homographies(H_n[refitted], frame_size, pitch, config.lines)
 
 
@@ -238,12 +238,14 @@ def _judged(camera: Camera | None, marking_mask, field_mask, pitch: PitchTemplat
         return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
                                             "or under the grass)")
     fixed = determinability(camera, pitch, explained_by=marking_mask)
+    why = f"the markings the best camera explains do not fix it ({fixed.x_lines} and {fixed.y_lines} lines, " \
+          f"{len(fixed.curves)} circles"
+    to_spare = fixes_camera(fixed, config.surplus_constraints)
+    if not to_spare and not fixes_camera(fixed):
+        return ReinitResult(None, None, "", why + ")")
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
-    if not fixes_camera(fixed, config.surplus_constraints) and not (
-            fixes_camera(fixed) and confidence >= config.exact_fit_confidence):
-        return ReinitResult(None, None, "", f"the markings the best camera explains do not fix it ({fixed.x_lines} and "
-                                            f"{fixed.y_lines} lines, {len(fixed.curves)} circles; confidence "
-                                            f"{confidence:.2f})")
+    if not to_spare and confidence < config.exact_fit_confidence:
+        return ReinitResult(None, None, "", why + f", exactly, at {confidence:.2f})")
     position = tuple(round(float(v)) for v in camera.position_m)
     return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"court model at {position}"),
                    twin=twin_camera(camera))
