@@ -40,6 +40,7 @@ from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
 from broadtrack_graph.reinit.court_circle import (
     CourtCircleConfig,
     circle_line_homographies,
@@ -96,6 +97,9 @@ class CourtConfig:
     # ... or, fixed exactly (no constraint to spare), at this confidence at least: the fit lays the camera on the
     # markings whether it is right or not, so its agreement with them is optimistic (1.01: never)
     exact_fit_confidence: float = 0.8
+    # ... after fits from starts along its line of sight at these factors of its distance (reinit.court_depth): an
+    # ellipse's error moves an exact fit along it
+    exact_fit_depth_factors: tuple[float, ...] = (0.4, 0.48, 0.58, 0.69, 0.83, 1.2, 1.44, 1.73, 2.08, 2.5)
     refit_top: int = 32  # the best hypotheses solved again on every straight marking they explain ...
     refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
     refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line
@@ -138,8 +142,16 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             "straight, no circle with them)")
-    result = _judged(_fitted(hypotheses, costs, np.arange(len(costs)), structures, points_px, (W, H), curves, config),
-                     marking_mask, field_mask, pitch, curves, config)
+    def confidence_of(camera: Camera) -> float:
+        return camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
+
+    def walked(camera: Camera) -> Camera | None:  # an exact fit's depth (court_depth)
+        other = most_confident_along_line_of_sight(camera, fit_points(points_px, config.search), curves, config.search,
+                                                   config.exact_fit_depth_factors, confidence_of)
+        return None if other is None else _main_side(other, config.twin_tie_m)
+
+    result = _judged(_fitted(hypotheses, costs, np.arange(len(costs)), structures, points_px, (W, H), curves,
+                             confidence_of, config), marking_mask, field_mask, pitch, curves, config, walked)
     # ... and the tiers left join when the best camera so far is not one to return: their hypotheses alone are
     # fitted then (the rejected ones would be chosen again).
     left = [tier() for tier in tiers] if result.camera is None else []
@@ -148,7 +160,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         for part in left:
             hypotheses, costs = _joined(hypotheses, costs, part, structures, (W, H), config)
         later = _judged(_fitted(hypotheses, costs, np.arange(first, len(costs)), structures, points_px, (W, H),
-                                curves, config), marking_mask, field_mask, pitch, curves, config)
+                                curves, confidence_of, config), marking_mask, field_mask, pitch, curves, config,
+                        walked)
         result = later if later.camera is not None else result
     return replace(result, tried=len(hypotheses))
 
@@ -198,8 +211,11 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
 
 
 def _fitted(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size, curves: TemplateCurves,
-            config: CourtConfig) -> Camera | None:
-    """The best camera fitted from the best distinct few of the hypotheses ``among`` (indices), or None."""
+            confidence_of, config: CourtConfig) -> Camera | None:
+    """The most confident camera (``confidence_of``; the fit's score on the map breaks ties) fitted from the best
+    distinct few of the hypotheses ``among`` (indices), or None. The fit's score ranks the fits poorly: a wrong
+    camera laid over more of the map's clutter (the boards, the stands' rows) can score above the right one, which
+    the confidence, reading the template's own markings in the map, rates far below it."""
     W, H = frame_size
     search = config.search
     H_px = pixel_homographies(hypotheses, (W, H))
@@ -215,23 +231,26 @@ def _fitted(hypotheses, costs, among: np.ndarray, structures, points_px, frame_s
     if not chosen:
         return None
     points = fit_points(points_px, search)
-    best = None  # (fit score, camera)
+    best = None  # (confidence, fit score, camera)
     for k in chosen:
         if costs[k] > config.refine_cost_share * costs[chosen[0]]:
             break
         start = camera_through(H_px[k], hypotheses.sign[k], _camera_of(hypotheses, k, W, H), curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
-        if best is None or score > best[0]:
-            best = (score, camera)
-        if best[0] >= search.accept_fit_score:
+        fitted = (confidence_of(camera), score, camera)
+        if best is None or fitted[:2] > best[:2]:
+            best = fitted
+        if score >= search.accept_fit_score:
             break  # a fit this good is not beaten by a worse-scoring hypothesis
-    return _main_side(best[1], config.twin_tie_m)
+    return _main_side(best[2], config.twin_tie_m)
 
 
 def _judged(camera: Camera | None, marking_mask, field_mask, pitch: PitchTemplate, curves: TemplateCurves,
-            config: CourtConfig) -> ReinitResult:
-    """The fitted camera returned with its confidence and twin, or None and why (module docstring)."""
+            config: CourtConfig, walked=None) -> ReinitResult:
+    """The fitted camera returned with its confidence and twin, or None and why (module docstring). An exact fit
+    under ``exact_fit_confidence`` is replaced by the most confident fit along its line of sight (``walked``: a camera
+    or None), judged the same way."""
     if camera is None:
         return ReinitResult(None, None, "", "no hypothesis shows the template in the image")
     if not plausible_position(camera.position_m, pitch):
@@ -245,6 +264,9 @@ def _judged(camera: Camera | None, marking_mask, field_mask, pitch: PitchTemplat
         return ReinitResult(None, None, "", why + ")")
     confidence = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
     if not to_spare and confidence < config.exact_fit_confidence:
+        other = walked(camera) if walked is not None else None
+        if other is not None:
+            return _judged(other, marking_mask, field_mask, pitch, curves, config)
         return ReinitResult(None, None, "", why + f", exactly, at {confidence:.2f})")
     position = tuple(round(float(v)) for v in camera.position_m)
     return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"court model at {position}"),
