@@ -196,7 +196,9 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
     def circles(across: bool):
         if not lines:
             return concatenate([])
-        ellipses = _with_arcs(structures.ellipses() + structures.border_ellipses(), structures.arcs())
+        # An arc's piece fitted alone and an ellipse fitted through it and another piece are two estimates of one
+        # circle's image, a few per cent apart on a short arc: both are tried.
+        ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
         return _circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)
 
     return [pencil, lambda: circles(True), lambda: circles(False)]
@@ -285,12 +287,6 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
             break
     hypotheses = concatenate(parts)
     return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top)
-
-
-def _with_arcs(ellipses: list, arcs: list) -> list:
-    """The map's ellipses and, after them, its arcs that are not one of them (a centre a tenth of the axis apart)."""
-    return ellipses + [arc for arc in arcs if all(
-        np.linalg.norm(arc.centre_px - e.centre_px) >= 0.1 * e.semi_axes_px[0] for e in ellipses)]
 
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):

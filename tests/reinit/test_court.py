@@ -188,3 +188,20 @@ def test_the_most_confident_fit_is_taken_not_the_one_laid_over_most_of_the_map()
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None and result.score.jaccard > 0.9
     assert median_template_error_px(result.twin, truth) < 3.0
+
+
+def test_a_penalty_arc_fitted_alone_joins_the_ellipse_fitted_through_it_and_its_neighbour():
+    """Frame 444's neighbour in ``bench placements --random --seed 3``, frame 464: a 10 deg view of a penalty arc
+    (broken in two by a player) and its 16.5 m line on a worn lower-league pitch. The ellipse fitted through both
+    pieces of the arc is a few per cent off and gives no camera; the arc's larger piece fitted alone gives the
+    truth's twin. Both are estimates of the same circle's image, and both are tried."""
+    from broadtrack_graph.benchmarks.random_placements import draw_frame
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.synth.named_looks import LOOK_NAMES
+
+    frame = draw_frame(3, 464, 1280, 720, list(LOOK_NAMES))
+    truth = frame["drawn"].camera
+    det = WeightFreeDetector(PITCH).detect(frame["image"])
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert result.camera is not None and result.score.jaccard > 0.8
+    assert median_template_error_px(result.twin, truth) < 3.0
