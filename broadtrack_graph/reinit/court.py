@@ -89,6 +89,8 @@ class CourtConfig:
     max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
     refine_top_k: int = 3  # the best distinct hypotheses fitted
     refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
+    confidence_margin: float = 0.1  # a fit this much more confident than the best scoring one replaces it (the
+    #                                 margin a new camera needs to replace a chain's: TrackingConfig.reinit_switch_margin)
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
     twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
     # The markings the best camera explains must give this many constraints more than its 7 unknowns: a camera from
@@ -214,10 +216,11 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
 
 def _fitted(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size, curves: TemplateCurves,
             confidence_of, config: CourtConfig) -> Camera | None:
-    """The most confident camera (``confidence_of``; the fit's score on the map breaks ties) fitted from the best
-    distinct few of the hypotheses ``among`` (indices), or None. The fit's score ranks the fits poorly: a wrong
-    camera laid over more of the map's clutter (the boards, the stands' rows) can score above the right one, which
-    the confidence, reading the template's own markings in the map, rates far below it."""
+    """The best camera fitted from the best distinct few of the hypotheses ``among`` (indices), or None: the best
+    scoring on the map, unless another fit is more confident (``confidence_of``) by ``confidence_margin``, then the
+    most confident. The map's score ranks fits a few pixels apart well, wrong fits poorly: a wrong camera laid over
+    the map's clutter (the boards, the stands' rows) can score above the right one, which the confidence, reading
+    the template's own markings in the map, rates far below it."""
     W, H = frame_size
     search = config.search
     H_px = pixel_homographies(hypotheses, (W, H))
@@ -233,19 +236,18 @@ def _fitted(hypotheses, costs, among: np.ndarray, structures, points_px, frame_s
     if not chosen:
         return None
     points = fit_points(points_px, search)
-    best = None  # (confidence, fit score, camera)
+    fits = []  # (fit score, confidence, camera)
     for k in chosen:
         if costs[k] > config.refine_cost_share * costs[chosen[0]]:
             break
         start = camera_through(H_px[k], hypotheses.sign[k], _camera_of(hypotheses, k, W, H), curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
-        fitted = (confidence_of(camera), score, camera)
-        if best is None or fitted[:2] > best[:2]:
-            best = fitted
+        fits.append((score, confidence_of(camera), camera))
         if score >= search.accept_fit_score:
             break  # a fit this good is not beaten by a worse-scoring hypothesis
-    return _main_side(best[2], config.twin_tie_m)
+    best, confident = max(fits, key=lambda fit: fit[0]), max(fits, key=lambda fit: fit[1])
+    return _main_side((confident if confident[1] >= best[1] + config.confidence_margin else best)[2], config.twin_tie_m)
 
 
 def _judged(camera: Camera | None, marking_mask, field_mask, pitch: PitchTemplate, curves: TemplateCurves,
