@@ -34,6 +34,16 @@ def _detect(camera: Camera):
     return WeightFreeDetector(PITCH).detect(image)
 
 
+def _random_placement(index: int):
+    """(true camera, weight-free detections) of frame ``index`` of ``bench placements --random --seed 3`` (1280x720)."""
+    from broadtrack_graph.benchmarks.random_placements import draw_frame
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.synth.named_looks import LOOK_NAMES
+
+    frame = draw_frame(3, index, 1280, 720, list(LOOK_NAMES))
+    return frame["drawn"].camera, WeightFreeDetector(PITCH).detect(frame["image"])
+
+
 @pytest.mark.parametrize("position, target, hfov_deg", [
     ((0.0, 80.0, -30.0), (-30.0, 0.0, 0.0), 20.0),  # a main camera far back, the left penalty area
     ((0.0, 55.0, -15.0), (38.0, 0.0, 0.0), 30.0),  # the main camera, the right penalty area
@@ -86,15 +96,11 @@ def test_a_frame_full_of_lines_is_bounded_in_time():
 def test_a_frame_whose_markings_do_not_fix_a_camera_gets_none_and_says_so():
     """Frame 4 of ``bench placements --random --seed 3``: a close view of one straight marking. A camera laying that
     line on any pitch line explains it (0.91 confident before this check, 900 px off); none is returned."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.determinable import determinability
-    from broadtrack_graph.synth.named_looks import LOOK_NAMES
 
-    frame = draw_frame(3, 4, 1280, 720, list(LOOK_NAMES))
-    seen = determinability(frame["drawn"].camera, PITCH)
+    truth, det = _random_placement(4)
+    seen = determinability(truth, PITCH)
     assert not seen.determinable and seen.x_lines + seen.y_lines == 1
-    det = WeightFreeDetector(PITCH).detect(frame["image"])
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is None
     assert "do not fix it" in result.reason
@@ -105,14 +111,9 @@ def test_a_penalty_arc_and_its_line_seen_from_just_off_the_touchline_give_the_ca
     penalty arc and the 16.5 m line. The arc's ellipse (a third of it in view) puts the hypothesis's focal point 1.7 m
     inside the touchline; kept for the fit, it gives the camera (its twin: the far side). An arc and one line fix the
     camera exactly (7 constraints, 7 unknowns): such a camera is returned only at ``exact_fit_confidence``."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.reinit.court import CourtConfig
-    from broadtrack_graph.synth.named_looks import LOOK_NAMES
 
-    frame = draw_frame(3, 45, 1280, 720, list(LOOK_NAMES))
-    truth = frame["drawn"].camera
-    det = WeightFreeDetector(PITCH).detect(frame["image"])
+    truth, det = _random_placement(45)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None, result.reason
     assert median_template_error_px(result.twin, truth) < 2.0
@@ -127,14 +128,9 @@ def test_an_exact_fit_under_the_exact_fit_confidence_is_fitted_again_along_its_l
     shadow. The camera fitted on them (the twin, 2 px off, its focal length 6670 px for the truth's 4160 and twice as
     far back) is 0.64 confident: fixed exactly by its markings, it is not returned under ``exact_fit_confidence`` as
     it is. Fitted again from starts along its line of sight, one lands on the truth's twin, confident enough."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.reinit.court import CourtConfig
-    from broadtrack_graph.synth.named_looks import LOOK_NAMES
 
-    frame = draw_frame(3, 444, 1280, 720, list(LOOK_NAMES))
-    truth = frame["drawn"].camera
-    det = WeightFreeDetector(PITCH).detect(frame["image"])
+    truth, det = _random_placement(444)
     unwalked = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
                                  CourtConfig(exact_fit_depth_factors=()))
     assert unwalked.camera is None and "exactly" in unwalked.reason
@@ -173,18 +169,11 @@ def test_a_low_camera_on_the_16m_line_is_found_when_its_twin_takes_no_fitting_sl
     assert np.linalg.norm(result.camera.position_m - frame.camera.position_m) < 1.0
 
 
-
 def test_a_fit_more_confident_by_the_margin_replaces_the_one_laid_over_most_of_the_map():
     """Frame 291 of ``bench placements --random --seed 3``: a 10 deg view from the far side, two lines of each
     direction. The best hypothesis fits the truth's twin (2 px, 0.93 confident); another fit lays the template over
     more of the map's pixels (a higher fit score) and is 250 px off at 0.53. The confidence chooses."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
-    from broadtrack_graph.synth.named_looks import LOOK_NAMES
-
-    frame = draw_frame(3, 291, 1280, 720, list(LOOK_NAMES))
-    truth = frame["drawn"].camera
-    det = WeightFreeDetector(PITCH).detect(frame["image"])
+    truth, det = _random_placement(291)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None and result.score.jaccard > 0.9
     assert median_template_error_px(result.twin, truth) < 3.0
@@ -215,13 +204,7 @@ def test_a_penalty_arc_fitted_alone_joins_the_ellipse_fitted_through_it_and_its_
     (broken in two by a player) and its 16.5 m line on a worn lower-league pitch. The ellipse fitted through both
     pieces of the arc is a few per cent off and gives no camera; the arc's larger piece fitted alone gives the
     truth's twin. Both are estimates of the same circle's image, and both are tried."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
-    from broadtrack_graph.synth.named_looks import LOOK_NAMES
-
-    frame = draw_frame(3, 464, 1280, 720, list(LOOK_NAMES))
-    truth = frame["drawn"].camera
-    det = WeightFreeDetector(PITCH).detect(frame["image"])
+    truth, det = _random_placement(464)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None and result.score.jaccard > 0.8
     assert median_template_error_px(result.twin, truth) < 3.0
