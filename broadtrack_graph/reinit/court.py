@@ -106,6 +106,7 @@ class CourtConfig:
     refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
     refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line
     rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
+    prescore_keep: int = 2048  # over this many hypotheses, all are scored on every fourth sample first, these go on
     circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
     centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
     #                                          centre circle beside a touchline (painted all round; an arc is not)
@@ -210,7 +211,7 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
     """The hypotheses and costs with ``part``'s (scored on the map) after them."""
     if not len(part):
         return hypotheses, costs
-    scores = _scores(part, structures.scorer, frame_size, config.search, config.rescore_top)
+    scores = _scores(part, structures.scorer, frame_size, config.search, config.rescore_top, config.prescore_keep)
     return concatenate([hypotheses, part]), np.concatenate([costs, scores])
 
 
@@ -288,7 +289,8 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
         if sum(len(part) for part in parts) >= config.max_hypotheses:
             break
     hypotheses = concatenate(parts)
-    return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top)
+    return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top,
+                               config.prescore_keep)
 
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):
@@ -311,19 +313,27 @@ def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config
     return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
 
-def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int) -> np.ndarray:
-    """(K,) map costs of the hypotheses: all on every second template sample and marking point, the
-    ``rescore_top`` best again in full (the others inf: they are not fitted)."""
+def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int, prescore_keep: int
+            ) -> np.ndarray:
+    """(K,) map costs of the hypotheses: all on every second template sample and marking point (when there are more
+    than ``prescore_keep``, only the ``prescore_keep`` best on every fourth), the ``rescore_top`` best again in full
+    (the others inf: they are not fitted)."""
     if not len(hypotheses):
         return np.zeros(0)
     H_px = pixel_homographies(hypotheses, frame_size)
     px_per_m = hypotheses.focal_n * (frame_size[0] / 2.0) * hypotheses.scale_m
-    costs = scorer.plane_costs(H_px, hypotheses.sign, px_per_m, search.coarse_hit_px, search.coarse_point_px,
-                               thin=search.coarse_thin)
+    sign = hypotheses.sign
+    kept = np.arange(len(H_px))
+    if len(kept) > prescore_keep:
+        rough = scorer.plane_costs(H_px, sign, px_per_m, search.coarse_hit_px, search.coarse_point_px,
+                                   thin=2 * search.coarse_thin)
+        kept = np.sort(np.argsort(rough)[:prescore_keep])
+    costs = np.full(len(H_px), np.inf)
+    costs[kept] = scorer.plane_costs(H_px[kept], sign[kept], px_per_m[kept], search.coarse_hit_px,
+                                     search.coarse_point_px, thin=search.coarse_thin)
     top = np.argsort(costs)[:rescore_top]
     top = top[np.isfinite(costs[top])]
-    fine = scorer.plane_costs(H_px[top], hypotheses.sign[top], px_per_m[top], search.score_hit_px,
-                              search.score_point_px)
+    fine = scorer.plane_costs(H_px[top], sign[top], px_per_m[top], search.score_hit_px, search.score_point_px)
     out = np.full(len(costs), np.inf)
     out[top] = fine
     return out

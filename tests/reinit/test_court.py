@@ -208,3 +208,20 @@ def test_a_penalty_arc_fitted_alone_joins_the_ellipse_fitted_through_it_and_its_
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None and result.score.jaccard > 0.8
     assert median_template_error_px(result.twin, truth) < 3.0
+
+
+def test_a_frame_full_of_lines_is_scored_coarser_first_and_keeps_the_same_best_hypotheses():
+    """Frame 168 of ``bench placements --random --seed 3`` gives over 20 000 line hypotheses. Scored on every fourth
+    sample first, only the best ``prescore_keep`` are scored on every second; the best ``rescore_top`` scored in full
+    are the same hypotheses with the same costs as when all are scored on every second sample."""
+    from broadtrack_graph.reinit import court
+    from broadtrack_graph.reinit.mask import map_structures
+
+    config = court.CourtConfig()
+    _, det = _random_placement(168)
+    structures = map_structures(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, config.search)
+    hypotheses, costs = court._line_hypotheses(structures, (1280, 720), PITCH, config)
+    assert len(costs) > 10 * config.prescore_keep
+    every = court._scores(hypotheses, structures.scorer, (1280, 720), config.search, config.rescore_top,
+                          prescore_keep=len(costs))
+    np.testing.assert_array_equal(costs, every)
