@@ -221,14 +221,21 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     the image (``ellipse_min_inside``); with ``at_border`` only the others (arcs at the image
     border: a tight zoom's centre circle, or a penalty arc, whose fitted axes are less sure). The pieces are
     cut along the long straight markings of ``lines`` (frame pixels; ``ellipse_cut_line_px``); the support is
-    counted on the whole map.
+    counted on the whole map. :func:`marking_ellipses_both` gives both sets from one fit of the pieces.
     """
+    return marking_ellipses_both(marking_mask, frame_width_px, config, lines)[1 if at_border else 0]
+
+
+def marking_ellipses_both(marking_mask: np.ndarray, frame_width_px: int,
+                          config: MarkingStructureConfig = MarkingStructureConfig(), lines: list[ImageLine] = ()
+                          ) -> tuple[list[ImageEllipse], list[ImageEllipse]]:
+    """(:func:`marking_ellipses`, its ``at_border`` set) from one ellipse fit of each piece and pair of pieces."""
     marking_mask, labels, pieces, areas = map_pieces(marking_mask, frame_width_px, lines, config,
                                                      config.ellipse_min_piece_px)
     h, w = marking_mask.shape
     unit = w / 960.0
     if not pieces:
-        return []
+        return [], []
     ys, xs = np.nonzero(labels > 0)
     pixels = np.column_stack([xs, ys]).astype(np.float32)
     piece_pixels = {}
@@ -242,7 +249,7 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
     pixels = pixels[::every]  # support is counted on at most about ellipse_check_pixels map pixels
     trials = [(a,) for a in pieces if areas[a - 1] >= 60 * unit] + list(itertools.combinations(pieces, 2))
     tol = config.ellipse_band_px * unit
-    found = []
+    found: tuple[list, list] = ([], [])  # mostly inside the image, at its border
     for trial in trials:
         sample = np.vstack([piece_pixels[label] for label in trial])
         if len(sample) < 6:
@@ -261,11 +268,17 @@ def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: Mark
         grad = 2.0 * np.hypot(x / a**2, y / b**2)
         support = int(np.sum(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
         inside, outline_px = outline_in_image(cx, cy, a, b, theta, w, h)
-        if (inside < config.ellipse_min_inside) != at_border or support < config.ellipse_min_coverage * outline_px:
+        if support < config.ellipse_min_coverage * outline_px:
             continue
-        found.append((support, np.array([cx, cy]), (a, b), theta))
-    found.sort(key=lambda item: -item[0])
+        found[int(inside < config.ellipse_min_inside)].append((support, np.array([cx, cy]), (a, b), theta))
     scale = frame_width_px / w
+    return _most_supported(found[0], scale, unit, config), _most_supported(found[1], scale, unit, config)
+
+
+def _most_supported(found: list, scale: float, unit: float, config: MarkingStructureConfig) -> list[ImageEllipse]:
+    """The best ``max_ellipses`` distinct ellipses of (support, centre, (a, b), theta) at the map's working size
+    (scale: frame / working pixels), most supported first."""
+    found = sorted(found, key=lambda item: -item[0])
     out: list[ImageEllipse] = []
     for support, centre, (a, b), theta in found:
         if support < config.ellipse_min_support_px * unit:

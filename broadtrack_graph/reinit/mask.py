@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from broadtrack_graph.detect.marking_arcs import marking_arcs
-from broadtrack_graph.detect.marking_structures import marking_ellipses, marking_lines
+from broadtrack_graph.detect.marking_structures import marking_ellipses_both, marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
@@ -195,8 +195,9 @@ class MapStructures:
         self._arcs: list | None = None
 
     def ellipses(self) -> list:
-        if self._ellipses is None:
-            self._ellipses = marking_ellipses(self._mask, self._W, self._config.structures, lines=self.lines)
+        if self._ellipses is None:  # with the border ones: one fit of the pieces gives both
+            self._ellipses, self._border = marking_ellipses_both(self._mask, self._W, self._config.structures,
+                                                                 lines=self.lines)
         return self._ellipses
 
     def arcs(self) -> list:
@@ -206,9 +207,7 @@ class MapStructures:
         return self._arcs
 
     def border_ellipses(self) -> list:
-        if self._border is None:
-            self._border = marking_ellipses(self._mask, self._W, self._config.structures, at_border=True,
-                                            lines=self.lines)
+        self.ellipses()
         return self._border
 
 
