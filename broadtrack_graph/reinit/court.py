@@ -40,13 +40,13 @@ from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
 from broadtrack_graph.reinit.court_circle import (
     CourtCircleConfig,
     circle_line_homographies,
     circle_pole_homographies,
     pitch_circle_chords,
 )
+from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
 from broadtrack_graph.reinit.court_families import CourtLineConfig, line_families, normalised_lines
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
@@ -145,6 +145,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             "straight, no circle with them)")
+
     def confidence_of(camera: Camera) -> float:
         return camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
 
