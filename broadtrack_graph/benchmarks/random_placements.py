@@ -247,7 +247,7 @@ def run(args) -> dict:
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason}
                 if camera is not None and error is not None and error > args.success_px:
-                    from broadtrack_graph.reinit.court import twin_camera  # only here: the route may be skipped
+                    from broadtrack_graph.reinit.court_fit import twin_camera  # only here: the route may be skipped
 
                     twin_error = _median_error(camera, twin_camera(truth), ground)
                     result_row["twin_error_px"] = _round(twin_error, 2)  # written or not

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import ImageEllipse
+from broadtrack_graph.geometry.matrices import inverses
 from broadtrack_graph.reinit.court_lines import focal_and_mismatch
 
 
@@ -67,23 +68,15 @@ def _homographies_from_points(image_h: np.ndarray, world_xy: np.ndarray) -> np.n
     world_h = np.concatenate([world_xy, np.ones((K, 4, 1))], axis=2)  # (K, 4, 3)
     with np.errstate(invalid="ignore", divide="ignore"):
         B_image, B_world = _projective_basis(np.asarray(image_h, float)), _projective_basis(world_h)
-        H = B_image @ _inverse(B_world)
+        H = B_image @ inverses(B_world)
         return H / np.linalg.norm(H, axis=(1, 2), keepdims=True)
 
 
 def _projective_basis(points_h: np.ndarray) -> np.ndarray:
     """(K, 3, 3) the matrices mapping e1, e2, e3 and (1, 1, 1) to the four points (K, 4, 3) (NaN where degenerate)."""
     first3 = np.swapaxes(points_h[:, :3], 1, 2)  # (K, 3, 3): the points as columns
-    weights = _inverse(first3) @ points_h[:, 3, :, None]  # (K, 3, 1)
+    weights = inverses(first3) @ points_h[:, 3, :, None]  # (K, 3, 1)
     return first3 * np.swapaxes(weights, 1, 2)
-
-
-def _inverse(M: np.ndarray) -> np.ndarray:
-    """(K, 3, 3) inverses by the adjugate (NaN or inf where singular): no exception for one degenerate item."""
-    a, b, c = M[:, 0], M[:, 1], M[:, 2]  # rows
-    adjugate_t = np.stack([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=1)  # rows of the cofactors
-    det = np.einsum("ki,ki->k", a, adjugate_t[:, 0])
-    return np.swapaxes(adjugate_t, 1, 2) / det[:, None, None]
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from broadtrack_graph.geometry.matrices import inverses
+
 PITCH_SCALE_M = 50.0
 """Pitch coordinates are divided by this in the linear solve (its conditioning)."""
 
@@ -50,7 +52,7 @@ def refit_on_lines(H_n: np.ndarray, ends_n: np.ndarray, lines_w: np.ndarray, gat
     current = H_n.copy()
     for _ in range(rounds):
         with np.errstate(divide="ignore", invalid="ignore"):
-            images = np.einsum("kji,mj->kmi", _inverse(current), lines_w)  # l_img = H^-T l  (K, M, 3)
+            images = np.einsum("kji,mj->kmi", inverses(current), lines_w)  # l_img = H^-T l  (K, M, 3)
             images = images / np.linalg.norm(images[..., :2], axis=2, keepdims=True)
             distance = np.abs(np.einsum("kmi,lei->klme", images, x))  # (K, L, M, 2)
         worst = np.nan_to_num(distance.max(axis=3), nan=np.inf)  # (K, L, M)
@@ -67,16 +69,9 @@ def refit_on_lines(H_n: np.ndarray, ends_n: np.ndarray, lines_w: np.ndarray, gat
         _, _, vt = np.linalg.svd(rows[ok])
         G_s = vt[:, -1].reshape(-1, 3, 3)  # image -> scaled pitch
         with np.errstate(divide="ignore", invalid="ignore"):
-            H_new = _inverse(G_s) @ np.linalg.inv(scale)[None]  # metres -> image: H = G_s^-1 S^-1
+            H_new = inverses(G_s) @ np.linalg.inv(scale)[None]  # metres -> image: H = G_s^-1 S^-1
         good = np.all(np.isfinite(H_new), axis=(1, 2))
         index = np.flatnonzero(ok)[good]
         current[index] = H_new[good]
         refitted[index] = True
     return current, refitted
-
-
-def _inverse(M: np.ndarray) -> np.ndarray:
-    """(K, 3, 3) inverses, NaN where a matrix is singular."""
-    singular = np.abs(np.linalg.det(M)) < 1e-12 * np.maximum(np.abs(M).max(axis=(1, 2)) ** 3, 1e-300)
-    safe = np.where(singular[:, None, None], np.eye(3), M)
-    return np.where(singular[:, None, None], np.nan, np.linalg.inv(safe))

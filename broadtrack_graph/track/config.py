@@ -48,8 +48,9 @@ class TrackingConfig:
     # ... or from the margin when the court model's camera of a frame at most this many frames before, in the same
     # stretch, stood in the same place (two frames agreeing; 0: never)
     court_agreement_frames: int = 5
-    # ... the two frames' views this far apart at least (share of the image width): a still camera's frames show the
-    # same markings, and a wrong camera laid on them agrees with itself
+    # ... the two frames' views this far apart at least (the image's motion, geometry.tripod.image_motion_px, as a
+    # share of the image width): a still camera's frames show the same markings, and a wrong camera laid on them
+    # agrees with itself
     court_agreement_view_change: float = 0.02
     # A new shot's camera this confident is certain: the search stops at it (the later stages cannot do better by
     # the margin) and the field model's camera is taken without a search; below it, every stage is searched.

@@ -6,13 +6,13 @@ The decision that takes or passes them is :class:`~broadtrack_graph.track.reinit
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 from typing import Callable
 
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.tripod import image_motion_px
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
@@ -135,7 +135,7 @@ class FrameTries:
             window = self.config.court_agreement_frames
             self._court_cameras = [(k, c) for k, c in self._court_cameras if 0 < i - k <= window]
             agrees = any(self.registry.same_place(c.position_m, camera.position_m, camera.R_cw[2])
-                         and view_change_share(c, camera) >= self.config.court_agreement_view_change
+                         and image_motion_px(c, camera, reference_width_px=1.0) >= self.config.court_agreement_view_change
                          for _, c in self._court_cameras)
             self._court_cameras.append((i, camera))
             if self._first_court_frame is None:
@@ -149,13 +149,3 @@ class FrameTries:
         shot's global search waits for them."""
         first = self._first_court_frame
         return first is not None and 0 <= frame_index - first < self.config.court_agreement_frames
-
-
-def view_change_share(a, b) -> float:
-    """How far the view of camera ``b`` is from ``a``'s, as a share of the image width: the turn of the line of sight
-    and the change of focal length, in pixels at the wider view (the largest of the two)."""
-    cos = float(np.clip(np.dot(a.R_cw[2], b.R_cw[2]), -1.0, 1.0))
-    focal_px = min(a.focal_px, b.focal_px)
-    turn_px = focal_px * math.acos(cos)
-    zoom_px = abs(a.focal_px / b.focal_px - 1.0) * a.width_px / 2.0
-    return max(turn_px, zoom_px) / a.width_px

@@ -11,7 +11,7 @@ import numpy as np
 from broadtrack_graph.benchmarks import random_placements
 from broadtrack_graph.benchmarks.random_cameras import STANDS, draw_random_camera
 from broadtrack_graph.benchmarks.random_placements import RANDOM_STREAM, outcome
-from broadtrack_graph.reinit.court import twin_camera
+from broadtrack_graph.reinit.court_fit import twin_camera
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.scoring import ReinitResult

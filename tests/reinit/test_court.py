@@ -12,7 +12,8 @@ from reinit_helpers import median_template_error_px
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
-from broadtrack_graph.reinit.court import reinit_from_court, twin_camera
+from broadtrack_graph.reinit.court import reinit_from_court
+from broadtrack_graph.reinit.court_fit import twin_camera
 
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
@@ -111,7 +112,7 @@ def test_a_penalty_arc_and_its_line_seen_from_just_off_the_touchline_give_the_ca
     penalty arc and the 16.5 m line. The arc's ellipse (a third of it in view) puts the hypothesis's focal point 1.7 m
     inside the touchline; kept for the fit, it gives the camera (its twin: the far side). An arc and one line fix the
     camera exactly (7 constraints, 7 unknowns): such a camera is returned only at ``exact_fit_confidence``."""
-    from broadtrack_graph.reinit.court import CourtConfig
+    from broadtrack_graph.reinit.court_config import CourtConfig
 
     truth, det = _random_placement(45)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
@@ -128,7 +129,7 @@ def test_an_exact_fit_under_the_exact_fit_confidence_is_fitted_again_along_its_l
     shadow. The camera fitted on them (the twin, 2 px off, its focal length 6670 px for the truth's 4160 and twice as
     far back) is 0.64 confident: fixed exactly by its markings, it is not returned under ``exact_fit_confidence`` as
     it is. Fitted again from starts along its line of sight, one lands on the truth's twin, confident enough."""
-    from broadtrack_graph.reinit.court import CourtConfig
+    from broadtrack_graph.reinit.court_config import CourtConfig
 
     truth, det = _random_placement(444)
     unwalked = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
@@ -144,11 +145,11 @@ def test_an_exact_fit_under_the_exact_fit_confidence_is_fitted_again_along_its_l
 
 
 def test_a_fitted_camera_standing_on_the_pitch_is_not_returned(monkeypatch):
-    import broadtrack_graph.reinit.court as court
+    import broadtrack_graph.reinit.court_fit as court_fit
 
     truth = _aimed((0.0, 55.0, -15.0), (38.0, 0.0, 0.0), 30.0)
     det = _detect(truth)
-    monkeypatch.setattr(court, "refine_on_map", lambda start, *args: start.replace(
+    monkeypatch.setattr(court_fit, "refine_on_map", lambda start, *args: start.replace(
         position_m=np.array([10.0, 20.0, -15.0])))  # a fit that walked onto the pitch
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (W, H), PITCH, CURVES, det.field_mask)
     assert result.camera is None and "not a broadcast camera's" in result.reason

@@ -528,7 +528,7 @@ def test_a_main_camera_metres_from_every_candidate_position_is_found_at_its_firs
 
 def _court_policy(fakes, court_camera, court_confidence, registry=None, **config):
     """A policy whose court model answers court_camera (with its twin), scored court_confidence by the fakes."""
-    from broadtrack_graph.reinit.court import twin_camera
+    from broadtrack_graph.reinit.court_fit import twin_camera
     from broadtrack_graph.track.camera_ids import CameraRegistry
 
     calls = []
@@ -607,7 +607,7 @@ def test_a_new_shots_search_waits_for_the_next_frames_court_cameras():
 
 
 def test_a_known_camera_standing_where_the_twin_stands_decides_the_twin():
-    from broadtrack_graph.reinit.court import twin_camera
+    from broadtrack_graph.reinit.court_fit import twin_camera
     from broadtrack_graph.track.camera_ids import CameraRegistry
 
     far_side = twin_camera(MAIN)  # the court model's rule would keep the main side: here a known camera decides

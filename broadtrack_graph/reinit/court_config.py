@@ -1,0 +1,59 @@
+"""Settings of the court model (:func:`~broadtrack_graph.reinit.court.reinit_from_court`): its hypotheses, their
+scoring, the fits and the judging of the camera kept. No I/O."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+from broadtrack_graph.reinit.court_circle import CourtCircleConfig
+from broadtrack_graph.reinit.court_families import CourtLineConfig
+from broadtrack_graph.reinit.court_pencil import CourtPencilConfig
+from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+
+
+@dataclass(frozen=True)
+class CourtConfig:
+    """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
+
+    # the hypotheses of the straight markings (and their gates); 8 second directions to each first: a banner's or a
+    # board's two edges meet in a point that outvotes the pitch's own second direction
+    lines: CourtLineConfig = CourtLineConfig(second_candidates=8)
+    # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
+    circle: CourtCircleConfig = CourtCircleConfig()
+    # three lines of one direction and one across (tried with the circles)
+    pencil: CourtPencilConfig = CourtPencilConfig()
+    # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
+    # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
+    # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of
+    # sight, so the fit holds it loosely.
+    # A goal net's strands are dropped from 48 lines before the 24 best supported are kept, and the map's pieces are
+    # cut along the long straight markings before ellipses are fitted to them (an arc meets its line).
+    search: MaskSearchConfig = MaskSearchConfig(
+        structures=MarkingStructureConfig(max_lines=24, candidate_lines=48, ellipse_cut_line_px=160.0),
+        position_sigma_m=25.0, max_fit_points=250)
+    min_marking_points: int = 10  # fewer marking points: no camera, said at once
+    max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
+    refine_top_k: int = 3  # the best distinct hypotheses fitted
+    refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
+    confidence_margin: float = 0.1  # a fit this much more confident than the best scoring one replaces it (the
+    #                                 margin a new camera needs to replace a chain's: TrackingConfig.reinit_switch_margin)
+    distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
+    twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
+    # The markings the best camera explains must give this many constraints more than its 7 unknowns: a camera from
+    # nothing that they fix exactly (a circle and one line) lays itself on them whether it is right or not.
+    surplus_constraints: int = 1
+    # ... or, fixed exactly (no constraint to spare), at this confidence at least: the fit lays the camera on the
+    # markings whether it is right or not, so its agreement with them is optimistic (1.01: never)
+    exact_fit_confidence: float = 0.8
+    # ... after fits from starts along its line of sight at these factors of its distance (reinit.court_depth): an
+    # ellipse's error moves an exact fit along it
+    exact_fit_depth_factors: tuple[float, ...] = (0.4, 0.48, 0.58, 0.69, 0.83, 1.2, 1.44, 1.73, 2.08, 2.5)
+    refit_top: int = 32  # the best hypotheses solved again on every straight marking they explain ...
+    refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
+    refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line
+    rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
+    prescore_keep: int = 2048  # over this many hypotheses, all are scored on every fourth sample first, these go on
+    circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
+    centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
+    #                                          centre circle beside a touchline (painted all round; an arc is not)

@@ -1,0 +1,147 @@
+"""The court model's last steps: the best distinct hypotheses fitted on the marking map, one fit kept, then judged.
+
+:func:`fitted_camera` fits the best distinct few hypotheses (the label-and-fit rounds of
+:func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point free, each started from the camera that
+draws its homography's template, :func:`camera_through`) and keeps the best scoring fit on the map, or the most
+confident one when it is more confident by ``confidence_margin``. :func:`judged` returns it with its confidence when
+it stands where a broadcast camera can, and the markings it explains fix it with a constraint to spare
+(:func:`~broadtrack_graph.geometry.determinable.fixes_camera`); fixed exactly (a circle and a line), only at
+``exact_fit_confidence``, else after a refit along its line of sight (:mod:`.court_depth`) that reaches it.
+
+The twin: the markings are unchanged by a half turn about the centre spot, so every hypothesis has a twin that
+explains the map as well (the same view from the other end, :func:`twin_camera`). The rule that decides here
+(:func:`main_side`): the focal point on the main camera's side (y > 0) wins; a camera on the halfway line's axis
+(|y| under ``twin_tie_m``) is kept at x < 0. A tracker that knows a camera's tripod decides first (its guesses are
+tried before this search). ``ReinitResult.twin`` carries the other camera.
+
+Settings are :class:`~broadtrack_graph.reinit.court_config.CourtConfig`'s. Pitch frame in metres, z down. No I/O.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.determinable import determinability, fixes_camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.reinit.court_config import CourtConfig
+from broadtrack_graph.reinit.court_lines import pixel_homographies
+from broadtrack_graph.reinit.frame import plausible_position
+from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
+from broadtrack_graph.reinit.map_score import best_distinct
+from broadtrack_graph.reinit.mask import fit_points, refine_on_map
+from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
+
+
+def fitted_camera(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size, curves: TemplateCurves,
+            confidence_of, config: CourtConfig) -> Camera | None:
+    """The best camera fitted from the best distinct few of the hypotheses ``among`` (indices), or None: the best
+    scoring on the map, unless another fit is more confident (``confidence_of``) by ``confidence_margin``, then the
+    most confident. The map's score ranks fits a few pixels apart well, wrong fits poorly: a wrong camera laid over
+    the map's clutter (the boards, the stands' rows) can score above the right one, which the confidence, reading
+    the template's own markings in the map, rates far below it."""
+    W, H = frame_size
+    search = config.search
+    H_px = pixel_homographies(hypotheses, (W, H))
+    # A hypothesis and its twin score the same: the twin rule orders them before the distinct choice.
+    C = hypotheses.C_w[among]
+    twin_side = np.where(np.abs(C[:, 1]) >= config.twin_tie_m, C[:, 1] < 0, C[:, 0] > 0)
+    focal_px = hypotheses.focal_n[among] * (W / 2.0)
+    pans, tilts = hypotheses.angles_rad[among, 0], hypotheses.angles_rad[among, 1]
+    # The image of a hypothesis and of its twin are the same: distinct by image, the kept side first.
+    order_costs = costs[among] + 1e-6 * twin_side
+    chosen = [int(among[k]) for k in best_distinct(np.where(twin_side, pans + math.pi, pans), tilts, focal_px,
+                                                    order_costs, config.refine_top_k, config.distinct_per_width * W, W)]
+    if not chosen:
+        return None
+    points = fit_points(points_px, search)
+    fits = []  # (fit score, confidence, camera)
+    for k in chosen:
+        if costs[k] > config.refine_cost_share * costs[chosen[0]]:
+            break
+        start = camera_through(H_px[k], hypotheses.sign[k], hypothesis_camera(hypotheses, k, W, H), curves)
+        camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
+        score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
+        fits.append((score, confidence_of(camera), camera))
+        if score >= search.accept_fit_score:
+            break  # a fit this good is not beaten by a worse-scoring hypothesis
+    best, confident = max(fits, key=lambda fit: fit[0]), max(fits, key=lambda fit: fit[1])
+    return main_side((confident if confident[1] >= best[1] + config.confidence_margin else best)[2], config.twin_tie_m)
+
+
+def judged(camera: Camera | None, marking_mask, pitch: PitchTemplate, config: CourtConfig, confidence_of,
+            walked=None) -> ReinitResult:
+    """The fitted camera returned with its confidence (``confidence_of``) and twin, or None and why (module
+    docstring). An exact fit under ``exact_fit_confidence`` is replaced by the most confident fit along its line of
+    sight (``walked``: a camera or None), judged the same way."""
+    if camera is None:
+        return ReinitResult(None, None, "", "no hypothesis shows the template in the image")
+    if not plausible_position(camera.position_m, pitch):
+        return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
+                                            "or under the grass)")
+    fixed = determinability(camera, pitch, explained_by=marking_mask)
+    why = f"the markings the best camera explains do not fix it ({fixed.x_lines} and {fixed.y_lines} lines, " \
+          f"{len(fixed.curves)} circles"
+    to_spare = fixes_camera(fixed, config.surplus_constraints)
+    if not to_spare and not fixes_camera(fixed):
+        return ReinitResult(None, None, "", why + ")")
+    confidence = confidence_of(camera)
+    if not to_spare and confidence < config.exact_fit_confidence:
+        other = walked(camera) if walked is not None else None
+        if other is not None:
+            return judged(other, marking_mask, pitch, config, confidence_of)
+        return ReinitResult(None, None, "", why + f", exactly, at {confidence:.2f})")
+    position = tuple(round(float(v)) for v in camera.position_m)
+    return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"court model at {position}"),
+                   twin=twin_camera(camera))
+
+
+def hypothesis_camera(hypotheses, k: int, W: int, H: int) -> Camera:
+    """Hypothesis ``k``'s camera decomposed from its homography (k1 0), at (W, H)."""
+    pan, tilt, roll = (float(v) for v in hypotheses.angles_rad[k])
+    return Camera(float(hypotheses.focal_n[k] * W / 2.0), 0.0, pan, tilt, roll, hypotheses.C_w[k], W, H)
+
+
+def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: TemplateCurves, per_class: int = 12) -> Camera:
+    """The camera (k1 held at 0) that draws the ground template where the homography H_px (pitch (x, y, 1) metres ->
+    pixels; a ground point X is in front when ``sign * (H_px X)_z > 0``) draws it, fitted from ``start`` (its
+    decomposition).
+
+    At a tight zoom the homography is nearly affine: the focal length and the distance along the line of sight
+    that its decomposition gives can be far off (10-20 m, the template hundreds of pixels off) while H itself is
+    right. Fitted to H's own image of every marking it shows, with each point's marking known, the camera lands
+    on it from there.
+    """
+    W = start.width_px
+    lines = {}
+    for name, samples_w in curves.samples_w.items():
+        if not curves.pitch.is_on_ground(name):
+            continue
+        uvw = np.column_stack([samples_w[:, :2], np.ones(len(samples_w))]) @ H_px.T
+        ahead = sign * uvw[:, 2] > 1e-9
+        uv = uvw[:, :2] / np.where(ahead, uvw[:, 2], 1.0)[:, None]
+        shown = ahead & start.in_image(uv) & np.all(np.isfinite(uv), axis=1)
+        if shown.sum() >= 3:
+            lines[name] = uv[shown][np.linspace(0, shown.sum() - 1, min(per_class, int(shown.sum()))).astype(int)]
+    if sum(len(p) for p in lines.values()) < 8:
+        return start
+    config = LineFitConfig(cauchy_scale_px=0.05 * W, polish_power=0.0, iterations=20, sigma_k1=1e-3)
+    return fit_camera_to_lines(start, lines, curves, config, fixed=(1,)).camera
+
+
+def twin_camera(camera: Camera) -> Camera:
+    """The camera turned half round the centre spot: it sees the markings exactly as ``camera`` does."""
+    x, y, z = camera.position_m
+    pan = math.remainder(camera.pan_rad + math.pi, 2 * math.pi)
+    return camera.replace(pan_rad=pan, position_m=np.array([-x, -y, z]))
+
+
+def main_side(camera: Camera, tie_m: float) -> Camera:
+    """``camera`` or its twin, by the twin rule of the module docstring."""
+    x, y, _ = camera.position_m
+    other_side = y < 0 if abs(y) >= tie_m else x > 0
+    return twin_camera(camera) if other_side else camera

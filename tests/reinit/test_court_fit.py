@@ -1,0 +1,68 @@
+"""The court model's last steps: the twin rule and the judging of a fitted camera."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.court_config import CourtConfig
+from broadtrack_graph.reinit.court_fit import judged, main_side, twin_camera
+
+PITCH = PitchTemplate()
+W, H = 960, 540
+
+
+def _aimed(position, target, hfov_deg: float) -> Camera:
+    from broadtrack_graph.synth.field_cameras import aim_angles
+
+    pan, tilt = aim_angles(np.asarray(position, float), np.asarray(target, float))
+    return Camera(W / 2 / math.tan(math.radians(hfov_deg) / 2), 0.01, pan, tilt, 0.004, position, W, H)
+
+
+def test_the_twin_sees_the_half_turned_pitch_exactly_as_the_camera_sees_the_pitch():
+    camera = _aimed((12.0, -48.0, -14.0), (25.0, -5.0, 0.0), 32.0)
+    twin = twin_camera(camera)
+    points = np.array([[x, y, 0.0] for x in (10.0, 25.0, 40.0) for y in (-20.0, -5.0, 10.0)])
+    uv, front = camera.project(points)
+    uv_twin, front_twin = twin.project(points * np.array([-1.0, -1.0, 1.0]))
+    assert front.all() and front_twin.all()
+    np.testing.assert_allclose(uv_twin, uv, atol=1e-6)
+    np.testing.assert_allclose(twin_camera(twin).position_m, camera.position_m)
+
+
+def test_the_main_side_is_kept_and_on_the_halfway_axis_the_left_end():
+    tie = CourtConfig().twin_tie_m
+    near = _aimed((5.0, 50.0, -15.0), (0.0, 0.0, 0.0), 40.0)
+    assert main_side(near, tie) is near
+    far = twin_camera(near)
+    assert main_side(far, tie).position_m[1] > 0
+    behind_right = _aimed((70.0, 0.5 * tie, -20.0), (30.0, 0.0, 0.0), 40.0)  # on the halfway line's axis, x > 0
+    kept = main_side(behind_right, tie)
+    assert kept.position_m[0] < 0 and np.isclose(kept.position_m[0], -behind_right.position_m[0])
+
+
+def test_a_judged_camera_carries_the_confidence_it_was_given_and_its_twin():
+    camera = _aimed((0.0, 55.0, -15.0), (0.0, 0.0, 0.0), 40.0)
+    shown = np.ones((H, W), bool)  # every marking in view explained: the camera is fixed with constraints to spare
+    asked = []
+
+    def confidence_of(c):
+        asked.append(c)
+        return 0.87
+
+    result = judged(camera, shown, PITCH, CourtConfig(), confidence_of)
+    assert result.camera is camera and result.score.jaccard == 0.87 and asked == [camera]
+    np.testing.assert_allclose(result.twin.position_m, twin_camera(camera).position_m)
+
+
+def test_a_camera_on_the_pitch_or_fixed_by_nothing_is_not_returned():
+    on_pitch = _aimed((10.0, 20.0, -15.0), (30.0, 0.0, 0.0), 40.0)
+    result = judged(on_pitch, np.ones((H, W), bool), PITCH, CourtConfig(), lambda c: 1.0)
+    assert result.camera is None and "not a broadcast camera's" in result.reason
+    camera = _aimed((0.0, 55.0, -15.0), (0.0, 0.0, 0.0), 40.0)
+    result = judged(camera, np.zeros((H, W), bool), PITCH, CourtConfig(), lambda c: 1.0)
+    assert result.camera is None and "do not fix it" in result.reason
+    assert judged(None, np.zeros((H, W), bool), PITCH, CourtConfig(), lambda c: 1.0).camera is None
