@@ -23,6 +23,8 @@ it only when the predicted camera draws a marking that wide.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
+
 import cv2
 import numpy as np
 from scipy.spatial import cKDTree
@@ -110,6 +112,34 @@ def wide_ridges(grey: np.ndarray, wide_allowed: np.ndarray, grass: np.ndarray | 
         taken[found_px[peak, 1] // scale, found_px[peak, 0] // scale] = 1
         kept, kept_px, peaked = np.vstack([kept, found]), np.vstack([kept_px, found_px]), np.concatenate([peaked, peak])
     return kept
+
+
+@dataclass(frozen=True)
+class WideInputs:
+    """What :func:`wide_ridges` needs of a frame, kept from its working level: the grey working image, the field's
+    filled outline without players, the ridges' inner field, the grass mask, the grass the threshold adapts to (or
+    None) and the working level's peaked flags."""
+
+    grey: np.ndarray
+    outline: np.ndarray
+    inner: np.ndarray
+    grass: np.ndarray
+    threshold_grass: np.ndarray | None
+    peaked: np.ndarray
+
+
+def wide_points(wide: WideInputs, points: np.ndarray, reach_kernel: np.ndarray, tophat_kernel: np.ndarray,
+                ridge_kernel: np.ndarray, c, blur: float = 1.0) -> np.ndarray:
+    """:func:`wide_ridges` of a frame: its working level's ``points`` (N, 2) with its wide markings' (M, 2), where the
+    field lies within ``reach_kernel`` of grass (a wide marking's middle lies farther from it than a thin one's). A
+    frame blurred ``blur`` times a sharp frame's edge width (:mod:`~broadtrack_graph.detect.sharpness`) shows its
+    paint's edges that much softer and its contrast spread: the edge share and the threshold factor (``c``'s
+    ``wide_edge_share``, ``wide_threshold_factor``, at least 1) are divided by it."""
+    if blur > 1.0:
+        c = replace(c, wide_edge_share=c.wide_edge_share / blur,
+                    wide_threshold_factor=max(1.0, c.wide_threshold_factor / blur))
+    allowed = cv2.bitwise_and(cv2.bitwise_and(wide.outline, cv2.dilate(wide.grass, reach_kernel)), wide.inner)
+    return wide_ridges(wide.grey, allowed, wide.threshold_grass, points, wide.peaked, tophat_kernel, ridge_kernel, c)
 
 
 def _across(points: np.ndarray, cells: np.ndarray, centres: np.ndarray, centre_cells: np.ndarray, normals: np.ndarray,

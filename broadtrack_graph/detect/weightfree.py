@@ -21,15 +21,17 @@ mapped back to the frame's pixels. Pipeline:
    frame (90th percentile on grass plus a margin), inside the field, away from players; each
    candidate pixel is moved to the sub-pixel centre of the ridge with Steger's
    Hessian method (offset along the line normal, kept when within half a pixel),
-   derivatives taken at the candidate pixels only (:mod:`~broadtrack_graph.detect.ridges`);
+   derivatives taken at the candidate pixels only (:mod:`~broadtrack_graph.detect.ridges`); a blurred frame's
+   markings, smeared wide and faint, are found on the image reduced 2x and 4x too, with gates eased by its blur
+   (:func:`~broadtrack_graph.detect.ridges.wide_ridges`, :mod:`~broadtrack_graph.detect.sharpness`);
 4. naming: with a predicted camera, the template is projected and densified
    (:func:`~broadtrack_graph.geometry.template.project_template`); where it draws a marking wider than the
    working level resolves (``wide_from_px``: a zoomed view, a low camera's near lines), the wide markings are found
-   first on the image reduced 2x and 4x (:func:`~broadtrack_graph.detect.ridges.wide_ridges`) and the frame's
-   marking map is theirs too; every ridge point takes the class of the nearest projected sample (k-d tree) when
-   within ``gate_px + gate_sigmas * uncertainty``, except those named after a touchline or a goal line that lie beyond
-   the pitch's outline once the template is registered on the named points (a turn and a zoom of the prediction:
-   :mod:`~broadtrack_graph.detect.registration`; the boards' edge beside a far touchline the frame does not show);
+   first on the reduced levels and the frame's marking map is theirs too; every ridge point takes the class of the
+   nearest projected sample (k-d tree) when within ``gate_px + gate_sigmas * uncertainty``, except those named
+   after a touchline or a goal line that lie beyond the pitch's outline once the template is registered on the named
+   points (a turn and a zoom of the prediction: :mod:`~broadtrack_graph.detect.registration`; the boards' edge
+   beside a far touchline the frame does not show);
    the points of a class that stay
    (:mod:`~broadtrack_graph.detect.class_points`) are averaged per small grid cell. Without a prediction only the
    unnamed points and the marking map are returned (re-initialisation then works from
@@ -55,7 +57,8 @@ from scipy.spatial import cKDTree
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
-from broadtrack_graph.detect.ridges import marking_ridges, wide_ridges
+from broadtrack_graph.detect.ridges import WideInputs, marking_ridges, wide_points
+from broadtrack_graph.detect.sharpness import blur_factor
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.registration import named_off_the_pitch
 from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
@@ -101,6 +104,10 @@ class WeightFreeConfig:
     wide_min_peak: float = 0.06
     wide_threshold_factor: float = 2.0
     wide_edge_share: float = 0.15
+    # A blurred frame (its strongest edges this many times a sharp frame's width, detect.sharpness: a fast pan's motion
+    # blur, a soft lens) has its wide markings found without a camera, the two gates eased by its blur b (edge share
+    # wide_edge_share / b, threshold max(1, wide_threshold_factor / b)): every marking of it is smeared wide and faint.
+    blurred_from: float = 1.4
     player_open_px: int = 5  # opening that removes lines but keeps bodies
     player_min_area_px: int = 40  # smaller non-grass blobs are not players
     player_margin_px: int = 3  # ridge points this close to a player are dropped
@@ -302,6 +309,13 @@ class WeightFreeDetector:
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass.
         threshold_grass = grass if W < 2 * work_w else None
         points, peaked, _ = self.ridges(grey, allowed, threshold_grass)
+        # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
+        # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).
+        wide = WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
+                          peaked) if self.config.wide_levels > 0 else None
+        blur = blur_factor(grey, W) if wide is not None else 1.0
+        if blur >= self.config.blurred_from:
+            points, wide = self._wide_points(wide, points, blur), None
         unnamed = Detections(
             width_px=W, height_px=H,
             marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
@@ -309,10 +323,6 @@ class WeightFreeDetector:
             player_boxes_px=(feet / scale) if len(feet) else feet,
             player_mask=with_legs(player_mask, boxes, feet, self.config.player_margin_px) > 0, field_mask=field > 0,
         )
-        # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
-        # lies farther from grass than grass_reach_px.
-        wide = _WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
-                           peaked) if self.config.wide_levels > 0 else None
         return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide)
 
     def name(self, found: FoundMarkings, predicted: PredictedCamera | None = None) -> Detections:
@@ -328,7 +338,7 @@ class WeightFreeDetector:
             template = project_template(predicted.camera, self.curves, w, h, self.config.template_spacing_px)
             if found.wide is not None and len(template.width_m_px) and \
                     template.width_m_px.max() >= self.config.wide_from_px:
-                points = self._with_wide(found)
+                points = self._wide_points(found.wide, points)
                 unnamed = replace(unnamed, marking_mask=_marking_map(points, found.work_size),
                                   marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px),
                                                                      found.scale))
@@ -337,13 +347,10 @@ class WeightFreeDetector:
         return replace(unnamed, lines_px={name: work_to_frame_px(p, found.scale) for name, p in lines.items()},
                        info={"detect_ms": 1000 * detect_s, "work_scale": found.scale})
 
-    def _with_wide(self, found: FoundMarkings) -> np.ndarray:
-        """The frame's points with its wide markings' (:func:`~broadtrack_graph.detect.ridges.wide_ridges`)."""
-        wide = found.wide
-        allowed = cv2.bitwise_and(cv2.bitwise_and(wide.outline, cv2.dilate(wide.grass, self._wide_reach_kernel)),
-                                  wide.inner)
-        return wide_ridges(wide.grey, allowed, wide.threshold_grass, found.points_work_px, wide.peaked,
-                           self._tophat_kernel, self._ridge_kernel, self.config)
+    def _wide_points(self, wide: WideInputs, points: np.ndarray, blur: float = 1.0) -> np.ndarray:
+        """:func:`~broadtrack_graph.detect.ridges.wide_points` with this detector's kernels and settings."""
+        return wide_points(wide, points, self._wide_reach_kernel, self._tophat_kernel, self._ridge_kernel, self.config,
+                           blur)
 
     def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
         """Detect field markings in one (H, W, 3) uint8 BGR frame (see module docstring)."""
@@ -360,20 +367,6 @@ def _marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class _WideInputs:
-    """What :func:`~broadtrack_graph.detect.ridges.wide_ridges` needs of a frame, kept from find_markings: the grey
-    working image, the field's filled outline without players, the ridges' inner field, the grass mask, the grass the
-    threshold adapts to (or None) and the working level's peaked flags."""
-
-    grey: np.ndarray
-    outline: np.ndarray
-    inner: np.ndarray
-    grass: np.ndarray
-    threshold_grass: np.ndarray | None
-    peaked: np.ndarray
-
-
-@dataclass(frozen=True)
 class FoundMarkings:
     """What :meth:`WeightFreeDetector.find_markings` finds in a frame before any camera is known.
 
@@ -381,7 +374,8 @@ class FoundMarkings:
         players, field).
     points_work_px: (N, 2) sub-pixel centre-line points at the working size (what is named).
     work_size: (w, h) working size; scale: working / frame pixels; seconds: time it took.
-    wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0).
+    wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0, or
+        a blurred frame's, already found).
     """
 
     unnamed: Detections
@@ -389,4 +383,4 @@ class FoundMarkings:
     work_size: tuple[int, int]
     scale: float
     seconds: float
-    wide: _WideInputs | None = None
+    wide: WideInputs | None = None
