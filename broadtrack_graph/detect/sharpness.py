@@ -16,7 +16,7 @@ import numpy as np
 
 SHARP_EDGE_WIDTH_PX = 2.2
 """Median width of the strongest edges of a sharp frame at the detector's working width (a perfect step 2.0 with the
-3x3 central difference; the lens and the resampling add the rest): 2.1-2.4 px on real 720p and 1080p broadcasts."""
+3x3 central difference; the lens and the resampling add the rest): 2.1-2.5 px on real 720p and 1080p broadcasts."""
 
 
 def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -> float | None:
