@@ -18,7 +18,8 @@ a wide line is resolved, so its paint shows at full contrast (the threshold is `
 level's) and rises and falls in steps at its edges (the steepest one-pixel step on each side at least
 ``wide_edge_share`` of its height: a mown stripe or a soft band of light brightens over many pixels); the finer
 points across such a line within its stretch (its edges, its flat top) give way to its own. The detector asks for
-it only when the predicted camera draws a marking that wide.
+it when the predicted camera draws a marking that wide, and at once on a blurred frame, whose markings are all smeared
+wide and faint (:func:`wide_points`: both gates eased by the frame's blur).
 """
 
 from __future__ import annotations
