@@ -27,16 +27,15 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
         grey: (h, w) uint8 grey image.
     """
     image = grey.astype(np.float32)
-    gx = cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3) / 8.0  # grey levels per pixel
-    gy = cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3) / 8.0
+    gx = cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=0.125)  # grey levels per pixel
+    gy = cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=0.125)
     magnitude = cv2.magnitude(gx, gy)
     h, w = image.shape
     m = reach_px + 1
     inner = magnitude[m:h - m, m:w - m]
     if inner.size < strongest:
         return None
-    top = np.argpartition(inner.ravel(), -strongest)[-strongest:]
-    rows, cols = np.unravel_index(top, inner.shape)
+    rows, cols = _strongest(inner, strongest)
     rows, cols = rows + m, cols + m
     gradient = np.maximum(magnitude[rows, cols], 1e-3)
     nx, ny = gx[rows, cols] / gradient, gy[rows, cols] / gradient
@@ -44,7 +43,23 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
     xs = (cols[:, None] + steps * nx[:, None]).astype(np.float32)
     ys = (rows[:, None] + steps * ny[:, None]).astype(np.float32)
     profile = cv2.remap(image, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return float(np.median((profile.max(axis=1) - profile.min(axis=1)) / gradient))
+    contrast = cv2.reduce(profile, 1, cv2.REDUCE_MAX)[:, 0] - cv2.reduce(profile, 1, cv2.REDUCE_MIN)[:, 0]
+    return float(np.median(contrast / gradient))
+
+
+def _strongest(magnitude: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, cols) of the ``count`` largest pixels of ``magnitude`` (h, w) float32 (ties taken in any order): those
+    at least a level that every fourth row and column puts at about twice ``count`` pixels over it, ranked (the
+    whole image ranked when fewer pass)."""
+    sample = magnitude[::4, ::4].ravel()
+    k = 2 * count * len(sample) // magnitude.size
+    if 1 <= k < len(sample):
+        over = cv2.findNonZero(cv2.compare(magnitude, float(np.partition(sample, -k)[-k]), cv2.CMP_GE))
+        if over is not None and len(over) >= count:
+            cols, rows = over.reshape(-1, 2).T
+            top = np.argpartition(magnitude[rows, cols], -count)[-count:]
+            return rows[top], cols[top]
+    return np.unravel_index(np.argpartition(magnitude.ravel(), -count)[-count:], magnitude.shape)
 
 
 def blur_factor(grey: np.ndarray, frame_width_px: int) -> float:
