@@ -34,7 +34,10 @@ map: what detection leaves a route); ``truth_written`` the frames whose true cam
 to be written (no route can write more); ``markings_visible`` the frames whose markings, kept only where the
 paint changes the rendered image by :data:`VISIBLE_PAINT_LEVELS` grey levels or more (:func:`visible_paint`),
 still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
-what is not in the image). Frame i of a seed is the same in every run (``--first K`` starts at frame K).
+what is not in the image). ``paint_found_by_width``: per look, the true cameras' template samples (wide enough by
+their scale to be expected) by the width of their paint across the image (:data:`PAINT_WIDTH_BINS_PX`, working
+pixels) and the share of them the detector found (``reinit.confidence.found_by_paint_width``). Frame i of a seed is
+the same in every run (``--first K`` starts at frame K).
 """
 
 from __future__ import annotations
@@ -53,6 +56,8 @@ RANDOM_STREAM = 7311
 OUTCOMES = ("found", "near", "wrong", "none")
 VISIBLE_PAINT_LEVELS = 8.0
 """Least change of grey level (0-255, at the detector's 960 px working width) the paint must make to be seen."""
+PAINT_WIDTH_BINS_PX = (0.0, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0, float("inf"))
+"""Bins of the painted width (working pixels) the detector's finds on the true cameras are counted in."""
 
 
 def add_arguments(parser) -> None:
@@ -172,6 +177,7 @@ def run(args) -> dict:
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.reinit.cheap import refine_guesses
+    from broadtrack_graph.reinit.confidence import found_by_paint_width
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.track.config import TrackingConfig
@@ -217,6 +223,9 @@ def run(args) -> dict:
 
             truth_confidence = confidence_of(truth)
             found_markings = determinability(truth, pitch, explained_by=detections.marking_mask)
+            paint_samples, paint_found = found_by_paint_width(
+                truth, detections.marking_mask, np.array(PAINT_WIDTH_BINS_PX), curves, field_mask=detections.field_mask,
+                player_mask=detections.player_mask)
             shown_markings = determinability(truth, pitch, explained_by=visible_paint(frame)) if seen.determinable \
                 else seen
             row = {"frame": index, "camera": _camera_info(drawn), "look": frame["look_name"], "class": drawn.stand,
@@ -226,6 +235,7 @@ def run(args) -> dict:
                    "truth_written": (truth_confidence or 0.0) >= written_at,
                    "markings_detected": found_markings.determinable,
                    "markings_visible": shown_markings.determinable,
+                   "paint_found": {"samples": paint_samples.tolist(), "found": paint_found.tolist()},
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             for route in routes:
                 if route in ("tracker", "search"):
@@ -316,7 +326,22 @@ def summarise(rows: list[dict], routes: list[str]) -> dict:
     return {"determinable": len(counted), "not_determinable": len(apart),
             "not_determinable_by_stand": {stand: sum(r["class"] == stand for r in apart) for stand in STANDS},
             "render_s": _seconds([row["render_s"] for row in rows]),
-            "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route}
+            "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route,
+            "paint_found_by_width": paint_found_by_width(rows)}
+
+
+def paint_found_by_width(rows: list[dict]) -> dict:
+    """Per look: each painted-width bin's true-camera template samples and the share of them found (rows with a
+    ``paint_found`` entry)."""
+    out = {}
+    for look in sorted({row["look"] for row in rows if "paint_found" in row}):
+        counts = [row["paint_found"] for row in rows if row["look"] == look and "paint_found" in row]
+        samples = np.sum([c["samples"] for c in counts], axis=0)
+        found = np.sum([c["found"] for c in counts], axis=0)
+        out[look] = [{"paint_px": f"{lo:g}-{hi:g}", "samples": int(n),
+                      "found_share": round(float(k) / n, 3) if n else None}
+                     for lo, hi, n, k in zip(PAINT_WIDTH_BINS_PX[:-1], PAINT_WIDTH_BINS_PX[1:], samples, found)]
+    return out
 
 
 def summary_table(report: dict) -> str:

@@ -32,6 +32,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.distortion import distort_normalized
+from broadtrack_graph.geometry.paint_width import MARKING_WIDTH_M, painted_widths_px
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, Arc, PitchTemplate
 from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z
 
@@ -279,12 +280,18 @@ class ImageTemplate:
     """Dense projected template samples of one camera.
 
     uv_px: (N, 2) pixels at the requested size; class_index: (N,) index into LINE_CLASSES;
-    width_m_px: (N,) image width (pixels) of a 12 cm wide marking at each sample (how visible it is).
+    width_m_px: (N,) pixels a 12 cm marking's width spans at each sample's depth (f / depth: the image's scale
+        there, whatever the line's direction);
+    paint_width_px: (N,) image width (pixels) of a 12 cm wide painted line at each sample, across its image: a
+        line seen at a grazing angle across the line of sight is foreshortened to a fraction of ``width_m_px``
+        (the far lines across a low camera's view, 10-20 times thinner), a line along it is not; None when not
+        made.
     """
 
     uv_px: np.ndarray
     class_index: np.ndarray
     width_m_px: np.ndarray
+    paint_width_px: np.ndarray | None = None
 
 
 KDTREE_FAST_BUILD = {"balanced_tree": False, "compact_nodes": False}
@@ -292,10 +299,6 @@ KDTREE_FAST_BUILD = {"balanced_tree": False, "compact_nodes": False}
 twice as fast and find the same distances; only where two points lie at exactly the same distance may the
 index returned differ (samples of two classes meeting at a corner coincide), so use it where only
 distances count."""
-
-MARKING_WIDTH_M = 0.12
-"""Painted line width (metres) used to judge whether a marking is wide enough to be detected."""
-
 
 def finite_runs(ok: np.ndarray) -> list[tuple[int, int]]:
     """(start, stop) index pairs of the runs of True in a (L,) bool array that hold at least 2 samples."""
@@ -319,7 +322,7 @@ def usable_samples(uv: np.ndarray, front: np.ndarray, width_px: int, height_px: 
 
 
 def project_template(camera: Camera, curves: TemplateCurves, width_px: int, height_px: int, spacing_px: float = 1.0,
-                     classes=None, inside_only: bool = True) -> ImageTemplate:
+                     classes=None, inside_only: bool = True, paint_widths: bool = False) -> ImageTemplate:
     """Project every class and densify each visible polyline piece to about ``spacing_px``.
 
     Args:
@@ -329,9 +332,10 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
         spacing_px: target distance between consecutive image samples (pixels).
         classes: class names (default: the ground classes, the ones painted on the grass).
         inside_only: keep only samples inside the image.
+        paint_widths: also the painted lines' widths across their images (:func:`painted_widths_px`).
 
     Returns:
-        The dense samples, their classes and the image width of a marking at each.
+        The dense samples, their classes and the image width of a marking at each (and of its paint).
     """
     cam = camera if (camera.width_px, camera.height_px) == (width_px, height_px) else camera.rescaled(width_px, height_px)
     names = classes if classes is not None else [n for n in LINE_CLASSES if curves.pitch.is_on_ground(n)]
@@ -345,7 +349,11 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
         near = (hi[:, 0] >= -2) & (lo[:, 0] <= width_px + 1) & (hi[:, 1] >= -2) & (lo[:, 1] <= height_px + 1)
     first = np.flatnonzero(ok[:-1] & ok[1:] & joins_next & near)
     if not len(first):
-        return ImageTemplate(np.zeros((0, 2)), np.zeros(0, np.int16), np.zeros(0))
+        return ImageTemplate(np.zeros((0, 2)), np.zeros(0, np.int16), np.zeros(0), np.zeros(0) if paint_widths else None)
+    paint = None
+    if paint_widths:
+        paint = painted_widths_px(cam, samples, uv, joins_next)
+        paint = np.where(np.isfinite(paint), paint, MARKING_WIDTH_M * cam.focal_px / np.maximum(depth, 1e-3))
     step = np.linalg.norm(uv[first + 1] - uv[first], axis=1)
     count = np.maximum(np.ceil(step / spacing_px).astype(int), 1)
     # Piecewise-linear densification of each kept segment, both ends included.
@@ -356,10 +364,13 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
     dep = depth[seg] + t * (depth[seg + 1] - depth[seg])
     wid = MARKING_WIDTH_M * cam.focal_px / np.maximum(dep, 1e-3)
     cls = class_index[seg]
+    if paint is not None:
+        paint = paint[seg] + t * (paint[seg + 1] - paint[seg])
     if inside_only:
         keep = (uv[:, 0] >= 0) & (uv[:, 0] <= width_px - 1) & (uv[:, 1] >= 0) & (uv[:, 1] <= height_px - 1)
         uv, cls, wid = uv[keep], cls[keep], wid[keep]
-    return ImageTemplate(uv, cls, wid)
+        paint = None if paint is None else paint[keep]
+    return ImageTemplate(uv, cls, wid, paint)
 
 
 def fitting_curves(pitch: PitchTemplate | None = None) -> TemplateCurves:

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -62,6 +62,11 @@ class ConfidenceConfig:
     tolerance_px: float = 2.5  # a template sample / marking pixel this close to the other set agrees
     template_spacing_px: float = 1.0  # densified template sampling
     min_line_width_px: float = 1.4  # template parts thinner than this (working pixels, and pixels of the frame) are not detectable
+    # ... nor those whose painted line is thinner than this across its image (working pixels; geometry.template.
+    # painted_widths_px): a line across a grazing line of sight (the far lines of a low camera) is foreshortened to a
+    # fraction of its width along it. The weight-free detector finds about half of the paint 0.15-0.2 px wide, more
+    # of wider paint, a fifth of thinner (docs/BENCHMARKS.md).
+    min_paint_width_px: float = 0.15
     # the template thinner than that is expected in part when over this share of it is found anyway, in whole when
     # all of it is (the detector evidently sees lines that thin in this frame); 1: never
     thin_found_share: float = 0.5
@@ -200,6 +205,26 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     return float(np.count_nonzero(_found(compared.marks, near, pixel)) / count), count
 
 
+def found_by_paint_width(camera: Camera, marking_mask: np.ndarray, edges_px: np.ndarray, curves: TemplateCurves,
+                         config: ConfidenceConfig = ConfidenceConfig(), field_mask: np.ndarray | None = None,
+                         player_mask: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(B,) template samples of ``camera`` wide enough by their scale (``min_line_width_px``) whose painted width
+    (working pixels) falls in each bin ``[edges_px[b], edges_px[b + 1])``, and (B,) of them within the tolerance of a
+    marking of the map: how often the detector finds paint of each width, what ``min_paint_width_px`` is read from
+    (on true cameras)."""
+    compared = _compared(camera, marking_mask, curves, replace(config, min_paint_width_px=0.0), field_mask,
+                         player_mask)
+    bins = np.digitize(compared.paint_px[compared.detectable], edges_px) - 1
+    inside = (bins >= 0) & (bins < len(edges_px) - 1)
+    found = np.zeros(len(compared.uv), bool)
+    if len(compared.uv):
+        near, pixel = pixels_within(compared.uv, compared.size, config.tolerance_px)
+        found = _found(compared.marks, near, pixel)
+    samples = np.bincount(bins[inside], minlength=len(edges_px) - 1)
+    hits = np.bincount(bins[inside], weights=found[compared.detectable][inside], minlength=len(edges_px) - 1)
+    return samples, hits.astype(int)
+
+
 def _thin_markings_seen(found: np.ndarray, detectable: np.ndarray, config: ConfidenceConfig) -> tuple[float, float]:
     """(samples, of them found) of the template too thin to expect, weighted by how much of it the map shows anyway:
     share s of it found, weight (s - t) / (1 - t) for ``t = thin_found_share`` (0 at t and under: not expected; 1
@@ -222,12 +247,14 @@ def _found(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray
 @dataclass(frozen=True)
 class _Compared:
     """What a camera is compared with (module docstring), at the working size: the marking map (h, w) bool, the
-    template samples kept (N, 2) with their detectable flags and classes, the field map (or None), (w, h)."""
+    template samples kept (N, 2) with their detectable flags, classes and painted widths (working pixels), the field
+    map (or None), (w, h)."""
 
     marks: np.ndarray
     uv: np.ndarray
     detectable: np.ndarray
     class_index: np.ndarray
+    paint_px: np.ndarray
     field: np.ndarray | None
     size: tuple[int, int]
 
@@ -244,11 +271,14 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
         # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
         marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
                            interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
-    template = project_template(camera, curves, w, h, config.template_spacing_px)
-    # Detectable: at least min_line_width_px wide at the working width, and as wide in the frame itself
-    # (upsampling a 640 px frame to the working width does not bring out a line thinner than its pixels).
-    min_width_work_px = config.min_line_width_px * max(1.0, w / camera.width_px)
-    uv, detectable, class_index = template.uv_px, template.width_m_px >= min_width_work_px, template.class_index
+    template = project_template(camera, curves, w, h, config.template_spacing_px, paint_widths=True)
+    # Detectable: at least min_line_width_px wide at the working width and painted at least min_paint_width_px wide
+    # across the line's image, both as wide in the frame itself (upsampling a 640 px frame to the working width does
+    # not bring out a line thinner than its pixels).
+    enlarged = max(1.0, w / camera.width_px)
+    detectable = (template.width_m_px >= config.min_line_width_px * enlarged) & (
+        template.paint_width_px >= config.min_paint_width_px * enlarged)
+    uv, class_index, paint = template.uv_px, template.class_index, template.paint_width_px
     field = None if field_mask is None else _resized(field_mask, w, h)
     players = None if player_mask is None else _resized(player_mask, w, h)
     if len(uv) and (field is not None or players is not None):
@@ -261,7 +291,7 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
             detectable = detectable & inside_field_edge(field, config.field_edge_px)[row, col]
         if players is not None:
             keep &= ~players[row, col]
-        uv, detectable, class_index = uv[keep], detectable[keep], class_index[keep]
+        uv, detectable, class_index, paint = uv[keep], detectable[keep], class_index[keep], paint[keep]
     if field is not None:
         marks = marks & field
     if players is not None:
@@ -270,9 +300,9 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
     if goals is not None:
         if len(uv):
             outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
-            uv, detectable, class_index = uv[outside], detectable[outside], class_index[outside]
+            uv, detectable, class_index, paint = uv[outside], detectable[outside], class_index[outside], paint[outside]
         marks = marks & ~goals
-    return _Compared(marks, uv, detectable, class_index, field, (w, h))
+    return _Compared(marks, uv, detectable, class_index, paint, field, (w, h))
 
 
 _LAST_INSIDE_EDGE: list = []  # [(field map, margin, the map inside its edge band)]: the last one asked

@@ -8,9 +8,10 @@ import pytest
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import TemplateCurves, project_template
 from broadtrack_graph.reinit.confidence import (ConfidenceConfig, confidence_parts, field_coverage,
-                                                 inside_field_edge, pixels_within, recall_across_motion)
+                                                 found_by_paint_width, inside_field_edge, pixels_within,
+                                                 recall_across_motion)
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -164,3 +165,28 @@ def test_a_view_whose_lines_are_all_too_thin_to_expect_is_judged_on_the_thin_lin
     kept = confidence_parts(wide, part, CURVES, field_mask=grass)
     alone = confidence_parts(wide, part, CURVES, ConfidenceConfig(thin_found_share=1.0), field_mask=grass)
     assert kept["recall"] == pytest.approx(alone["recall"])
+
+
+def test_the_far_lines_across_a_low_cameras_view_are_not_expected():
+    # A camera 6 m up behind the left goal: the halfway line and the lines beyond it lie across its view at a grazing
+    # angle, their paint foreshortened to a fraction of a pixel however large their scale f / depth. The map holds
+    # the markings whose paint is at least 0.15 px wide (what the detector finds): the true camera is not marked
+    # down for the others; a camera 20 px off still is.
+    low = Camera.from_degrees(2000.0, 0.0, 90.0, 84.0, 0.0, (-62.0, 0.0, -6.0), W, H)
+    template = project_template(low, CURVES, W, H, 1.0, paint_widths=True)
+    painted = template.uv_px[template.paint_width_px >= 0.15]
+    marks = np.zeros((H, W), np.uint8)
+    marks[np.round(painted[:, 1]).astype(int), np.round(painted[:, 0]).astype(int)] = 1
+    marks = cv2.dilate(marks, np.ones((2, 2), np.uint8)) > 0
+    _, grass = _maps(low)
+    seen = confidence_parts(low, marks, CURVES, field_mask=grass)
+    expecting_all = confidence_parts(low, marks, CURVES, ConfidenceConfig(min_paint_width_px=0.0), field_mask=grass)
+    assert seen["recall"] > 0.95 and seen["confidence"] > 0.9
+    assert expecting_all["recall"] < seen["recall"] - 0.1
+    assert seen["template_samples"] < expecting_all["template_samples"]
+    off = low.replace(tilt_rad=low.tilt_rad + 20.0 / low.focal_px)
+    assert confidence_parts(off, marks, CURVES, field_mask=grass)["confidence"] < 0.3
+    # What the width is read from: the samples by painted width, and how many of them the map shows.
+    samples, found = found_by_paint_width(low, marks, np.array([0.0, 0.15, np.inf]), CURVES, field_mask=grass)
+    assert samples[0] > 100 and found[0] < 0.5 * samples[0]
+    assert samples[1] > 1000 and found[1] == samples[1]
