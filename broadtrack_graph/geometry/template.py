@@ -349,7 +349,8 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
         near = (hi[:, 0] >= -2) & (lo[:, 0] <= width_px + 1) & (hi[:, 1] >= -2) & (lo[:, 1] <= height_px + 1)
     first = np.flatnonzero(ok[:-1] & ok[1:] & joins_next & near)
     if not len(first):
-        return ImageTemplate(np.zeros((0, 2)), np.zeros(0, np.int16), np.zeros(0), np.zeros(0) if paint_widths else None)
+        return ImageTemplate(np.zeros((0, 2)), np.zeros(0, np.int16), np.zeros(0),
+                             np.zeros(0) if paint_widths else None)
     paint = None
     if paint_widths:
         paint = painted_widths_px(cam, samples, uv, joins_next)
