@@ -300,6 +300,7 @@ twice as fast and find the same distances; only where two points lie at exactly 
 index returned differ (samples of two classes meeting at a corner coincide), so use it where only
 distances count."""
 
+
 def finite_runs(ok: np.ndarray) -> list[tuple[int, int]]:
     """(start, stop) index pairs of the runs of True in a (L,) bool array that hold at least 2 samples."""
     flags = np.concatenate([[False], np.asarray(ok, bool), [False]]).astype(np.int8)
