@@ -16,7 +16,8 @@ report merges them under their names; a section whose data is not given is skipp
   by :mod:`broadtrack_graph.benchmarks.real_video` (frames with a camera, alignment with the
   visible lines measured without the tracker's detector, re-initialisations, other-view
   frames, cuts, fps, stage timings, overlay videos). With ``--shadow KEPT``, each clip under a
-  stand's shadow keeping that share of the light (:mod:`broadtrack_graph.benchmarks.shadow`).
+  stand's shadow keeping that share of the light (:mod:`broadtrack_graph.benchmarks.shadow`); with ``--degrade
+  W:Q:N``, as a lower-league feed shows it (:mod:`broadtrack_graph.benchmarks.degrade`).
 
 Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
 repository. Wall times are of the whole run on the machine as it was (upper bounds on a
@@ -31,6 +32,7 @@ import time
 from pathlib import Path
 
 from broadtrack_graph.arguments import int_at_least, positive_share
+from broadtrack_graph.benchmarks.degrade import parse_degradation
 from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers
 from broadtrack_graph.types.modes import MODES
 
@@ -65,6 +67,10 @@ def add_arguments(parser) -> None:
                         help="video: track each clip under a stand's shadow laid over the right of its frames, keeping "
                              "this share of the light (0.45: a sunny afternoon), and score the cameras on the unshaded "
                              "frames")
+    parser.add_argument("--degrade", type=parse_degradation, default=None, metavar="W:Q:N",
+                        help="video: track each clip as a lower-league feed or a web stream shows it, reduced to W "
+                             "pixels wide with noise of N grey levels and JPEG quality Q (854:25:3, say), and score "
+                             "the cameras on the original frames (with --shadow: shaded first)")
 
 
 def tsworldcup_section(args) -> dict | None:

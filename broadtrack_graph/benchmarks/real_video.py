@@ -9,7 +9,9 @@ written cameras (their confidence against the alignment check,
 :mod:`broadtrack_graph.metrics.reliability`; pooled over the clips too); an overlay video per
 clip is written beside the runs (never inside the repository). With ``--shadow KEPT`` every
 clip is tracked under a stand's shadow keeping that share of the light
-(:mod:`broadtrack_graph.benchmarks.shadow`) and its cameras are scored on the unshaded frames.
+(:mod:`broadtrack_graph.benchmarks.shadow`), with ``--degrade W:Q:N`` as a lower-league feed shows it
+(:mod:`broadtrack_graph.benchmarks.degrade`), or both (:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras
+tracked on such a copy are scored on the original frames.
 """
 
 from __future__ import annotations
@@ -21,8 +23,10 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.actions.track import track_input
+from broadtrack_graph.benchmarks.clip_copy import chained, write_copy
+from broadtrack_graph.benchmarks.degrade import degrade_change
 from broadtrack_graph.benchmarks.options import tracker_options
-from broadtrack_graph.benchmarks.shadow import write_shadowed
+from broadtrack_graph.benchmarks.shadow import shadow_change
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
@@ -48,16 +52,23 @@ def run_video_clips(args) -> dict:
     clips = sorted(Path(args.video_dir).glob("*.mp4"))
     if args.clips:
         clips = [c for c in clips if c.stem in set(args.clips)]
-    kept = getattr(args, "shadow", None)
+    kept, degradation = getattr(args, "shadow", None), getattr(args, "degrade", None)
+    changes, suffix = [], ""
+    if kept is not None:
+        changes.append(shadow_change(kept))
+        suffix += f"-shadow-{kept:g}"
+    if degradation is not None:
+        changes.append(degrade_change(degradation))
+        suffix += f"-{degradation.label}"
     report = {}
     for video in clips:
-        # With --shadow: the clip's copy under a stand's shadow is tracked, its cameras scored on the unshaded frames.
-        name = video.stem if kept is None else f"{video.stem}-shadow-{kept:g}"
+        # A changed copy (--shadow, --degrade) is tracked, its cameras scored on the original frames.
+        name = video.stem + suffix
         run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / name
-        tracked = video if kept is None else Path(args.out) / "shadowed" / f"{name}.mp4"
+        tracked = video if not changes else Path(args.out) / "copies" / f"{name}.mp4"
         if args.runs is None:
-            if kept is not None:
-                write_shadowed(video, tracked, kept)
+            if changes:
+                write_copy(video, tracked, chained(*changes))
             track_input(tracked, run_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
                         progress=not args.no_progress)
         report[name] = score_clip(video, run_dir, args.score_every, end=args.end)
@@ -68,8 +79,12 @@ def run_video_clips(args) -> dict:
             write_overlay(run_dir, tracked, overlay, end=args.end, progress=not args.no_progress)
             report[name]["overlay"] = str(overlay)
     pooled = merged_summaries([figures.get("reliability") for figures in report.values()])
-    return {"clips": report, "reliability": pooled} if kept is None else \
-        {"clips": report, "reliability": pooled, "shadow_kept": kept}
+    section = {"clips": report, "reliability": pooled}
+    if kept is not None:
+        section["shadow_kept"] = kept
+    if degradation is not None:
+        section["degraded"] = degradation.label
+    return section
 
 
 def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),
@@ -94,11 +109,14 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         if record is not None and record.camera is not None and index % max(1, score_every) == 0:
             scored.append(index)
             pixels = line_pixels(image, config)
-            alignment = line_alignment(image, record.camera, curves, config, pixels)
+            camera = record.camera  # at the frame's size (a degraded copy's cameras are at the copy's)
+            if (camera.width_px, camera.height_px) != (image.shape[1], image.shape[0]):
+                camera = camera.rescaled(image.shape[1], image.shape[0])
+            alignment = line_alignment(image, camera, curves, config, pixels)
             if alignment is not None:
                 scores[index] = alignment
                 # The check must reject wrong cameras too: the same camera tilted by SHIFTED_TILT_DEG.
-                turned = record.camera.replace(tilt_rad=record.camera.tilt_rad + math.radians(SHIFTED_TILT_DEG))
+                turned = camera.replace(tilt_rad=camera.tilt_rad + math.radians(SHIFTED_TILT_DEG))
                 shifted[index] = line_alignment(image, turned, curves, config, pixels)
         index += 1
     capture.release()

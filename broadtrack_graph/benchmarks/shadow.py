@@ -3,8 +3,8 @@
 Afternoon matches often have the shadow of a stand across part of the pitch. There the markings keep
 only the share of their contrast that the shade keeps of the light: sky light alone against direct sun.
 Where a clip has none, the bench lays one over every frame (:func:`lay_shadow`) and writes
-the shaded copy of each clip (:func:`write_shadowed`) under its work folder, never in the repository
-(the clips are copyrighted); the cameras tracked on the copy are scored against the unshaded frames.
+the shaded copy of each clip (:func:`write_shadowed`, :mod:`.clip_copy`); the cameras tracked on the copy are
+scored against the unshaded frames.
 
 The shadow's edge is a straight line fixed in the image, a little right of the centre and leaning,
 with a soft edge: a stand's shadow lies on the pitch and moves through the image as the camera
@@ -19,8 +19,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from broadtrack_graph.benchmarks.clip_copy import FrameChange, write_copy
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.video import VideoSource, open_video_writer
 
 SHADOW_EDGE = (0.55, 0.6)
 """The shadow's edge: it crosses the image's middle row at this share of the width, and moves this many pixels right
@@ -53,6 +53,24 @@ def lay_shadow(image_bgr: np.ndarray, kept: float, shade: np.ndarray | None = No
     return np.clip(np.rint(image_bgr * (1.0 - (1.0 - kept) * shade)), 0, 255).astype(np.uint8)
 
 
+def shadow_change(kept: float) -> FrameChange:
+    """The change laying the shadow over a frame (:func:`lay_shadow`; the shadow map made at the first frame's size).
+
+    Raises:
+        InputError: ``kept`` outside (0, 1].
+    """
+    if not 0.0 < kept <= 1.0:
+        raise InputError(None, f"--shadow {kept}: the share of light kept in the shade must be in (0, 1]")
+    shade: list = [None]
+
+    def shaded(image: np.ndarray, _index: int) -> np.ndarray:
+        if shade[0] is None or shade[0].shape[:2] != image.shape[:2]:
+            shade[0] = shadow_map(image.shape[1], image.shape[0])
+        return lay_shadow(image, kept, shade[0])
+
+    return shaded
+
+
 def write_shadowed(video: Path, out_path: Path, kept: float) -> int:
     """Write ``video`` with the shadow laid over every frame (mp4v, the source's size and rate), up to its first frame
     that cannot be decoded; returns the frames written.
@@ -61,20 +79,4 @@ def write_shadowed(video: Path, out_path: Path, kept: float) -> int:
         InputError: ``kept`` outside (0, 1], the video cannot be read (:class:`~broadtrack_graph.io.video.VideoSource`)
             or has no decodable frame, or the copy cannot be written.
     """
-    if not 0.0 < kept <= 1.0:
-        raise InputError(None, f"--shadow {kept}: the share of light kept in the shade must be in (0, 1]")
-    frames = 0
-    with VideoSource(video) as source:
-        shade = shadow_map(source.width_px, source.height_px)
-        writer = open_video_writer(out_path, source.fps, (source.width_px, source.height_px))
-        try:
-            for frame in source:
-                if frame.image_bgr is None:
-                    break  # the copy keeps the clip's frame indices: it ends where decoding does
-                writer.write(lay_shadow(frame.image_bgr, kept, shade))
-                frames += 1
-        finally:
-            writer.release()
-    if frames == 0:
-        raise InputError(video, "no frame could be decoded")
-    return frames
+    return write_copy(video, out_path, shadow_change(kept))

@@ -68,5 +68,5 @@ def test_bench_real_tracks_the_shaded_copy_and_scores_it_on_the_unshaded_frames(
     assert section["shadow_kept"] == 0.45 and list(section["clips"]) == ["main-shadow-0.45"]
     figures = section["clips"]["main-shadow-0.45"]
     assert figures["frames"] == 8 and figures["frames_with_camera"] >= 6
-    assert (tmp_path / "runs" / "video" / "shadowed" / "main-shadow-0.45.mp4").is_file()
+    assert (tmp_path / "runs" / "video" / "copies" / "main-shadow-0.45.mp4").is_file()
     assert (tmp_path / "runs" / "video" / "main-shadow-0.45" / "track.jsonl").is_file()
