@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
-import shutil
 
 import cv2
 import numpy as np
@@ -12,9 +10,7 @@ import pytest
 
 from broadtrack_graph.benchmarks.clip_copy import chained, write_copy
 from broadtrack_graph.benchmarks.degrade import Degradation, degrade_change, degrade_frame, parse_degradation
-from broadtrack_graph.cli import main
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.synth.writer import write_synthetic_clip
 
 
 def test_the_degradation_is_read_from_width_quality_and_noise():
@@ -42,12 +38,8 @@ def test_a_degraded_frame_is_smaller_noisier_and_the_same_for_the_same_frame():
     assert degrade_frame(np.zeros((97, 160, 3), np.uint8), Degradation(854, 50, 0.0)).shape == (96, 160, 3)
 
 
-def test_the_degraded_copy_of_a_video_has_every_frame_at_its_size(tmp_path):
-    video = tmp_path / "grey.mp4"
-    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 25.0, (320, 180))
-    for _ in range(4):
-        writer.write(np.full((180, 320, 3), 120, np.uint8))
-    writer.release()
+def test_the_degraded_copy_of_a_video_has_every_frame_at_its_size(tmp_path, grey_video):
+    video = grey_video(320, 180, 4, 120)
     out = tmp_path / "out" / "grey-160.mp4"
     assert write_copy(video, out, chained(degrade_change(Degradation(160, 40, 2.0)))) == 4
     capture = cv2.VideoCapture(str(out))
@@ -59,25 +51,15 @@ def test_the_degraded_copy_of_a_video_has_every_frame_at_its_size(tmp_path):
     assert "none.mp4" in str(missing.value)
 
 
-def test_bench_real_tracks_the_degraded_copy_and_scores_it_on_the_original_frames(tmp_path):
-    clip = tmp_path / "clip"
-    write_synthetic_clip(clip, preset="main", frame_count=8, width_px=640, height_px=360, seed=3, write_mp4=True,
-                         write_masks=False, progress=False)
-    videos = tmp_path / "videos"
-    videos.mkdir()
-    shutil.copy(clip / "clip.mp4", videos / "main.mp4")
-    report_path = tmp_path / "report.json"
-    assert main(["bench", "real", "--video-dir", str(videos), "--degrade", "480:40:2", "--out", str(tmp_path / "runs"),
-                 "--no-overlay", "--no-progress", "--json", str(report_path)]) == 0
-    section = json.loads(report_path.read_text())["sections"]["video"]
+def test_bench_real_tracks_the_degraded_copy_and_scores_it_on_the_original_frames(bench_real_video_section):
+    section, runs = bench_real_video_section("--degrade", "480:40:2")
     name = "main-480px-q40-n2"
     assert section["degraded"] == "480px-q40-n2" and list(section["clips"]) == [name]
     figures = section["clips"][name]
     assert figures["frames"] == 8 and figures["frames_with_camera"] >= 6
     # Scored on the original 640 px frames with the cameras of the 480 px copy, rescaled: aligned.
     assert figures["aligned_share_of_camera_frames"] >= 0.8
-    copy = tmp_path / "runs" / "video" / "copies" / f"{name}.mp4"
-    capture = cv2.VideoCapture(str(copy))
+    capture = cv2.VideoCapture(str(runs / "copies" / f"{name}.mp4"))
     assert capture.get(cv2.CAP_PROP_FRAME_WIDTH) == 480
     capture.release()
-    assert (tmp_path / "runs" / "video" / name / "track.jsonl").is_file()
+    assert (runs / name / "track.jsonl").is_file()
