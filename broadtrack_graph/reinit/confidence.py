@@ -62,7 +62,7 @@ class ConfidenceConfig:
     tolerance_px: float = 2.5  # a template sample / marking pixel this close to the other set agrees
     template_spacing_px: float = 1.0  # densified template sampling
     min_line_width_px: float = 1.4  # template parts thinner than this (working pixels, and pixels of the frame) are not detectable
-    # ... nor those whose painted line is thinner than this across its image (working pixels; geometry.template.
+    # ... nor those whose painted line is thinner than this across its image (working pixels; geometry.paint_width.
     # painted_widths_px): a line across a grazing line of sight (the far lines of a low camera) is foreshortened to a
     # fraction of its width along it. The weight-free detector finds about half of the paint 0.15-0.2 px wide, more
     # of wider paint, a fifth of thinner (docs/BENCHMARKS.md).
