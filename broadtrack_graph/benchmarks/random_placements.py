@@ -22,15 +22,15 @@ thread), from the weight-free detector's markings (detection is timed apart):
   cannot be imported.
 
 Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin``
-confident (what a new shot's chain needs to be written; the court route: at least
-``court_accept_confidence``, the bar the tracker takes its camera at); **found** = written and its ground template
-within ``--success-px`` (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off
-(``twin``: of those, the truth's half turn about the centre spot, the view the markings cannot tell
-apart); **near-written** = written, between the two; **none** = not written. Shares are of the counted
-frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by height
-(low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames
-whose detected markings, read on the true camera's projection, still determine it (the same rule on the marking
-map: what detection leaves a route); ``truth_written`` the frames whose true camera is itself confident enough
+confident (what a new shot's chain needs to be written; the court route: at least the bar the tracker takes its
+camera at, ``track.reinit_policy.court_accept_at``); **found** = written and its ground template within
+``--success-px`` (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of
+those, the truth's half turn about the centre spot, the view the markings cannot tell apart); **near-written** =
+written, between the two; **none** = not written. Shares are of the counted frames, overall, by where the camera
+stands (main stand, far side, behind a goal, corner) and by height (low: under 12 m); seconds per frame as median
+and 95th percentile. ``markings_detected`` counts the frames whose detected markings, read on the true camera's
+projection, still determine it (the same rule on the marking map: what detection leaves a route);
+``truth_written`` the frames whose true camera is itself confident enough
 to be written (no route can write more); ``markings_visible`` the frames whose markings, kept only where the
 paint changes the rendered image by :data:`VISIBLE_PAINT_LEVELS` grey levels or more (:func:`visible_paint`),
 still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
@@ -181,7 +181,7 @@ def run(args) -> dict:
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.track.config import TrackingConfig
-    from broadtrack_graph.track.reinit_policy import ReinitPolicy
+    from broadtrack_graph.track.reinit_policy import ReinitPolicy, court_accept_at
     from broadtrack_graph.types.observations import FrameObservations
 
     W, H = args.width, args.height
@@ -189,7 +189,8 @@ def run(args) -> dict:
     curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
     config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
     written_at = config.confidence_threshold + config.reinit_switch_margin
-    # The court model's camera is taken by the tracker only from its own bar (TrackingConfig.court_accept_confidence).
+    # The court model's camera is taken by the tracker only from its own bar (court_accept_at: by the markings it
+    # explains); the report states the bar without a grid of lines.
     written_at_by_route = {"tracker": written_at, "search": written_at,
                            "court": max(written_at, config.court_accept_confidence)}
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
@@ -253,7 +254,8 @@ def run(args) -> dict:
                     camera, reason = result.camera, result.reason
                     confidence = None if camera is None else confidence_of(camera)
                 error = _median_error(camera, truth, ground)
-                result_row = {"outcome": outcome(confidence, error, written_at_by_route[route], args.success_px),
+                bar = court_accept_at(config, result) if route == "court" else written_at_by_route[route]
+                result_row = {"outcome": outcome(confidence, error, bar, args.success_px),
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason}
                 if camera is not None and error is not None and error > args.success_px:

@@ -74,6 +74,12 @@ class Determinability:
     visible_px: dict[str, float] = field(default_factory=dict)
     curve_shares: dict[str, float] = field(default_factory=dict)
 
+    @property
+    def line_grid(self) -> bool:
+        """Two straight markings of each direction: they fix the ground plane's homography on their own, with a
+        constraint to spare, without a circle (the rule's first case)."""
+        return self.x_lines >= 2 and self.y_lines >= 2
+
 
 @dataclass(frozen=True)
 class _Samples:

@@ -97,7 +97,7 @@ def judged(camera: Camera | None, marking_mask, pitch: PitchTemplate, config: Co
         return ReinitResult(None, None, "", why + f", exactly, at {confidence:.2f})")
     position = tuple(round(float(v)) for v in camera.position_m)
     return replace(ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"court model at {position}"),
-                   twin=twin_camera(camera))
+                   twin=twin_camera(camera), explained=fixed)
 
 
 def hypothesis_camera(hypotheses, k: int, W: int, H: int) -> Camera:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.determinable import Determinability
 from broadtrack_graph.geometry.template import TemplateSampling, distances_to_polyline, project_template_polylines
 
 
@@ -69,3 +70,4 @@ class ReinitResult:
     reason: str = ""
     tried: int = 0
     twin: Camera | None = None  # the camera half a turn round the centre spot, which explains the markings as well
+    explained: Determinability | None = None  # the markings the camera explains on the map (the court model's)

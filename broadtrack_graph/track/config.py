@@ -45,6 +45,9 @@ class TrackingConfig:
     # it: a camera from nothing that skips the search must be surer than the margin (docs/BENCHMARKS.md, "Why the
     # defaults")
     court_accept_confidence: float = 0.7
+    # ... or from this one when the markings it explains hold two straight lines of each direction (they fix the
+    # ground plane on their own, a constraint to spare; the cameras wrong at 0.6-0.7 lean on one line across)
+    court_grid_accept_confidence: float = 0.6
     # ... or from the margin when the court model's camera of a frame at most this many frames before, in the same
     # stretch, stood in the same place (two frames agreeing; 0: never)
     court_agreement_frames: int = 5
@@ -112,8 +115,9 @@ class TrackingConfig:
             raise ValueError(f"confidence_threshold must be in [0, 1], got {self.confidence_threshold}")
         if not 0.0 <= self.certain_confidence <= 1.0:
             raise ValueError(f"certain_confidence must be in [0, 1], got {self.certain_confidence}")
-        if not 0.0 <= self.court_accept_confidence <= 1.0:
-            raise ValueError(f"court_accept_confidence must be in [0, 1], got {self.court_accept_confidence}")
+        for name in ("court_accept_confidence", "court_grid_accept_confidence"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)}")
         if self.max_motion_prior_frames < 0:
             raise ValueError(f"max_motion_prior_frames must be >= 0, got {self.max_motion_prior_frames}")
         if not 0.0 < self.search_time_share <= 1.0:

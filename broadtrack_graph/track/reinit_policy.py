@@ -22,7 +22,9 @@ the search place a camera from nothing, for a chain's start or a lost chain):
 2. **The court model** (a marking map): a camera from the markings alone (straight lines, a circle with the line
    across it, the centre circle with a touchline), wherever it stands
    (:func:`~broadtrack_graph.reinit.court.court_reinit`, :class:`~broadtrack_graph.track.frame_tries.FrameTries`):
-   taken at ``court_accept_confidence`` (and at least where its chain can be trusted from it), or confident by the
+   taken at ``court_accept_confidence``, at ``court_grid_accept_confidence`` when the markings it explains hold two
+   straight lines of each direction (:func:`court_accept_at`; at least where its chain can be trusted from it), or
+   confident by the
    margin when the court camera of a frame shortly before stood in the same place with its view moved on
    (``court_agreement_view_change``: a still camera's frames show the same markings), with the id of where it stands
    (its twin when a known camera stands there); otherwise dropped. On its own
@@ -227,8 +229,8 @@ class ReinitPolicy:
                 return self._candidate_decision(candidate, False, "", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, "no refined guess of the held camera")
         court = self.tries.court_camera(observations, detections, curves, score) if from_nothing else None
-        accept = max(self.config.court_accept_confidence, threshold + (margin if new_camera else 0.0))
-        if court is not None and (court.confidence >= accept or court.agrees):
+        if court is not None and (court.confidence >= court_accept_at(self.config, court.result, new_camera)
+                                  or court.agrees):
             # The primary route: a camera from the markings alone, taken when sure enough to skip the search (or
             # confident by the margin on two frames that agree). Otherwise dropped, not kept as a candidate: a
             # wrong camera the solver held would block the search's.
@@ -324,3 +326,13 @@ class ReinitPolicy:
                 return ReinitDecision(None, None, None, False, searched,
                                       f"kept the held camera ({held_confidence:.2f}): {reason} scored {confidence:.2f}")
         return ReinitDecision(result.camera, confidence, camera_id, from_guess, searched, reason)
+
+
+def court_accept_at(config: TrackingConfig, result: ReinitResult, new_camera: bool = True) -> float:
+    """The confidence the court model's camera ``result`` is taken at by itself: ``court_grid_accept_confidence`` when
+    the markings it explains hold two straight lines of each direction (``result.explained.line_grid``), else
+    ``court_accept_confidence``; never under the confidence its chain is trusted from (the threshold, and the margin
+    over it for a new camera)."""
+    grid = result.explained is not None and result.explained.line_grid
+    bar = config.court_grid_accept_confidence if grid else config.court_accept_confidence
+    return max(bar, config.confidence_threshold + (config.reinit_switch_margin if new_camera else 0.0))

@@ -118,3 +118,14 @@ def test_a_camera_is_fixed_by_as_many_constraints_as_it_has_unknowns(x_lines, y_
 def test_a_surplus_asks_for_that_many_constraints_over_the_unknowns(x_lines, y_lines, shares, surplus, fixed):
     seen = Determinability(False, x_lines, y_lines, (), curve_shares=shares)
     assert fixes_camera(seen, surplus) is fixed
+
+
+@pytest.mark.parametrize("x_lines, y_lines, curves, grid", [
+    (2, 2, (), True),  # a homography from the lines alone
+    (3, 5, ("Circle central",), True),
+    (1, 5, ("Circle right",), False),  # one line across: the lines of the other direction slide along it
+    (2, 1, ("Circle central",), False),  # fixed with the circle, not by a grid of lines
+    (0, 0, (), False),
+])
+def test_a_grid_of_lines_is_two_straight_markings_of_each_direction(x_lines, y_lines, curves, grid):
+    assert Determinability(False, x_lines, y_lines, curves).line_grid is grid

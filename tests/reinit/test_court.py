@@ -236,3 +236,25 @@ def test_a_blurred_frame_gets_its_camera_from_the_markings_found_on_the_reduced_
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None, result.reason
     assert median_template_error_px(result.camera, truth) < 1.0 and result.score.jaccard >= 0.9
+
+
+@pytest.mark.parametrize("index, grid", [
+    (386, True),  # `graphics`, behind a goal: two lines of each direction, the true camera at 0.66
+    (290, False),  # `clean`, a far-side camera 5 m up: a wrong camera laid on the centre circle and one line across
+])
+def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_taken_at(index, grid):
+    """Frames of ``bench placements --random --seed 3`` whose court camera is 0.6-0.7 confident: taken by the tracker
+    (``track.reinit_policy.court_accept_at``) from 0.6 when the markings it explains form a grid of lines, else from
+    ``court_accept_confidence``."""
+    from broadtrack_graph.track.config import TrackingConfig
+    from broadtrack_graph.track.reinit_policy import court_accept_at
+
+    truth, det = _random_placement(index)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert result.camera is not None and result.explained is not None, result.reason
+    assert result.explained.line_grid is grid
+    config = TrackingConfig()
+    bar = court_accept_at(config, result)
+    assert bar == (config.court_grid_accept_confidence if grid else config.court_accept_confidence)
+    right = median_template_error_px(result.camera, truth) < 1.0
+    assert right is grid

@@ -526,8 +526,9 @@ def test_a_main_camera_metres_from_every_candidate_position_is_found_at_its_firs
 # --------------------------------------------------------------------------- the court model
 
 
-def _court_policy(fakes, court_camera, court_confidence, registry=None, **config):
-    """A policy whose court model answers court_camera (with its twin), scored court_confidence by the fakes."""
+def _court_policy(fakes, court_camera, court_confidence, registry=None, explained=None, **config):
+    """A policy whose court model answers court_camera (with its twin and the markings it ``explained``), scored
+    court_confidence by the fakes."""
     from broadtrack_graph.reinit.court_fit import twin_camera
     from broadtrack_graph.track.camera_ids import CameraRegistry
 
@@ -540,7 +541,7 @@ def _court_policy(fakes, court_camera, court_confidence, registry=None, **config
         fakes.confidences[id(court_camera)] = court_confidence
         twin = twin_camera(court_camera)
         fakes.confidences[id(twin)] = court_confidence
-        return ReinitResult(court_camera, None, "fake court", twin=twin)
+        return ReinitResult(court_camera, None, "fake court", twin=twin, explained=explained)
 
     policy = ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence,
                           registry or CameraRegistry(), court=court)
@@ -571,6 +572,25 @@ def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
     policy, _ = _court_policy(Fakes(), CORNER, 0.8, court_accept_confidence=0.85)
     assert _decide(policy, 0).camera is None
+
+
+def test_a_court_camera_explaining_a_grid_of_lines_is_taken_from_its_own_bar():
+    from broadtrack_graph.geometry.determinable import Determinability
+
+    config = TrackingConfig()
+    between = (config.court_grid_accept_confidence + config.court_accept_confidence) / 2
+    grid, one_across = Determinability(True, 2, 2, ()), Determinability(True, 1, 5, ("Circle right",))
+    policy, _ = _court_policy(Fakes(), CORNER, between, explained=grid)
+    decision = _decide(policy, 0)
+    assert decision.camera is CORNER and decision.new_camera and policy.counts["court_used"] == 1
+    policy, _ = _court_policy(Fakes(), CORNER, between, explained=one_across)
+    assert _decide(policy, 0).camera is None  # waits for the next frames' court cameras
+    # Never under the confidence a new camera's chain is trusted from.
+    unsure = config.confidence_threshold + config.reinit_switch_margin - 0.02
+    policy, _ = _court_policy(Fakes(), CORNER, unsure, explained=grid, court_grid_accept_confidence=0.5)
+    assert _decide(policy, 0).camera is None and policy.counts["court_used"] == 0
+    with pytest.raises(ValueError, match="court_grid_accept_confidence"):
+        TrackingConfig(court_grid_accept_confidence=1.2)
 
 
 def test_a_court_try_that_forms_no_hypothesis_does_not_make_the_court_model_wait():
