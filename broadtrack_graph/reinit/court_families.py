@@ -2,6 +2,7 @@
 
 The pitch's straight markings run in two directions (parallel to the touchlines and to the goal lines); in the
 image the lines of each meet at a vanishing point. Every intersection of two solid image lines is a candidate,
+unless it lies inside either line's extent (painted lines crossing there are not parallel on the grass: a corner),
 voted for by the support of the lines pointing at it (:func:`vanishing_votes`); the likeliest pairs of distinct
 candidates that a focal length in range can make orthogonal split the lines into two families
 (:func:`line_families`), from which :mod:`broadtrack_graph.reinit.court_lines` forms its homographies.
@@ -30,6 +31,9 @@ class CourtLineConfig:
     family_angle_max_deg: float = 2.5  # ... nor looser than this
     min_line_coverage: float = 0.45  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
     hatch: HatchRule = HatchRule()  # the lines of a hatch (a goal net's strands) join no family
+    # Two lines meeting inside either's extent (clear of its ends by this share of its length) cross on the grass:
+    # they are not parallel there, and their meeting point is a corner, not a candidate vanishing point
+    crossing_inside_share: float = 0.05
     # Two vanishing points both this near the image (|w| of the unit homogeneous point: within about 1 / w half
     # widths of the centre) must fit a focal length in range (within a factor 2: a far one is poorly placed)
     near_vanishing_w: float = 0.15
@@ -90,6 +94,25 @@ def _meets(lines_n: np.ndarray, centres_n: np.ndarray, tolerances: np.ndarray, p
     return sine < np.sin(tolerances)[None, :]
 
 
+def _crossing(lines: list[ImageLine], points_n: np.ndarray, i: np.ndarray, j: np.ndarray, s: float,
+              centre_px: np.ndarray, inside_share: float) -> np.ndarray:
+    """(P,) whether each meeting point (homogeneous, normalised coordinates) of lines i and j lies inside the extent
+    of line i or of line j, clear of its ends by ``inside_share`` of its length: painted lines crossing there."""
+    w = points_n[:, 2]
+    finite = np.abs(w) > 1e-9
+    point_px = points_n[:, :2] / np.where(finite, w, 1.0)[:, None] * s + centre_px
+    centres = np.array([line.centre_px for line in lines])
+    directions = np.array([line.direction for line in lines])
+    extents = np.array([line.extent_px for line in lines], float)
+    margins = inside_share * (extents[:, 1] - extents[:, 0])
+
+    def inside(k: np.ndarray) -> np.ndarray:
+        along = np.einsum("pk,pk->p", point_px - centres[k], directions[k])
+        return (along > extents[k, 0] + margins[k]) & (along < extents[k, 1] - margins[k])
+
+    return finite & (inside(i) | inside(j))
+
+
 @dataclass(frozen=True)
 class VanishingVotes:
     """Every intersection of two solid image lines as a candidate vanishing point, with the lines pointing at it.
@@ -129,6 +152,10 @@ def vanishing_votes(lines: list[ImageLine], frame_size: tuple[int, int],
         return None
     points = np.cross(lines_n[i], lines_n[j])
     points /= np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
+    apart = ~_crossing(lines, points, i, j, s, centre, config.crossing_inside_share)
+    i, j, points = i[apart], j[apart], points[apart]
+    if not len(i):
+        return None
     meets = _meets(lines_n, centres_n, tolerances, points) & solid[None, :]
     return VanishingVotes(lines_n, s, centre, support, solid, i, j, meets)
 

@@ -22,3 +22,35 @@ def test_too_few_lines_give_no_split():
     lines = image_lines(box_view(), BOX_SEGMENTS[:3])  # one direction only
     assert all(min(np.sum(s.family == 0), np.sum(s.family == 1)) >= 2 for s in line_families(lines, (W, H)))
     assert line_families(lines[:1], (W, H)) == []
+
+
+def test_lines_crossing_on_the_grass_do_not_make_a_vanishing_point():
+    """A wide main-camera view: the near touchline, long and strongly supported, crosses the halfway line and the
+    16.5 m line in the image. Those crossings are corners, not vanishing points: with them voted for as candidates,
+    the long touchline's crossings outvote the two true directions and crowd them out of the candidates."""
+    from dataclasses import replace
+
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.reinit.court_families import CourtLineConfig, vanishing_votes
+
+    camera = Camera.from_degrees(1500.0, 0.0, -12.0, 76.0, 0.3, (-20.0, 94.0, -25.0), W, H)
+    segments = [
+        ((-52.5, 34.0, 0.0), (14.0, 34.0, 0.0)),  # near touchline (x direction), long
+        ((-52.5, 20.16, 0.0), (-49.5, 20.16, 0.0)),  # a short piece of the penalty area's side (x): the weakest
+        ((0.0, 34.0, 0.0), (0.0, -5.0, 0.0)),  # halfway line (y), from the touchline
+        ((-36.0, 20.16, 0.0), (-36.0, -10.0, 0.0)),  # 16.5 m line (y)
+        ((-52.5, 30.0, 0.0), (-52.5, -10.0, 0.0)),  # goal line (y)
+        ((-47.0, 9.16, 0.0), (-47.0, -9.16, 0.0)),  # goal area line (y)
+    ]
+    lines = image_lines(camera, segments)
+    lines[0] = replace(lines[0], support_px=6.0 * lines[0].support_px)  # the touchline drawn along its whole length
+    truth = [0, 0, 1, 1, 1, 1]
+
+    def split_found(config):
+        return any(np.array_equal(s.family, truth) or np.array_equal(1 - s.family, truth)
+                   for s in line_families(lines, (W, H), config))
+
+    corners = vanishing_votes(lines, (W, H))
+    assert not any({int(a), int(b)} in ({0, 2}, {0, 3}) for a, b in zip(corners.i, corners.j))
+    assert split_found(CourtLineConfig())
+    assert not split_found(CourtLineConfig(crossing_inside_share=0.5))  # no meeting point inside an extent's middle
