@@ -29,7 +29,8 @@ class CourtLineConfig:
     family_angle_px: float = 2.5  # a line joins a vanishing point when its far end is within this of the ray
     family_angle_min_deg: float = 0.3  # ... an angle tolerance never tighter than this ...
     family_angle_max_deg: float = 2.5  # ... nor looser than this
-    min_line_coverage: float = 0.45  # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
+    # map pixels per pixel of a line's extent, at least (a painted marking is drawn along)
+    min_line_coverage: float = 0.45
     hatch: HatchRule = HatchRule()  # the lines of a hatch (a goal net's strands) join no family
     # Two lines meeting inside either's extent (clear of its ends by this share of its length) cross on the grass:
     # they are not parallel there, and their meeting point is a corner, not a candidate vanishing point
