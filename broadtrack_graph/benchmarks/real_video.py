@@ -109,9 +109,8 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         if record is not None and record.camera is not None and index % max(1, score_every) == 0:
             scored.append(index)
             pixels = line_pixels(image, config)
-            camera = record.camera  # at the frame's size (a degraded copy's cameras are at the copy's)
-            if (camera.width_px, camera.height_px) != (image.shape[1], image.shape[0]):
-                camera = camera.rescaled(image.shape[1], image.shape[0])
+            # at the frame's size (a degraded copy's cameras are at the copy's)
+            camera = record.camera.rescaled(image.shape[1], image.shape[0])
             alignment = line_alignment(image, camera, curves, config, pixels)
             if alignment is not None:
                 scores[index] = alignment

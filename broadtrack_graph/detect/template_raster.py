@@ -19,7 +19,7 @@ def template_mask(camera: Camera, curves: TemplateCurves, width_px: int, height_
                   classes=LINE_CLASSES) -> np.ndarray:
     """(H, W) bool: the projected template drawn as lines of the given thickness."""
     canvas = np.zeros((height_px, width_px), dtype=np.uint8)
-    cam = camera if (camera.width_px, camera.height_px) == (width_px, height_px) else camera.rescaled(width_px, height_px)
+    cam = camera.rescaled(width_px, height_px)
     for name in classes:
         uv, front = cam.project(curves.samples_w[name])
         for a, b in finite_runs(usable_samples(uv, front, width_px, height_px)):

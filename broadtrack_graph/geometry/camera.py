@@ -207,10 +207,13 @@ class Camera:
         return math.degrees(self.roll_rad)
 
     def rescaled(self, width_px: int, height_px: int) -> "Camera":
-        """The same camera for another image resolution (f and principal point scale with width).
+        """The same camera for another image resolution (f and principal point scale with width); this camera itself
+        at its own resolution.
 
         k1 and the other distortion terms live in normalised coordinates and do not change.
         """
+        if (int(width_px), int(height_px)) == (self.width_px, self.height_px):
+            return self
         scale = width_px / self.width_px
         principal = None if self.principal_point_px is None else tuple(np.asarray(self.principal_point_px) * scale)
         return dataclasses.replace(

@@ -132,8 +132,7 @@ def project_template_polylines(
         class name -> (K, 2) pixels; classes whose polyline is empty are absent ("not projected").
     """
     sampling = sampling or TemplateSampling()
-    if camera.width_px != width_px or camera.height_px != height_px:
-        camera = camera.rescaled(width_px, height_px)
+    camera = camera.rescaled(width_px, height_px)
     uv_all, front_all = _project_like_official(camera, sampling.points_w)
     with np.errstate(invalid="ignore"):
         inside_all = (uv_all[:, 0] >= 0) & (uv_all[:, 0] < width_px) & (uv_all[:, 1] >= 0) & (uv_all[:, 1] < height_px)
@@ -338,7 +337,7 @@ def project_template(camera: Camera, curves: TemplateCurves, width_px: int, heig
     Returns:
         The dense samples, their classes and the image width of a marking at each (and of its paint).
     """
-    cam = camera if (camera.width_px, camera.height_px) == (width_px, height_px) else camera.rescaled(width_px, height_px)
+    cam = camera.rescaled(width_px, height_px)
     names = classes if classes is not None else [n for n in LINE_CLASSES if curves.pitch.is_on_ground(n)]
     samples, class_index, joins_next = curves.stacked(names)
     uv, front = cam.project(samples)

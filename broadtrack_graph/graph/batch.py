@@ -141,7 +141,7 @@ class BatchRefiner:
             raise ValueError("initial track has no camera at all")
         for c in cameras:
             if c is not None:
-                last = c if (c.width_px, c.height_px) == (self.width_px, self.height_px) else c.rescaled(self.width_px, self.height_px)
+                last = c.rescaled(self.width_px, self.height_px)
             out.append(last)
         return out
 

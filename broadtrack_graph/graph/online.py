@@ -104,8 +104,7 @@ class OnlineTracker:
         leave that frame alone against what one frame barely tells apart (focal length against distance, k1).
         """
         self._pending_reset = None
-        camera = camera if (camera.width_px, camera.height_px) == (self.width_px, self.height_px) \
-            else camera.rescaled(self.width_px, self.height_px)
+        camera = camera.rescaled(self.width_px, self.height_px)
         state = camera.to_vector()
         sigmas = self.config.motion.random_walk_vector()
         sigmas[0] *= state[0]  # relative zoom -> pixels
@@ -223,8 +222,7 @@ class OnlineTracker:
         if self._last_state is None and initial_guess is None:
             raise ValueError("the first frame needs an initial_guess camera")
         if initial_guess is not None:
-            guess = initial_guess if (initial_guess.width_px, initial_guess.height_px) == (self.width_px, self.height_px) \
-                else initial_guess.rescaled(self.width_px, self.height_px)
+            guess = initial_guess.rescaled(self.width_px, self.height_px)
             start = guess.to_vector()
         else:
             start = self._last_state.copy()

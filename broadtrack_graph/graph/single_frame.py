@@ -64,7 +64,7 @@ def refine_single_frame(
     if builder is None or (builder.width_px, builder.height_px) != (W, H):
         builder = GraphBuilder(W, H, pitch, config)
     cfg = builder.config
-    start = initial if (initial.width_px, initial.height_px) == (W, H) else initial.rescaled(W, H)
+    start = initial.rescaled(W, H)
     state0 = start.to_vector()
     uv, cls, names = builder.line_arrays(observations)
     kp = observations.keypoints

@@ -90,8 +90,7 @@ class TrackWriter:
         camera_file = None
         if record.camera is not None:
             camera = record.camera
-            if (camera.width_px, camera.height_px) != (self.width_px, self.height_px):
-                camera = camera.rescaled(self.width_px, self.height_px)
+            camera = camera.rescaled(self.width_px, self.height_px)
             camera_file = self.folder.write_camera(record.frame_id, camera, self.also_960x540, record.camera_id)
             record = TrackRecord(**{**record.__dict__, "camera": camera})
         line = record_to_json(record, camera_file)

@@ -142,8 +142,7 @@ def draw_pitch(
         antialias: anti-aliased lines (off gives exact, hard-edged pixels).
     """
     height, width = image_bgr.shape[:2]
-    if (camera.width_px, camera.height_px) != (width, height):
-        camera = camera.rescaled(width, height)
+    camera = camera.rescaled(width, height)
     thickness = thickness_px or max(1, int(round(2 * width / 1920)))
     polylines = [
         np.round(piece * 16).astype(np.int32)
@@ -227,7 +226,7 @@ def render_overlay_frame(
     lines = ["no estimate in the run"] if record is None else record_panel_lines(record)
     draw_info_panel(out, lines)
     if inset:
-        if camera is not None and (camera.width_px, camera.height_px) != out.shape[1::-1]:
+        if camera is not None:
             camera = camera.rescaled(out.shape[1], out.shape[0])
         picture = draw_birdseye(camera, view, template=template, footprint_bgr=colour)
         if players is not None and view is not None:

@@ -45,7 +45,7 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
     W, H = detections.width_px, detections.height_px
     best: ReinitResult | None = None
     for label, guess in guesses:
-        start = guess if (guess.width_px, guess.height_px) == (W, H) else guess.rescaled(W, H)
+        start = guess.rescaled(W, H)
         camera = refine_on_map(start, points, start.position_m, curves, config, config.schedule)
         if not plausible_position(camera.position_m, curves.pitch):
             continue  # the gate every camera passes: a fit that slid under the grass or onto the pitch

@@ -89,8 +89,7 @@ class Annotator:
             want_mask: build the per-class mask.
         """
         height_px, width_px = labels.shape
-        if camera.width_px != width_px or camera.height_px != height_px:
-            camera = camera.rescaled(width_px, height_px)
+        camera = camera.rescaled(width_px, height_px)
         projected = project_template_polylines(camera, width_px, height_px, self.sampling)
         # An annotator clicks on a marking, not on the edge of a player in front of it: a
         # point counts as visible when its pixel and the 8 around it show the marking's surface

@@ -164,8 +164,7 @@ def iter_clip_frames(
     for index, camera in enumerate(cameras):
         if index in cut_frames:
             previous = None
-        if camera.width_px != width_px or camera.height_px != height_px:
-            camera = camera.rescaled(width_px, height_px)
+        camera = camera.rescaled(width_px, height_px)
         rendered = renderer.render(camera, players, index, previous, want_class_ids=want_masks)
         truth = annotator.annotate(camera, rendered.labels, rendered.class_ids, want_mask=want_masks)
         yield SyntheticFrame(
@@ -188,7 +187,7 @@ def clip_scene(preset: str, frame_count: int, width_px: int, height_px: int, see
         track = generate_camera_track(preset, frame_count, width_px, height_px, seed)
         cams, tripod, lambdas, play = track.cameras, track.tripod, track.lambdas_m, track.ball_w
     else:
-        cams = [c if (c.width_px, c.height_px) == (width_px, height_px) else c.rescaled(width_px, height_px)
+        cams = [c.rescaled(width_px, height_px)
                 for c in list(cameras)[:frame_count]]
         tripod, lambdas, play = None, None, play_from_cameras(cams)
     players = simulate_players(play, spec.player_count, spec.player_spread_m, seed, FPS)

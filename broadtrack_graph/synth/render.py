@@ -114,8 +114,7 @@ class Renderer:
 
     def rays(self, camera: Camera) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """World directions (not unit) of every pixel's ray: three (H, W) float32 arrays."""
-        if camera.width_px != self.width_px or camera.height_px != self.height_px:
-            camera = camera.rescaled(self.width_px, self.height_px)
+        camera = camera.rescaled(self.width_px, self.height_px)
         return pixel_rays(camera, self._u, self._v)
 
     # ----------------------------------------------------------------- whole frame
@@ -138,8 +137,7 @@ class Renderer:
         Returns:
             RenderedFrame.
         """
-        if camera.width_px != self.width_px or camera.height_px != self.height_px:
-            camera = camera.rescaled(self.width_px, self.height_px)
+        camera = camera.rescaled(self.width_px, self.height_px)
         settings = self.settings
         H, W = self.height_px, self.width_px
         time_s = frame_index / 25.0 if time_s is None else time_s

@@ -145,3 +145,10 @@ def test_reads_every_real_camera_file(sn_calibration_dir):
         np.testing.assert_allclose(camera.R_cw, data["rotation_matrix"], atol=1e-9)
         pan, tilt, roll = np.degrees(angles_from_rotation(camera.R_cw))
         np.testing.assert_allclose([pan, tilt, roll], [data["pan_degrees"], data["tilt_degrees"], data["roll_degrees"]], atol=1e-7)
+
+
+def test_a_camera_rescaled_to_its_own_resolution_is_itself():
+    camera = Camera.from_degrees(1500.0, 0.02, 10.0, 70.0, 0.3, (0.0, 55.0, -12.0), 1920, 1080)
+    assert camera.rescaled(1920, 1080) is camera
+    half = camera.rescaled(960, 540)
+    assert half.focal_px == pytest.approx(750.0) and (half.width_px, half.height_px) == (960, 540)
