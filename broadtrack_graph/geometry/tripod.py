@@ -21,10 +21,13 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Tripod:
-    """T_w: (3,) pan/tilt axes meeting point, metres, pitch frame (z down); delta_m: offset of the optical axis."""
+    """T_w: (3,) pan/tilt axes meeting point, metres, pitch frame (z down); delta_m: offset of the optical axis;
+    sigma_m: how uncertain T_w is (metres; 0 for a fitted or given tripod, a provisional tripod's from the scatter of
+    the cameras it was made from): a tripod held fixed holds the camera no tighter than that."""
 
     T_w: tuple[float, float, float]
     delta_m: float
+    sigma_m: float = 0.0
 
     def as_vector(self) -> np.ndarray:
         """[Tx, Ty, Tz, delta] (metres)."""

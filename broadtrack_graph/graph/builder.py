@@ -187,6 +187,9 @@ class GraphBuilder:
         With a fixed tripod the focal point's place on the optical axis gets its prior
         (``tripod_lambda_*``); with the tripod a variable it does not: there, a lambda prior
         whose mean is off for the lens moves T along the axis and, through the height, delta.
+        A fixed tripod's own uncertainty (``Tripod.sigma_m``: a provisional tripod's, from opening frames that disagree
+        where the camera stands) adds to the factor's sigma and to the lambda prior's: it holds the camera only as
+        firmly as they agree.
         """
         if not self.config.use_tripod:
             return out
@@ -196,6 +199,9 @@ class GraphBuilder:
         if variable:
             out.add("tripod", make_tripod_factor(camera_key(frame_index), tripod_key(), sigma, m.tripod_model))
         elif tripod is not None:
+            if tripod.sigma_m > 0:
+                sigma = float(np.hypot(sigma, tripod.sigma_m))
+                zoom = None if zoom is None else (zoom[0], float(np.hypot(zoom[1], tripod.sigma_m)))
             out.add("tripod", make_fixed_tripod_factor(camera_key(frame_index), tripod.as_vector(), sigma, m.tripod_model, zoom))
         return out
 

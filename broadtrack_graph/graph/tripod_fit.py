@@ -18,6 +18,7 @@ determined while its height and delta do not.
 from __future__ import annotations
 
 import logging
+import math
 
 import numpy as np
 
@@ -118,11 +119,16 @@ def fit_tripod(
     return Tripod.from_vector(params), info
 
 
-def provisional_tripod(cameras: list[Camera], delta_m: float = 0.2, lambda_m: float = 0.2) -> Tripod | None:
+def provisional_tripod(cameras: list[Camera], delta_m: float = 0.2, lambda_m: float = 0.2,
+                       lambda_sigma_m: float = 0.0) -> Tripod | None:
     """A tripod from a few cameras whose pan range is too small for :func:`fit_tripod`.
 
     Inverts the tripod model ``C = T - delta r2 + lambda r3`` with typical delta and lambda:
-    ``T_i = C_i + delta r2_i - lambda r3_i`` per camera, and T is their per-axis median.
+    ``T_i = C_i + delta r2_i - lambda r3_i`` per camera, and T is their per-axis median. Its ``sigma_m`` is how
+    uncertain that median is: the T_i scatter about it by their RMS distance, of which the model itself allows
+    ``lambda_sigma_m`` (the focal point's place on the optical axis moves with the zoom about the typical lambda); the
+    scatter beyond that over the square root of the cameras' count. Opening frames that disagree where the camera
+    stands (a trade-off of distance, height and tilt the markings in view leave open) make a loose tripod.
     Online, it holds the focal point in place from the first confident frames (without a
     tripod, biased detections at tight zoom can walk it metres in a hundred frames) until
     there are enough frames to fit.
@@ -130,9 +136,10 @@ def provisional_tripod(cameras: list[Camera], delta_m: float = 0.2, lambda_m: fl
     Args:
         cameras: trusted cameras of one tripod (None entries are skipped).
         delta_m, lambda_m: the assumed offsets (metres).
+        lambda_sigma_m: how far lambda strays from lambda_m (metres; the scatter of the T_i it explains).
 
     Returns:
-        Tripod(T, delta_m), or None without a camera.
+        Tripod(T, delta_m, sigma_m), or None without a camera.
     """
     used = [c for c in cameras if c is not None]
     if not used:
@@ -140,7 +147,18 @@ def provisional_tripod(cameras: list[Camera], delta_m: float = 0.2, lambda_m: fl
     rotations = np.array([c.R_cw for c in used])
     centres = np.array([c.position_m for c in used])
     T_i = centres + delta_m * rotations[:, 1] - lambda_m * rotations[:, 2]
-    return Tripod(tuple(float(v) for v in np.median(T_i, axis=0)), float(delta_m))
+    T = np.median(T_i, axis=0)
+    scatter2 = float(np.mean(np.sum((T_i - T) ** 2, axis=1)))
+    sigma = math.sqrt(max(0.0, scatter2 - lambda_sigma_m**2) / len(used))
+    return Tripod(tuple(float(v) for v in T), float(delta_m), sigma)
+
+
+def provisional_tripod_for_run(cameras: list[Camera | None], graph) -> Tripod | None:
+    """:func:`provisional_tripod` with the run's typical offsets: delta the solver's prior (0.2 m without one), lambda
+    the measurements' mean and its sigma (:class:`~broadtrack_graph.graph.config.GraphConfig`)."""
+    m = graph.measurements
+    return provisional_tripod(cameras, graph.solver.tripod_delta_prior_m or 0.2, m.tripod_lambda_mean_m,
+                              m.tripod_lambda_sigma_m or 0.0)
 
 
 PER_FRAME_KEYS = ("residuals_m", "inliers", "axis_point_miss_m", "used_frames")

@@ -14,7 +14,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
-from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
+from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod_for_run
 from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
@@ -27,8 +27,9 @@ class OnlineTripod:
     """Fits the tripod on the confident opening frames of an online run, then holds it fixed.
 
     Only frames at least ``tripod_fit_min_confidence`` confident enter the fit. After
-    ``tripod_provisional_frames`` of them a provisional tripod (typical delta and lambda,
-    :func:`provisional_tripod`) holds the focal point in place; after
+    ``tripod_provisional_frames`` of them a provisional tripod (typical delta and lambda, held as firmly as those
+    frames agree where the camera stands,
+    :func:`~broadtrack_graph.graph.tripod_fit.provisional_tripod_for_run`) holds the focal point in place; after
     ``tripod_fit_frames`` the fit replaces it. A fit that explains fewer than
     ``tripod_fit_min_inliers`` of its frames, or puts the tripod under 1 m or on the pitch,
     is rejected: the older half of the frames is dropped and the fit is tried again once
@@ -103,8 +104,7 @@ class OnlineTripod:
         """
         if self.known_tripod is not None or (solver.tripod is not None and not self.provisional):
             return
-        tripod = solver.tripod if self.provisional else provisional_tripod(
-            self.cameras, self.graph.solver.tripod_delta_prior_m or 0.2, self.graph.measurements.tripod_lambda_mean_m)
+        tripod = solver.tripod if self.provisional else provisional_tripod_for_run(self.cameras, self.graph)
         if tripod is None or registry.same_place(tripod.T_w, camera.position_m, camera.R_cw[2]):
             return
         log.info("a new chain's camera stands %.1f m from the cameras collected for its tripod: they are dropped",
@@ -151,8 +151,7 @@ class OnlineTripod:
         settings = self.graph.solver
         if (solver.tripod is None and self.config.tripod_provisional_frames
                 and len(self.cameras) >= self.config.tripod_provisional_frames):
-            provisional = provisional_tripod(self.cameras, settings.tripod_delta_prior_m or 0.2,
-                                             self.graph.measurements.tripod_lambda_mean_m)
+            provisional = provisional_tripod_for_run(self.cameras, self.graph)
             if provisional is not None and plausible_position(provisional.T_w, self.pitch):
                 solver.tripod = provisional
                 self.provisional = True

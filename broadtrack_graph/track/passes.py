@@ -31,7 +31,7 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
-from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod
+from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod_for_run
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import TrackWriter
@@ -308,8 +308,7 @@ def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observatio
         cameras = [r.camera for r in tracked]
         if len(cameras) < max(1, config.tripod_provisional_frames):
             # Too few frames to fit T and delta (the pan barely moves): the provisional tripod, typical offsets.
-            start_tripod = provisional_tripod(cameras, graph.solver.tripod_delta_prior_m or 0.2,
-                                              graph.measurements.tripod_lambda_mean_m)
+            start_tripod = provisional_tripod_for_run(cameras, graph)
             fit_info = {"provisional": True, "frames": len(cameras),
                         "reason": f"fewer than {config.tripod_provisional_frames} frames: typical delta and lambda"}
         else:

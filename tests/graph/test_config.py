@@ -68,3 +68,27 @@ def test_builder_uses_known_classes_only_and_counts_measurements():
     frame = builder.measurement_factors(obs, 3, 2)
     assert frame.active == {"lines": 3, "keypoints": 1, "flow": 5}
     assert len(builder.measurement_factors(obs, 3, None).factors) == 2  # no flow without a predecessor
+
+
+def test_a_provisional_tripod_holds_the_camera_only_as_firmly_as_its_cameras_agree():
+    import gtsam
+
+    from broadtrack_graph.geometry.tripod import Tripod
+    from broadtrack_graph.graph.builder import FrameFactors
+
+    builder = GraphBuilder(960, 540, PitchTemplate())
+    m = builder.config.measurements
+    camera = Camera(1000.0, 0.0, 0.1, 1.3, 0.0, (0.0, 55.0, -12.0), 960, 540)
+    values = gtsam.Values()
+    values.insert(camera_key(0), camera.to_vector())
+    # A tripod 1 m beside the camera's axis point, held firmly (fitted) and loosely (uncertain by 2 m).
+    T = np.asarray(camera.position_m) + 0.2 * camera.R_cw[1] - 0.2 * camera.R_cw[2] + [1.0, 0.0, 0.0]
+    errors = []
+    for spread in (0.0, 2.0):
+        frame = builder.tripod_factor(0, FrameFactors(), Tripod(tuple(T), 0.2, spread))
+        assert frame.active == {"tripod": 1}
+        errors.append(frame.factors[0].error(values))
+    firm, loose = errors
+    # The axis-point residuals scale by sigma; the lambda prior's weight is sigma / its own sigma.
+    sigma = math.hypot(m.tripod_sigma_m, 2.0)
+    assert firm > 100.0 and loose < firm * (m.tripod_sigma_m / sigma) ** 2 * 1.5

@@ -80,7 +80,33 @@ def test_provisional_tripod_inverts_the_model_with_typical_offsets():
         cameras.append(Camera(2400.0, 0.0, pan, tilt, 0.0, focal_point(R, tripod, 0.2), 1920, 1080))
     found = provisional_tripod(cameras + [None], delta_m=0.2, lambda_m=0.2)
     np.testing.assert_allclose(found.T_w, tripod.T_w, atol=1e-9)
+    assert found.sigma_m < 1e-9  # every camera says the same place
     # lambda off by 0.3 m moves T by about 0.3 m along the mean optical axis, no more.
     shifted = provisional_tripod(cameras, delta_m=0.2, lambda_m=0.5)
     assert 0.25 < np.linalg.norm(np.subtract(shifted.T_w, tripod.T_w)) < 0.35
     assert provisional_tripod([None]) is None
+
+
+def test_a_provisional_tripod_is_as_uncertain_as_its_cameras_disagree_beyond_lambda():
+    from broadtrack_graph.graph.tripod_fit import provisional_tripod
+
+    tripod = Tripod((-1.7, 75.0, -18.5), 0.2)
+    rng = np.random.default_rng(5)
+    cameras, axes = [], []
+    for k in range(24):
+        pan, tilt = np.radians(rng.uniform(-7, -5)), np.radians(rng.uniform(74, 75))
+        R = rotation_from_angles(pan, tilt, 0.0)
+        axes.append(R[2])  # the optical axis (r3) in the pitch frame
+        cameras.append(Camera(900.0, 0.0, pan, tilt, 0.0, focal_point(R, tripod, 0.2), 848, 478))
+    # The focal point moved along the axis with the zoom (lambda 0.05-0.35 m): the scatter the lambda prior allows.
+    zoomed = [c.replace(position_m=c.position_m + rng.uniform(-0.15, 0.15) * a) for c, a in zip(cameras, axes)]
+    assert provisional_tripod(zoomed, 0.2, 0.2, lambda_sigma_m=0.25).sigma_m == 0.0
+    # Half the opening frames 3 m short along the line of sight (a depth a weak view cannot tell), half on it.
+    short = [c.replace(position_m=c.position_m - 3.0 * a) if k % 2 else c
+             for k, (c, a) in enumerate(zip(cameras, axes))]
+    found = provisional_tripod(short, 0.2, 0.2, lambda_sigma_m=0.25)
+    implied = np.array([np.asarray(c.position_m) + 0.2 * c.R_cw[1] - 0.2 * c.R_cw[2] for c in short])
+    scatter2 = np.mean(np.sum((implied - np.asarray(found.T_w)) ** 2, axis=1))
+    assert scatter2 == pytest.approx(1.5**2, rel=1e-3)  # the median lies between the two places: each 1.5 m off
+    assert found.sigma_m == pytest.approx(np.sqrt((scatter2 - 0.25**2) / 24), rel=1e-9)
+    assert provisional_tripod(short, 0.2, 0.2).sigma_m > found.sigma_m
