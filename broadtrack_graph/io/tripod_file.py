@@ -1,5 +1,8 @@
 """The tripod file (``tripod.json``): {"T_w": [x, y, z], "delta_m": d, "fit": {...}, "cameras": {...}}.
 
+A tripod whose place is uncertain (a provisional one, made from opening frames that disagree) carries ``sigma_m``
+too, its uncertainty in metres (:class:`~broadtrack_graph.geometry.tripod.Tripod`); absent, 0.
+
 Written by a run that fitted or used a tripod, read back with ``track --tripod`` for later
 runs of the same cameras (the synthetic clip's ground-truth tripod.json has the same form).
 The top level is the main camera's tripod (else the last camera's); ``cameras`` holds one
@@ -79,7 +82,10 @@ def tripods_from_json(data, source: str | Path) -> dict[str, Tripod]:
 
 
 def _tripod_dict(tripod: Tripod) -> dict:
-    return {"T_w": [float(v) for v in tripod.T_w], "delta_m": float(tripod.delta_m)}
+    data = {"T_w": [float(v) for v in tripod.T_w], "delta_m": float(tripod.delta_m)}
+    if tripod.sigma_m > 0:  # a provisional tripod's own uncertainty: a later run holds the camera no tighter
+        data["sigma_m"] = float(tripod.sigma_m)
+    return data
 
 
 def _tripod_from(path, data, where: str = "") -> Tripod:
@@ -90,4 +96,10 @@ def _tripod_from(path, data, where: str = "") -> Tripod:
         raise InputError(path, where + "expected {\"T_w\": [x, y, z], \"delta_m\": d}") from None
     if len(T) != 3 or not all(map(math.isfinite, T + [delta])):
         raise InputError(path, where + "tripod values must be 3 finite coordinates and a finite delta_m")
-    return Tripod((T[0], T[1], T[2]), delta)
+    try:
+        sigma = float(data.get("sigma_m", 0.0))
+    except (TypeError, ValueError):
+        sigma = math.nan
+    if not (math.isfinite(sigma) and sigma >= 0):
+        raise InputError(path, where + "sigma_m must be a finite number of metres >= 0")
+    return Tripod((T[0], T[1], T[2]), delta, sigma)

@@ -46,3 +46,14 @@ def test_tripod_option_takes_every_camera_of_a_run_s_file_or_one_by_id(tmp_path)
     assert list(named["high-behind-1"].T_w) == [52.7, 69.2, -22.6]  # a file without cameras: its top level
     with pytest.raises(InputError, match="a second tripod for camera 'main'"):
         tripods_from_args(Namespace(tripod=[str(run), f"main={single}"]))
+
+
+def test_a_provisional_tripod_s_uncertainty_round_trips_and_a_bad_one_is_a_one_line_error(tmp_path):
+    path = tmp_path / "tripod.json"
+    loose = Tripod((-1.1, 63.6, -18.4), 0.2, 0.19)
+    write_tripod(path, loose, None, {"main": loose, "high-corner-1": CORNER})
+    assert read_tripod(path) == loose and read_camera_tripods(path) == {"main": loose, "high-corner-1": CORNER}
+    assert "sigma_m" not in json.loads(path.read_text())["cameras"]["high-corner-1"]  # a firm tripod: as before
+    path.write_text(json.dumps({"T_w": [0, 55, -12], "delta_m": 0.2, "sigma_m": -1}))
+    with pytest.raises(InputError, match="tripod.json: sigma_m must be"):
+        read_tripod(path)
