@@ -5,8 +5,9 @@ N cameras are drawn at random (``--seed``) wherever broadcast cameras stand
 of the centre spot, 5-60 m up, looking at a random point of the pitch, 8-70 deg wide, roll within 2 deg,
 a broadcast lens's k1; a view with under a quarter of the image on the pitch is redrawn), and each frame is
 rendered with players under a look drawn from ``--looks`` (:mod:`broadtrack_graph.synth.named_looks`:
-clean, lower-league, graphics, shadows, blur). A frame **counts** when its visible markings determine a
-camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of each of the pitch's directions over
+clean, lower-league, graphics, shadows, blur), or with ``--renderer plain`` by a renderer written apart from the
+project's (:mod:`broadtrack_graph.benchmarks.placement_frames`). A frame **counts** when its visible markings
+determine a camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of each of the pitch's directions over
 60 px each, or a circle or arc 40 % visible and one line); frames that do not count are reported apart.
 
 Each route (``--routes``) is asked for the frame's camera on one core (``search_workers=0``, OpenCV on one
@@ -32,7 +33,7 @@ and 95th percentile. ``markings_detected`` counts the frames whose detected mark
 projection, still determine it (the same rule on the marking map: what detection leaves a route);
 ``truth_written`` the frames whose true camera is itself confident enough
 to be written (no route can write more); ``markings_visible`` the frames whose markings, kept only where the
-paint changes the rendered image by :data:`VISIBLE_PAINT_LEVELS` grey levels or more (:func:`visible_paint`),
+paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more (``placement_frames.visible_paint``),
 still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
 what is not in the image). ``paint_found_by_width``: per look, the true cameras' template samples (wide enough by
 their scale to be expected) by the width of their paint across the image (:data:`PAINT_WIDTH_BINS_PX`, working
@@ -48,14 +49,12 @@ import time
 
 import numpy as np
 
+from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
+
 ROUTES = ("tracker", "search", "court")
 WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
-RANDOM_STREAM = 7311
-"""Random stream of the frames (numpy SeedSequence entropy [seed, frame, RANDOM_STREAM, part])."""
 OUTCOMES = ("found", "near", "wrong", "none")
-VISIBLE_PAINT_LEVELS = 8.0
-"""Least change of grey level (0-255, at the detector's 960 px working width) the paint must make to be seen."""
 PAINT_WIDTH_BINS_PX = (0.0, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0, float("inf"))
 """Bins of the painted width (working pixels) the detector's finds on the true cameras are counted in."""
 
@@ -71,51 +70,12 @@ def add_arguments(parser) -> None:
                         help="with --random: the single-frame routes asked (default: tracker search court)")
     parser.add_argument("--looks", nargs="+", choices=LOOK_NAMES, default=list(LOOK_NAMES),
                         help="with --random: the looks drawn from (default: all)")
+    parser.add_argument("--renderer", choices=RENDERERS, default="synth",
+                        help="with --random: the frames' renderer: the project's own (synth, under --looks) or one "
+                             "written apart from it (plain; --looks does not apply; see docs/BENCHMARKS.md)")
     parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
                         help="with --random: start at frame K of the seed's frames (frame i is the same in every run "
                              "of the seed, size and looks: --random 1 --first i runs one frame of a report again)")
-
-
-def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks) -> dict:
-    """Frame ``index`` of a seed: its random camera, look, players and image (the same for the same arguments).
-
-    Returns {"drawn": RandomCamera, "look_name", "look": Look, "players": PlayerTrack, "image": (H, W, 3) BGR,
-    "render_s": seconds}.
-    """
-    from broadtrack_graph.benchmarks.random_cameras import draw_random_camera
-    from broadtrack_graph.synth.field_samples import render_look
-    from broadtrack_graph.synth.named_looks import draw_named_look, named_look
-    from broadtrack_graph.synth.scene import simulate_players
-
-    drawn = draw_random_camera(np.random.default_rng([seed, index, RANDOM_STREAM, 0]), width_px, height_px)
-    look_rng = np.random.default_rng([seed, index, RANDOM_STREAM, 1])
-    look_name = str(looks[int(look_rng.integers(len(looks)))])
-    look = draw_named_look(look_name, look_rng, drawn.aim_w)
-    people = np.random.default_rng([seed, index, RANDOM_STREAM, 2])
-    count, spread = int(people.integers(12, 23)), float(people.uniform(8.0, 24.0))
-    players = simulate_players(drawn.aim_w[None], count, spread, int(people.integers(1 << 31)))
-    started = time.perf_counter()
-    image = render_look(drawn.camera, players, look, named_look(look_name)).image
-    return {"drawn": drawn, "look_name": look_name, "look": look, "players": players, "image": image,
-            "render_s": time.perf_counter() - started}
-
-
-def visible_paint(frame: dict, work_width_px: int | None = None) -> np.ndarray:
-    """(h, w) bool map at the working width of where a frame's paint shows: the frame of :func:`draw_frame` rendered
-    again with the paint left off (the same camera, players, look, noise and compression) and the grey levels
-    compared after both are reduced to the working width (the detector's, by default; at most the frame's own)."""
-    import dataclasses
-
-    from broadtrack_graph.detect.weightfree import REFERENCE_WIDTH_PX
-    from broadtrack_graph.shots.repeats import reduced_grey
-    from broadtrack_graph.synth.field_samples import render_look
-    from broadtrack_graph.synth.named_looks import named_look
-
-    work_width_px = work_width_px or REFERENCE_WIDTH_PX
-    unpainted = dataclasses.replace(frame["look"], line_half_width_m=1e-4)
-    bare = render_look(frame["drawn"].camera, frame["players"], unpainted, named_look(frame["look_name"])).image
-    painted, plain = (reduced_grey(image, work_width_px).astype(np.int16) for image in (frame["image"], bare))
-    return np.abs(painted - plain) >= VISIBLE_PAINT_LEVELS
 
 
 def outcome(confidence: float | None, error_px: float | None, written_at: float, success_px: float) -> str:
@@ -212,7 +172,7 @@ def run(args) -> dict:
     try:
         frames = range(args.first, args.first + args.random)
         for index in tqdm(frames, desc="placements --random", unit="frame", disable=args.no_progress):
-            frame = draw_frame(args.seed, index, W, H, args.looks)
+            frame = draw_frame(args.seed, index, W, H, args.looks, args.renderer)
             drawn, image, truth = frame["drawn"], frame["image"], frame["drawn"].camera
             started = time.perf_counter()
             detections = detector.detect(image)
@@ -238,6 +198,8 @@ def run(args) -> dict:
                    "markings_visible": shown_markings.determinable,
                    "paint_found": {"samples": paint_samples.tolist(), "found": paint_found.tolist()},
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
+            if args.renderer == "plain":  # its look drawn per frame: blur, noise, compression (synth.plain)
+                row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
                 if route in ("tracker", "search"):
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
@@ -269,7 +231,9 @@ def run(args) -> dict:
             rows.append(row)
     finally:
         cv2.setNumThreads(threads)
-    report = {"mode": "random", "frames": len(rows), "frame_size": [W, H], "seed": args.seed, "looks": list(args.looks),
+    looks = ["plain"] if args.renderer == "plain" else list(args.looks)
+    report = {"mode": "random", "frames": len(rows), "frame_size": [W, H], "seed": args.seed, "renderer": args.renderer,
+              "looks": looks,
               "routes": routes, "skipped_routes": skipped, "reinit_model": args.reinit_model,
               "written_confidence": {route: round(written_at_by_route[route], 3) for route in routes},
               "success_px": args.success_px, "wrong_px": WRONG_PX,
@@ -348,8 +312,9 @@ def paint_found_by_width(rows: list[dict]) -> dict:
 
 def summary_table(report: dict) -> str:
     """A few lines for a human (stderr): per route and group, the shares of the counted frames and the seconds."""
-    lines = [f"{report['frames']} frames, {report['determinable']} determinable ({report['not_determinable']} apart); "
-             f"render {report['render_s']['median']} s, detect {report['detect_s']['median']} s median"]
+    lines = [f"{report['frames']} frames ({report.get('renderer', 'synth')} renderer), {report['determinable']} "
+             f"determinable ({report['not_determinable']} apart); render {report['render_s']['median']} s, detect "
+             f"{report['detect_s']['median']} s median"]
     lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'twin%':>6} {'near%':>6} "
                  f"{'none%':>6} {'s med':>6} {'s p95':>6} {'visible':>7} {'marks ok':>8} {'truth ok':>8}")
     for route, figures in report["by_route"].items():

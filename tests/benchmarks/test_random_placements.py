@@ -8,9 +8,10 @@ import sys
 
 import numpy as np
 
-from broadtrack_graph.benchmarks import random_placements
+from broadtrack_graph.benchmarks import placement_frames, random_placements
+from broadtrack_graph.benchmarks.placement_frames import RANDOM_STREAM
 from broadtrack_graph.benchmarks.random_cameras import STANDS, draw_random_camera
-from broadtrack_graph.benchmarks.random_placements import RANDOM_STREAM, outcome
+from broadtrack_graph.benchmarks.random_placements import outcome
 from broadtrack_graph.reinit.court_fit import twin_camera
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -123,13 +124,35 @@ def test_visible_paint_is_where_the_markings_show_and_fixes_the_camera_only_when
     from broadtrack_graph.synth.field_samples import render_look
     from broadtrack_graph.synth.named_looks import named_look
 
-    frame = random_placements.draw_frame(SEED, FIRST, WIDTH, HEIGHT, ["clean"])
+    frame = placement_frames.draw_frame(SEED, FIRST, WIDTH, HEIGHT, ["clean"])
     truth = frame["drawn"].camera
     assert determinability(truth).determinable
-    shown = random_placements.visible_paint(frame)
+    shown = placement_frames.visible_paint(frame)
     assert shown.shape == (540, 960) and 0 < shown.mean() < 0.2
     assert determinability(truth, explained_by=shown).determinable
     # The same frame painted 1 cm wide at the grass's own brightness: nothing shows, nothing is determined.
     faint = dataclasses.replace(frame["look"], line_half_width_m=0.005, line_bgr=(90.0, 140.0, 90.0))
     frame = {**frame, "look": faint, "image": render_look(truth, frame["players"], faint, named_look("clean")).image}
-    assert not determinability(truth, explained_by=random_placements.visible_paint(frame)).determinable
+    assert not determinability(truth, explained_by=placement_frames.visible_paint(frame)).determinable
+
+
+def test_the_plain_renderer_draws_the_same_cameras_and_its_paint_shows(tmp_path, monkeypatch):
+    truths = []
+
+    def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None):
+        return ReinitResult(None, None, "stand-in", reason="no camera")
+
+    monkeypatch.setattr(random_placements, "_court_route", lambda: (stand_in, None))
+    for renderer in ("synth", "plain"):
+        report = run_bench(tmp_path, "--routes", "court", "--renderer", renderer)
+        assert report["renderer"] == renderer
+        truths.append([(row["camera"], row["determinable"]) for row in report["frames_by_index"]])
+    assert truths[0] == truths[1]
+    assert report["looks"] == ["plain"] and {row["look"] for row in report["frames_by_index"]} == {"plain"}
+    assert all({"motion_blur_px", "jpeg_quality", "noise_sigma"} <= set(row["plain_look"])
+               for row in report["frames_by_index"])
+    from broadtrack_graph.geometry.determinable import determinability
+
+    frame = placement_frames.draw_frame(SEED, FIRST, WIDTH, HEIGHT, ["clean"], "plain")
+    shown = placement_frames.visible_paint(frame)
+    assert 0 < shown.mean() < 0.2 and determinability(frame["drawn"].camera, explained_by=shown).determinable

@@ -295,7 +295,7 @@ def test_a_blurred_frame_s_markings_are_found_without_a_camera_on_the_reduced_le
     view from behind a goal. Its markings, smeared over about 10 px, fall under the working level's top-hat; found on
     the reduced levels with the gates eased by the frame's blur, they fix its camera and the true camera explains
     them (confidence 0.39 -> 0.83)."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame as draw_placement
+    from broadtrack_graph.benchmarks.placement_frames import draw_frame as draw_placement
     from broadtrack_graph.geometry.determinable import determinability
     from broadtrack_graph.reinit.confidence import confidence_parts
     from broadtrack_graph.synth.named_looks import LOOK_NAMES

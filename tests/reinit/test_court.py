@@ -37,7 +37,7 @@ def _detect(camera: Camera):
 
 def _random_placement(index: int):
     """(true camera, weight-free detections) of frame ``index`` of ``bench placements --random --seed 3`` (1280x720)."""
-    from broadtrack_graph.benchmarks.random_placements import draw_frame
+    from broadtrack_graph.benchmarks.placement_frames import draw_frame
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.synth.named_looks import LOOK_NAMES
 
