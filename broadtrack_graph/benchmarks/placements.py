@@ -12,8 +12,9 @@ agree; at most ``court_agreement_frames``). Found: a camera at least
 ``confidence_threshold + reinit_switch_margin`` confident (what a new shot's chain needs to be
 trusted) whose projected ground template lies within ``--success-px`` (median) of the truth's.
 
-``--random N`` draws N cameras anywhere around the pitch instead, under random looks, and asks every
-single-frame route for each: :mod:`broadtrack_graph.benchmarks.random_placements`.
+``--random N`` draws N cameras anywhere around the pitch instead, under random looks (or by the plain renderer,
+``--renderer plain``: asked without ``--random``, a one-line error), and asks every single-frame route for each:
+:mod:`broadtrack_graph.benchmarks.random_placements`.
 """
 
 from __future__ import annotations
@@ -56,6 +57,10 @@ def add_arguments(parser) -> None:
 def run(args) -> dict:
     if args.random is not None:
         return random_placements.run(args)
+    if args.renderer != "synth":
+        from broadtrack_graph.errors import InputError
+
+        raise InputError(None, f"--renderer {args.renderer} renders the frames of --random N only")
     from tqdm import tqdm
 
     from broadtrack_graph.benchmarks.detections import template_errors_px

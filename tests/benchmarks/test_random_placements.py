@@ -156,3 +156,8 @@ def test_the_plain_renderer_draws_the_same_cameras_and_its_paint_shows(tmp_path,
     frame = placement_frames.draw_frame(SEED, FIRST, WIDTH, HEIGHT, ["clean"], "plain")
     shown = placement_frames.visible_paint(frame)
     assert 0 < shown.mean() < 0.2 and determinability(frame["drawn"].camera, explained_by=shown).determinable
+
+
+def test_the_plain_renderer_is_asked_of_random_frames_only(capsys):
+    assert main(["bench", "placements", "--renderer", "plain", "--distances", "55", "--elevations", "15"]) != 0
+    assert "--renderer plain renders the frames of --random N only" in capsys.readouterr().err
