@@ -24,20 +24,22 @@ def draw_frame(seed: int, index: int, width_px: int, height_px: int, looks, rend
     """Frame ``index`` of a seed: its random camera, look, players and image (the same for the same arguments).
 
     Returns {"drawn": RandomCamera, "renderer", "look_name", "look": Look or PlainLook, "players": PlayerTrack (None
-    for ``plain``, whose look draws its own), "image": (H, W, 3) BGR, "render_s": seconds}.
+    for ``plain``, whose look draws its own), "image": (H, W, 3) BGR, "render_s": seconds}; ``plain`` adds "ground",
+    its pixels' ground points (:func:`~broadtrack_graph.synth.plain.ground_of_pixels`), for :func:`visible_paint`.
     """
     from broadtrack_graph.benchmarks.random_cameras import draw_random_camera
 
     drawn = draw_random_camera(np.random.default_rng([seed, index, RANDOM_STREAM, 0]), width_px, height_px)
     look_rng = np.random.default_rng([seed, index, RANDOM_STREAM, 1])
     if renderer == "plain":
-        from broadtrack_graph.synth.plain import draw_plain_look, render_plain
+        from broadtrack_graph.synth.plain import draw_plain_look, ground_of_pixels, render_plain
 
         look = draw_plain_look(look_rng)
         started = time.perf_counter()
-        image = render_plain(drawn.camera, look)
+        ground = ground_of_pixels(drawn.camera)
+        image = render_plain(drawn.camera, look, ground)
         return {"drawn": drawn, "renderer": renderer, "look_name": "plain", "look": look, "players": None,
-                "image": image, "render_s": time.perf_counter() - started}
+                "image": image, "render_s": time.perf_counter() - started, "ground": ground}
     if renderer != "synth":
         raise ValueError(f"unknown renderer '{renderer}'; choose from {list(RENDERERS)}")
     from broadtrack_graph.synth.field_samples import render_look
@@ -68,7 +70,7 @@ def visible_paint(frame: dict, work_width_px: int | None = None) -> np.ndarray:
     if frame.get("renderer", "synth") == "plain":
         from broadtrack_graph.synth.plain import render_plain, unpainted
 
-        bare = render_plain(frame["drawn"].camera, unpainted(frame["look"]))
+        bare = render_plain(frame["drawn"].camera, unpainted(frame["look"]), frame.get("ground"))
     else:
         from broadtrack_graph.synth.field_samples import render_look
         from broadtrack_graph.synth.named_looks import named_look

@@ -117,14 +117,21 @@ def marking_distance_m(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.nda
     return best, normal
 
 
-def render_plain(camera: Camera, look: PlainLook) -> np.ndarray:
-    """(H, W, 3) uint8 BGR image of the pitch through ``camera`` (at its own resolution) under ``look``."""
-    rng = np.random.default_rng(look.seed)
+def ground_of_pixels(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y): (H, W) metres where each pixel's ray meets the ground (inf where it does not)."""
     W, H = camera.width_px, camera.height_px
     us, vs = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
     ground, hits = camera.ground_intersection(np.column_stack([us.ravel(), vs.ravel()]))
-    x = np.where(hits, ground[:, 0], np.inf).reshape(H, W)
-    y = np.where(hits, ground[:, 1], np.inf).reshape(H, W)
+    return np.where(hits, ground[:, 0], np.inf).reshape(H, W), np.where(hits, ground[:, 1], np.inf).reshape(H, W)
+
+
+def render_plain(camera: Camera, look: PlainLook,
+                 ground: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """(H, W, 3) uint8 BGR image of the pitch through ``camera`` (at its own resolution) under ``look``; ``ground``:
+    the camera's :func:`ground_of_pixels` when already computed (rendering one view twice, with and without paint)."""
+    rng = np.random.default_rng(look.seed)
+    W, H = camera.width_px, camera.height_px
+    x, y = ground if ground is not None else ground_of_pixels(camera)
     grass = (np.abs(x) <= HALF_LENGTH_M + GRASS_BEYOND_M) & (np.abs(y) <= HALF_WIDTH_M + GRASS_BEYOND_M)
     # The crowd: coloured blocks, darker than the grass.
     block = look.crowd_block_px
