@@ -17,7 +17,8 @@ thread), from the weight-free detector's markings (detection is timed apart):
   model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
   camera's next frames while the policy waits for them (at most ``court_agreement_frames``), as ``bench placements``
   does;
-* ``search``: the same policy without the court model (the search as it was before it);
+* ``search``: the same policy without the court model, searching every stage (``search_all_places``: the search as
+  it was before it);
 * ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``), its
   camera judged by the tracker's confidence (``frame_confidence``, not timed); skipped with a note when it
   cannot be imported.
@@ -46,6 +47,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -202,7 +204,8 @@ def run(args) -> dict:
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
                 if route in ("tracker", "search"):
-                    policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
+                    route_config = config if route == "tracker" else replace(config, search_all_places=True)
+                    policy = ReinitPolicy(route_config, reinitialise, refine_guesses, frame_confidence, model=model,
                                           court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
                     decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image)

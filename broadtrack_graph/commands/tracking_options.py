@@ -64,6 +64,9 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--no-court", action="store_true",
                         help="do not try the court model (a camera from the markings alone, wherever it stands) "
                              "before the field model and the global search")
+    parser.add_argument("--no-search", action="store_true",
+                        help="on a marking map, do not run the global search (tried last: at the known cameras' "
+                             "positions and the default positions)")
     parser.add_argument("--search-workers", type=int_at_least(0), default=None, metavar="N",
                         help="worker processes that run the global search's next stages ahead while the tracker "
                              "runs the one it needs (the cameras are the same with any N; 0: none; default: every "
@@ -100,7 +103,7 @@ def config_from_args(args) -> TrackingConfig:
         if getattr(args, flag, None) is not None:
             overrides[field] = getattr(args, flag)
     for flag, field in (("no_flow", "use_flow"), ("no_tripod", "use_tripod"), ("no_k1", "estimate_k1"),
-                        ("no_court", "court_reinit")):
+                        ("no_court", "court_reinit"), ("no_search", "global_search")):
         if getattr(args, flag, False):
             overrides[field] = False
     if getattr(args, "write_960x540", False):

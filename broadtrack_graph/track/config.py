@@ -58,6 +58,14 @@ class TrackingConfig:
     # A new shot's camera this confident is certain: the search stops at it (the later stages cannot do better by
     # the margin) and the field model's camera is taken without a search; below it, every stage is searched.
     certain_confidence: float = 0.9
+    # The global search, tried last when the guesses, the court model and the field model give no camera to take
+    # (False: not tried on a marking map; a detections file's labelled lines, with no map, are searched still)
+    global_search: bool = True
+    # ... on a marking map, for a shot whose camera is not known, the known cameras' positions and the default
+    # positions (reinit/positions.py: the main camera's, the 16 m line's, behind a goal); True: also the stages after
+    # them (the main camera further back, three low gantries, the other kinds' places). They placed no frame more on
+    # any bench since the court model places a camera wherever it stands (docs/BENCHMARKS.md, "What the search adds")
+    search_all_places: bool = False
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each

@@ -37,16 +37,18 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    frames it cannot place (up to 10), then waits 1, 2, 4, ... frames after each
    (:class:`~broadtrack_graph.track.search_budget.TrySchedule`): a shot it cannot place costs little.
 4. **The global search** in stages, when the search budget allows
-   (:class:`~broadtrack_graph.track.search_route.SearchRoute`: its stages and its budget).
+   (:class:`~broadtrack_graph.track.search_route.SearchRoute`: its stages and its budget; on a marking map not at
+   all with ``global_search`` off).
 
    * A shot whose camera is not known yet: the stages of :mod:`~broadtrack_graph.track.search_stages` (the known
-     cameras, the default positions, the other camera kinds), every one (a view of one camera can be explained,
-     less well, by a camera elsewhere) until a camera reaches ``certain_confidence`` or a known camera is found at
-     its own position confident by the margin.
+     cameras, the default positions; with ``search_all_places`` the other places cameras stand too), every one (a
+     view of one camera can be explained, less well, by a camera elsewhere) until a camera reaches
+     ``certain_confidence`` or a known camera is found at its own position confident by the margin.
    * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, unless the
-     chain is trusted (its camera stands where its confident frames put it), its kind's stage; the first confident
-     stage ends it. A trusted chain's held camera on a marking map is not searched for: the held camera refined on
-     the map (a guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
+     chain is trusted (its camera stands where its confident frames put it), a main camera's default positions
+     (another kind's stage only with ``search_all_places``, or without a map); the first confident stage ends it.
+     A trusted chain's held camera on a marking map is not searched for: the held camera refined on the map (a
+     guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
      chain ends and the next frame is placed from nothing.
 
 Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is identified by where it
@@ -252,6 +254,12 @@ class ReinitPolicy:
             # A court camera confident by the margin is confirmed (or not) by the next frames' before a search is paid.
             return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
                                   f"cameras to agree ({court.confidence if court else 0.0:.2f} on this frame)")
+        if with_map and not self.config.global_search:
+            if candidate is not None:
+                return self._candidate_decision(candidate, False, " (no global search)", held, held_confidence,
+                                                new_camera)
+            return ReinitDecision(None, None, None, False, False, "no camera from the guesses or the court model "
+                                  "(no global search)")
         known = chain_id is not None and chain_id in self.registry.positions
         if with_map and not self.searches.budget.allows(i, known):
             self.counts["skipped_by_budget"] += 1
@@ -260,7 +268,8 @@ class ReinitPolicy:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
         plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
-                           self.searches.shot_start_confidences, held_trusted=held is not None and self.chain.trusted)
+                           self.searches.shot_start_confidences, held_trusted=held is not None and self.chain.trusted,
+                           all_places=self.config.search_all_places)
         # found: a camera its chain is trusted from (a new shot's camera: by the margin)
         found, found_confidence, label = self.searches.run(
             plan, i, known, with_map, threshold + (margin if new_camera else 0.0),

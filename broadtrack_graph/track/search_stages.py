@@ -48,7 +48,8 @@ class SearchPlan(NamedTuple):
 
 
 def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool,
-                shot_start_confidences: dict[str, float] | None = None, held_trusted: bool = False) -> SearchPlan:
+                shot_start_confidences: dict[str, float] | None = None, held_trusted: bool = False,
+                all_places: bool = True) -> SearchPlan:
     """The stages of one search (the policy's module docstring says why).
 
     Args:
@@ -60,6 +61,9 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
             camera its first search found there; None: the shot's first search.
         held_trusted: the shot's camera holds a trusted chain (its frames are being written), dipping under the
             threshold.
+        all_places: on a marking map, every stage of :data:`SEARCH_STAGES` (``TrackingConfig.search_all_places``);
+            else its first (the default positions) alone, and a known camera at its own position (and the default
+            positions, for a main camera).
     """
     if search_positions is not None:
         return SearchPlan([("the given positions", search_positions)], 1)
@@ -71,13 +75,14 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         if held_trusted:
             return SearchPlan([(f"camera {camera_id}", [own_position])], 1)
         kind, _ = camera_kind(own_position)
-        own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES else ())
+        own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES and (
+            all_places or not with_map) else ())
         return SearchPlan([(f"camera {camera_id}", [own_position])] + list(own), 2)
     known = [tuple(p) for p in known_positions.values()]
     first = [(KNOWN_CAMERAS, known)] if known else []
     if not with_map:
         return SearchPlan(first + list(SEARCH_STAGES[:1]), len(first) + 1)
-    plan = SearchPlan(first + list(SEARCH_STAGES), len(first) + 1, new_shot=True)
+    plan = SearchPlan(first + list(SEARCH_STAGES if all_places else SEARCH_STAGES[:1]), len(first) + 1, new_shot=True)
     return plan if shot_start_confidences is None else retry_plan(plan, shot_start_confidences)
 
 

@@ -40,11 +40,13 @@ def test_defaults_are_the_config_defaults(calls, capsys):
 def test_flags_give_the_config(calls, tmp_path):
     write_tripod(tmp_path / "tripod.json", Tripod((1.0, 55.0, -12.0), 0.25))
     assert main(["track", "--detections", "d.jsonl", "--frames", "clip", "--out", "run", "--mode", "fixed-lag",
-                 "--lag", "12", "--no-flow", "--no-k1", "--no-court", "--confidence-threshold", "0.4", "--write-960x540",
+                 "--lag", "12", "--no-flow", "--no-k1", "--no-court", "--no-search", "--confidence-threshold", "0.4",
+                 "--write-960x540",
                  "--tripod", str(tmp_path / "tripod.json"), "--start", "5", "--end", "9"]) == 0
     call = calls[0]
     assert call["config"] == TrackingConfig(mode="fixed-lag", lag_frames=12, use_flow=False, estimate_k1=False,
-                                            court_reinit=False, confidence_threshold=0.4, write_960x540=True)
+                                            court_reinit=False, global_search=False, confidence_threshold=0.4,
+                                            write_960x540=True)
     assert call["frames"] == Path("clip") and call["detections_path"] == Path("d.jsonl")
     assert tuple(call["tripod"].T_w) == (1.0, 55.0, -12.0) and call["tripod"].delta_m == 0.25
     assert (call["start"], call["end"]) == (5, 9)

@@ -53,6 +53,9 @@ class Fakes:
 
 
 def _policy(fakes, **config):
+    """A policy on the fakes, its search through every stage (``search_all_places``; off by default: the tests of the
+    default plan set it False)."""
+    config.setdefault("search_all_places", True)
     return ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence)
 
 
@@ -69,6 +72,44 @@ def _cut(policy):
     """A cut, as the frame loop tells it: the chain's camera is unknown, and the policy's stretch starts over."""
     policy.chain.new_stretch()
     policy.new_stretch()
+
+
+def test_by_default_a_new_shot_is_searched_at_the_known_cameras_and_the_default_positions_only():
+    corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
+    fakes = Fakes({None: (MAIN, 0.3), corner_stage: (CORNER, 0.95)})
+    decision = _decide(_policy(fakes, search_all_places=False), 0)
+    assert decision.camera is MAIN and fakes.searched == [None]  # the corner stage is not searched
+    known = (53.0, 70.0, -22.0)
+    fakes = Fakes({(known,): (CORNER, 0.55)})  # confident, not by the margin: the default stage follows, no other
+    policy = _policy(fakes, search_all_places=False)
+    policy.tripod("high-corner-1", known)
+    decision = _decide(policy, 0)
+    assert decision.camera is CORNER and decision.camera_id == "high-corner-1" and fakes.searched == [(known,), None]
+    # Mid-shot, a known camera that is not a main camera: its own position alone (no stage of its kind's places).
+    fakes = Fakes()
+    policy = _policy(fakes, search_all_places=False)
+    policy.chain.identify("high-corner-1")
+    policy.tripod("high-corner-1", known)
+    _decide(policy, 5)
+    assert fakes.searched == [(known,)]
+    # Labelled detections (no map, no court model): the same default stage, and a kind's stage mid-shot still.
+    policy = _policy(fakes, search_all_places=False)
+    policy.chain.identify("high-corner-1")
+    policy.tripod("high-corner-1", known)
+    fakes.searched.clear()
+    _decide(policy, 5, detections=None)
+    assert len(fakes.searched) == 1 + (1 if "high-corner" in KIND_STAGES else 0)
+
+
+def test_without_the_global_search_a_marking_map_is_not_searched():
+    fakes = Fakes({None: (MAIN, 0.95), ((0.0, 55.0, -12.0),): (MAIN, 0.9)}, guess_confidence=0.1)
+    policy = _policy(fakes, global_search=False)
+    decision = _decide(policy, 0)
+    assert decision.camera is None and not decision.searched and fakes.searched == []
+    policy.chain.identify("main")
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    assert not _decide(policy, 5).searched and fakes.searched == []
+    assert _decide(policy, 6, detections=None).searched  # labelled detections: the search is their only route
 
 
 def test_a_new_shot_is_searched_through_every_stage_and_the_best_camera_wins():
@@ -373,6 +414,7 @@ IMAGE = np.zeros((H, W, 3), np.uint8)
 
 
 def _with_model(fakes, camera, confidence, **config):
+    config.setdefault("search_all_places", True)
     model = FakeModel(fakes, camera, confidence)
     return ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence, model=model), model
 
@@ -543,6 +585,7 @@ def _court_policy(fakes, court_camera, court_confidence, registry=None, explaine
         fakes.confidences[id(twin)] = court_confidence
         return ReinitResult(court_camera, None, "fake court", twin=twin, explained=explained)
 
+    config.setdefault("search_all_places", True)
     policy = ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence,
                           registry or CameraRegistry(), court=court)
     return policy, calls
@@ -674,7 +717,8 @@ def test_a_new_shot_s_camera_takes_a_known_id_only_when_that_tripod_explains_the
 
     fakes = Fakes({None: (MAIN, 0.95)}, guess_confidence=at_tripod)  # the frame refined at the known tripod
     registry = CameraRegistry(known={"main": MAIN.position_m + np.array([0.0, 2.0, 0.0])})
-    policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence, registry)
+    policy = ReinitPolicy(TrackingConfig(search_all_places=True), fakes.search, fakes.refine, fakes.confidence,
+                          registry)
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.camera_id == camera_id
     assert any("at the position of main" in label for label in fakes.refined)

@@ -125,7 +125,9 @@ def test_the_policy_decides_the_same_with_workers():
 
     decisions = []
     for workers in (0, 1):
-        policy = ReinitPolicy(TrackingConfig(search_workers=workers), stage_numbered_search, None, confidence)
+        # every stage (by default a new shot without a known camera searches the default positions alone)
+        config = TrackingConfig(search_workers=workers, search_all_places=True)
+        policy = ReinitPolicy(config, stage_numbered_search, None, confidence)
         try:
             decision = policy.decide(FrameObservations(0, 1280, 720), SimpleNamespace(marking_mask=np.ones((9, 16), bool)),
                                      PitchTemplate(), CURVES, SAMPLING)  # (the new camera's markings are read)
