@@ -63,8 +63,8 @@ class TrackingConfig:
     global_search: bool = True
     # ... on a marking map, for a shot whose camera is not known, the known cameras' positions and the default
     # positions (reinit/positions.py: the main camera's, the 16 m line's, behind a goal); True: also the stages after
-    # them (the main camera further back, three low gantries, the other kinds' places). They placed no frame more on
-    # any bench since the court model places a camera wherever it stands (docs/BENCHMARKS.md, "What the search adds")
+    # them (the main camera further back, three low gantries, the other kinds' places), which the court model, placing
+    # a camera wherever it stands, has left little to do (docs/BENCHMARKS.md: "Weak spots of re-initialisation")
     search_all_places: bool = False
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
