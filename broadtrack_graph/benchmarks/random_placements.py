@@ -150,6 +150,7 @@ def run(args) -> dict:
     pitch = PitchTemplate()
     curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
     config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
+    route_configs = {"tracker": config, "search": replace(config, search_all_places=True)}  # search: every stage
     written_at = config.confidence_threshold + config.reinit_switch_margin
     # The court model's camera is taken by the tracker only from its own bar (court_accept_at: by the markings it
     # explains); the report states the bar without a grid of lines.
@@ -204,9 +205,8 @@ def run(args) -> dict:
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
                 if route in ("tracker", "search"):
-                    route_config = config if route == "tracker" else replace(config, search_all_places=True)
-                    policy = ReinitPolicy(route_config, reinitialise, refine_guesses, frame_confidence, model=model,
-                                          court=tracker_court if route == "tracker" else None)
+                    policy = ReinitPolicy(route_configs[route], reinitialise, refine_guesses, frame_confidence,
+                                          model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
                     decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image)
                     seconds = time.perf_counter() - started

@@ -254,16 +254,9 @@ class ReinitPolicy:
             # A court camera confident by the margin is confirmed (or not) by the next frames' before a search is paid.
             return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
                                   f"cameras to agree ({court.confidence if court else 0.0:.2f} on this frame)")
-        if with_map and not self.config.global_search:
-            if candidate is not None:
-                return self._candidate_decision(candidate, False, " (no global search)", held, held_confidence,
-                                                new_camera)
-            return ReinitDecision(None, None, None, False, False, "no camera from the guesses or the court model "
-                                  "(no global search)")
         known = chain_id is not None and chain_id in self.registry.positions
-        if with_map and not self.searches.budget.allows(i, known):
-            self.counts["skipped_by_budget"] += 1
-            why = f"search budget: the next global search at frame {self.searches.budget.next_frame(i, known)}"
+        why = self._not_searched_because(i, known) if with_map else None
+        if why is not None:
             if candidate is not None:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
@@ -284,6 +277,16 @@ class ReinitPolicy:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
         return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
                               label, held, held_confidence, new_camera)
+
+    def _not_searched_because(self, frame_index: int, known: bool) -> str | None:
+        """Why a frame with a marking map is not searched (the search off, or its budget spent), or None."""
+        if not self.config.global_search:
+            return "no global search"
+        if not self.searches.budget.allows(frame_index, known):
+            self.counts["skipped_by_budget"] += 1
+            next_frame = self.searches.budget.next_frame(frame_index, known)
+            return f"search budget: the next global search at frame {next_frame}"
+        return None
 
     def _candidate_decision(self, candidate: Candidate, searched: bool, why: str, held, held_confidence,
                             new_camera: bool) -> ReinitDecision:

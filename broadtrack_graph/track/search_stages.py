@@ -75,9 +75,13 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         if held_trusted:
             return SearchPlan([(f"camera {camera_id}", [own_position])], 1)
         kind, _ = camera_kind(own_position)
-        own = MAIN_STAGES[:1] if kind == MAIN_KIND else ((KIND_STAGES[kind],) if kind in KIND_STAGES and (
-            all_places or not with_map) else ())
-        return SearchPlan([(f"camera {camera_id}", [own_position])] + list(own), 2)
+        if kind == MAIN_KIND:
+            own = list(MAIN_STAGES[:1])
+        elif kind in KIND_STAGES and (all_places or not with_map):
+            own = [KIND_STAGES[kind]]
+        else:
+            own = []
+        return SearchPlan([(f"camera {camera_id}", [own_position])] + own, 2)
     known = [tuple(p) for p in known_positions.values()]
     first = [(KNOWN_CAMERAS, known)] if known else []
     if not with_map:
