@@ -2,8 +2,6 @@
 
 :func:`map_jobs` is the one place where whole items of work are spread over processes; its signature
 names no engine (a distributed engine can replace the body). Results come back in input order.
-(Inside one tracking run, the global search's next stages run ahead on worker processes:
-:mod:`broadtrack_graph.track.stage_runner`.)
 """
 
 from __future__ import annotations

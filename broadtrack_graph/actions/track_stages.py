@@ -30,15 +30,9 @@ def _known_tripod(clip: dict):
     return None if clip.get("tripod") is None else read_tripod(clip["tripod"])
 
 
-def _one_core(config):
-    """A unit's tracking options: one core per unit (:func:`~broadtrack_graph.actions.track_units.run_unit`), so
-    no worker processes for the global search."""
-    return replace(config, search_workers=0)
-
-
 def run_track(unit, temp: Path) -> dict:
     """A whole clip in its mode, as ``broadtrack-graph track`` would."""
-    clip, config = unit.spec["clip"], _one_core(unit.spec["config"])
+    clip, config = unit.spec["clip"], unit.spec["config"]
     frames = _path(clip.get("input"))
     result = track_input(frames, temp, config, tripod=_known_tripod(clip), detections_path=_path(clip.get("detections")),
                          start=clip.get("start"), end=clip.get("end"), progress=False)
@@ -48,7 +42,7 @@ def run_track(unit, temp: Path) -> dict:
 def run_pass1(unit, temp: Path) -> dict:
     """The online first pass over one window (the frames of its neighbours included for warm-up)."""
     clip, chunk = unit.spec["clip"], Chunk(**unit.spec["chunk"])
-    config = replace(_one_core(unit.spec["config"]), mode="online")
+    config = replace(unit.spec["config"], mode="online")
     result = track_input(None, temp, config, tripod=_known_tripod(clip), detections_path=_path(clip["detections"]),
                          start=chunk.lo, end=chunk.hi, progress=False)
     return _summary_figures(result.summary)

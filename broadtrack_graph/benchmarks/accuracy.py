@@ -55,7 +55,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.benchmarks.clips import ensure_clip, stage_timings, track_clip
-from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
+from broadtrack_graph.benchmarks.options import add_reinit_model, tracker_options
 from broadtrack_graph.benchmarks.reliability import add_reliability, pooled
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.track.config import TrackingConfig
@@ -98,7 +98,6 @@ def add_arguments(parser) -> None:
     from broadtrack_graph.types.modes import MODES
 
     add_reinit_model(parser)
-    add_search_workers(parser)
     parser.add_argument("--presets", nargs="+", default=["main", "16m"], choices=sorted(PRESETS),
                         help="synthetic presets (default main 16m)")
     parser.add_argument("--frames", type=int, default=200, help="frames per clip (default 200)")

@@ -37,7 +37,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
+from broadtrack_graph.benchmarks.options import add_reinit_model, tracker_options
 from broadtrack_graph.track.config import TrackingConfig
 
 HELP = ("whole broadcasts: cuts, shot kinds, camera ids and per-camera accuracy on a rendered multi-camera clip; "
@@ -62,7 +62,6 @@ def add_arguments(parser) -> None:
                         help=f"fixed-lag smoother lag in frames (default {TrackingConfig.lag_frames})")
     parser.add_argument("--no-synthetic", action="store_true", help="skip the synthetic part")
     add_reinit_model(parser)
-    add_search_workers(parser)
     parser.add_argument("--video-dir", type=Path, default=None,
                         help="real part: splice the *.mp4 videos of this folder with hard cuts and track it online")
     parser.add_argument("--segment-frames", type=int, default=120, help="real part: typical segment length (default 120)")

@@ -80,7 +80,7 @@ def run(args) -> dict:
     W, H = args.width, args.height
     pitch = PitchTemplate()
     curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
-    config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
+    config = TrackingConfig(reinit_model=args.reinit_model)
     model = model_reinit_for(config.reinit_model)
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
     trusted = config.confidence_threshold + config.reinit_switch_margin

@@ -10,15 +10,14 @@ project's (:mod:`broadtrack_graph.benchmarks.placement_frames`). A frame **count
 determine a camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of each of the pitch's directions over
 60 px each, or a circle or arc 40 % visible and one line); frames that do not count are reported apart.
 
-Each route (``--routes``) is asked for the frame's camera on one core (``search_workers=0``, OpenCV on one
+Each route (``--routes``) is asked for the frame's camera on one core (OpenCV on one
 thread), from the weight-free detector's markings (detection is timed apart):
 
 * ``tracker``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the court
   model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
   camera's next frames while the policy waits for them (at most ``court_agreement_frames``), as ``bench placements``
   does;
-* ``search``: the same policy without the court model, searching every stage (``search_all_places``: the search as
-  it was before it);
+* ``search``: the same policy without the court model (the global search at the default positions);
 * ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``), its
   camera judged by the tracker's confidence (``frame_confidence``, not timed); skipped with a note when it
   cannot be imported.
@@ -47,7 +46,6 @@ from __future__ import annotations
 import math
 import sys
 import time
-from dataclasses import replace
 
 import numpy as np
 
@@ -149,8 +147,7 @@ def run(args) -> dict:
     W, H = args.width, args.height
     pitch = PitchTemplate()
     curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
-    config = TrackingConfig(search_workers=0, reinit_model=args.reinit_model)
-    route_configs = {"tracker": config, "search": replace(config, search_all_places=True)}  # search: every stage
+    config = TrackingConfig(reinit_model=args.reinit_model)
     written_at = config.confidence_threshold + config.reinit_switch_margin
     # The court model's camera is taken by the tracker only from its own bar (court_accept_at: by the markings it
     # explains); the report states the bar without a grid of lines.
@@ -205,7 +202,7 @@ def run(args) -> dict:
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
                 if route in ("tracker", "search"):
-                    policy = ReinitPolicy(route_configs[route], reinitialise, refine_guesses, frame_confidence,
+                    policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence,
                                           model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
                     decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image)

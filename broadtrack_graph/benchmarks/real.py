@@ -33,7 +33,7 @@ from pathlib import Path
 
 from broadtrack_graph.arguments import int_at_least, positive_share
 from broadtrack_graph.benchmarks.degrade import parse_degradation
-from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers
+from broadtrack_graph.benchmarks.options import add_reinit_model
 from broadtrack_graph.types.modes import MODES
 
 HELP = ("the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a "
@@ -57,7 +57,6 @@ def add_arguments(parser) -> None:
                         help="OpenCV threads (default: as `track`, the cores the tracking and decoding threads leave, "
                              "at least 1)")
     add_reinit_model(parser)
-    add_search_workers(parser)
     parser.add_argument("--runs", type=Path, default=None,
                         help="video: score existing run folders <RUNS>/<clip> instead of tracking again")
     parser.add_argument("--end", type=int, default=None, help="video: track only the first END frames of each clip")

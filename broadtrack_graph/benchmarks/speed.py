@@ -23,7 +23,7 @@ from pathlib import Path
 
 import cv2
 
-from broadtrack_graph.benchmarks.options import add_reinit_model, add_search_workers, tracker_options
+from broadtrack_graph.benchmarks.options import add_reinit_model, tracker_options
 from broadtrack_graph.track.config import TrackingConfig
 
 HELP = "fps of the whole tracking pipeline and of each stage (detect, flow, solve, confidence, reinit, write)"
@@ -52,7 +52,6 @@ def add_arguments(parser) -> None:
                         help="folder for clips/ and runs/ (default ./bench-speed); a rendered clip found there is reused")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     add_reinit_model(parser)
-    add_search_workers(parser)
 
 
 def stage_figures(timings_s: dict, frames: int, wall_s: float) -> dict:

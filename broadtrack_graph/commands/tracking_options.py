@@ -67,10 +67,6 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--no-search", action="store_true",
                         help="on a marking map, do not run the global search (tried last: at the known cameras' "
                              "positions and the default positions)")
-    parser.add_argument("--search-workers", type=int_at_least(0), default=None, metavar="N",
-                        help="worker processes that run the global search's next stages ahead while the tracker "
-                             "runs the one it needs (the cameras are the same with any N; 0: none; default: every "
-                             "core but one, at most 3)")
     parser.add_argument("--threads", type=int_at_least(1), default=None, metavar="N",
                         help="OpenCV threads of this process (the cameras are the same with any N; default: the cores "
                              "the tracking and decoding threads leave, at least 1)")
@@ -99,7 +95,7 @@ def config_from_args(args) -> TrackingConfig:
     overrides = {}
     for flag, field in (("mode", "mode"), ("lag", "lag_frames"), ("confidence_threshold", "confidence_threshold"),
                         ("batch_tripod", "batch_tripod"), ("recover_max_frames", "recover_max_frames"),
-                        ("reinit_model", "reinit_model"), ("search_workers", "search_workers")):
+                        ("reinit_model", "reinit_model")):
         if getattr(args, flag, None) is not None:
             overrides[field] = getattr(args, flag)
     for flag, field in (("no_flow", "use_flow"), ("no_tripod", "use_tripod"), ("no_k1", "estimate_k1"),

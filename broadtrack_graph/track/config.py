@@ -55,17 +55,12 @@ class TrackingConfig:
     # share of the image width): a still camera's frames show the same markings, and a wrong camera laid on them
     # agrees with itself
     court_agreement_view_change: float = 0.02
-    # A new shot's camera this confident is certain: the search stops at it (the later stages cannot do better by
-    # the margin) and the field model's camera is taken without a search; below it, every stage is searched.
+    # A new shot's camera this confident is certain: the search stops at it and the field model's camera is taken
+    # without a search; below it, every stage is searched.
     certain_confidence: float = 0.9
     # The global search, tried last when the guesses, the court model and the field model give no camera to take
     # (False: not tried on a marking map; a detections file's labelled lines, with no map, are searched still)
     global_search: bool = True
-    # ... on a marking map, for a shot whose camera is not known, the known cameras' positions and the default
-    # positions (reinit/positions.py: the main camera's, the 16 m line's, behind a goal); True: also the stages after
-    # them (the main camera further back, three low gantries, the other kinds' places), which the court model, placing
-    # a camera wherever it stands, has left little to do (docs/BENCHMARKS.md: "Weak spots of re-initialisation")
-    search_all_places: bool = False
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run
     # (a search stage costs about search_cost_frames tracked frames); each
@@ -73,9 +68,6 @@ class TrackingConfig:
     search_time_share: float = 0.2
     search_cost_frames: float = 10.0
     max_search_backoff: int = 8
-    # worker processes running the global search's next stages ahead (track/stage_runner.py; the cameras do not
-    # depend on it); None: every core but the tracker's own, at most 3; 0: all in the tracker's process
-    search_workers: int | None = None
     use_flow: bool = True  # optical-flow factor between consecutive frames
     detect_shots: bool = True  # video/image input: find cuts (no link across them) and other views (no camera)
     # video/image input: a frame repeating the previous one's image (a frame-rate conversion's duplicate) carries that
@@ -132,8 +124,6 @@ class TrackingConfig:
             raise ValueError(f"search_time_share must be in (0, 1], got {self.search_time_share}")
         if self.search_cost_frames < 0 or self.max_search_backoff < 1:
             raise ValueError("search_cost_frames must be >= 0 and max_search_backoff >= 1")
-        if self.search_workers is not None and self.search_workers < 0:
-            raise ValueError(f"search_workers must be >= 0, got {self.search_workers}")
         if self.batch_tripod not in ("fixed", "joint"):
             raise ValueError(f"batch_tripod must be 'fixed' or 'joint', got {self.batch_tripod!r}")
         check_loss(self.line_loss)

@@ -100,4 +100,3 @@ def run_loop(run: TrackingRun, frames, total: int | None = None, label: str = ""
         raise
     finally:
         bar.close()
-        run.policy.close()  # the search's workers: no search after the last frame

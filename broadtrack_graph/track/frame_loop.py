@@ -306,9 +306,7 @@ class TrackingRun:
         model_s = {"reinit_model_s": self.policy.tries.model.seconds} if self.policy.tries.model is not None else {}
         extra["timings_s"] = {k: round(v, 3) for k, v in {**self.timings, **model_s}.items()}
         extra["solver_restarts"] = self.solver.rebuilds
-        self.policy.close()
-        extra["reinit_searches"] = {**self.policy.counts, "search_workers": self.policy.searches.stages.workers,
-                                    "stages_ahead": self.policy.searches.stages.ahead}
+        extra["reinit_searches"] = dict(self.policy.counts)
         extra["cuts"] = self.cuts
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod, by_camera)

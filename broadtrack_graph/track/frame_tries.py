@@ -61,11 +61,11 @@ class FrameTries:
         self.guess_schedule.confident()
 
     def refined_guess(self, frame_index: int, camera_id: str | None, detections, curves, score,
-                      mapped, held: Camera | None = None) -> Candidate | None:
+                      held: Camera | None = None) -> Candidate | None:
         """The best refined guess, continuing its camera id's chain (None when there is none): the last confident
         camera of ``camera_id`` (the chain's) on every frame, and ``held`` (the chain's camera the solver holds) when
         given; or, with no camera id (a shot's camera not known), every known camera's on the guess schedule's
-        frames. ``mapped(function, calls, curves)`` runs the refinements (the search's workers)."""
+        frames."""
         best: Candidate | None = None
         every_camera = camera_id is None
         if not self.config.cheap_reinit or (every_camera and not self.guess_schedule.allows(frame_index)):
@@ -73,8 +73,8 @@ class FrameTries:
         guesses = self.registry.guesses(frame_index, camera_id, self.config.max_guess_age_frames)
         if held is not None:
             guesses = list(guesses) + [(camera_id, "the held camera", held)]
-        refined_guesses = mapped(self.refine, [([(label, camera)], detections) for _, label, camera in guesses], curves)
-        for (guess_id, label, camera), refined in zip(guesses, refined_guesses):
+        for guess_id, label, camera in guesses:
+            refined = self.refine([(label, camera)], detections, curves=curves)
             if refined.camera is None:
                 continue
             if every_camera and guess_id in self.registry.positions and not self.registry.stands_at(

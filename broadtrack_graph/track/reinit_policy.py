@@ -41,12 +41,12 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    all with ``global_search`` off).
 
    * A shot whose camera is not known yet: the stages of :mod:`~broadtrack_graph.track.search_stages` (the known
-     cameras, the default positions; with ``search_all_places`` the other places cameras stand too), every one (a
-     view of one camera can be explained, less well, by a camera elsewhere) until a camera reaches
-     ``certain_confidence`` or a known camera is found at its own position confident by the margin.
-   * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, unless the
-     chain is trusted (its camera stands where its confident frames put it), a main camera's default positions
-     (another kind's stage only with ``search_all_places``, or without a map); the first confident stage ends it.
+     cameras, the default positions), both (a view of one camera can be explained, less well, by a camera
+     elsewhere) unless the first gives a camera at ``certain_confidence`` or a known camera at its own position
+     confident by the margin.
+   * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, for a main
+     camera whose chain is not trusted (a trusted chain's camera stands where its confident frames put it), the
+     default positions; the first confident stage ends it.
      A trusted chain's held camera on a marking map is not searched for: the held camera refined on the map (a
      guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
      chain ends and the next frame is placed from nothing.
@@ -64,15 +64,13 @@ gave it: on a marking map it is kept only when the markings it explains fix it
 **One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
 replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
 in a blurred sweep is as often wrong as the held one); a camera that is not confident replaces a refined guess or
-the best camera of an earlier, likelier search stage only by the margin, a confident camera replaces an
-unconfident one (a later stage's camera must also be better by the margin); the chain of a
+the search's camera only by the margin, a confident camera replaces an unconfident one; the chain of a
 new shot's camera is trusted from a frame confident by the margin (:attr:`ReinitDecision.new_camera`).
 All thresholds are the run's :class:`~broadtrack_graph.track.config.TrackingConfig`.
 
 **The search budget** (:mod:`~broadtrack_graph.track.search_budget`, in frames: the same cameras on any machine): a
 known camera lost mid-shot is searched again after 1, 2, 4, ... frames; a shot whose camera is not known, at its first
-frame (every stage), then for about ``search_time_share`` of the time while nothing is found, on the likely stages and
-the one that came nearest at its start (:func:`~broadtrack_graph.track.search_stages.retry_plan`). A search finds
+frame, then for about ``search_time_share`` of the time while nothing is found. A search finds
 something when its camera is trusted from its frame (confident by the margin for a new shot's camera); else the wait
 grows. A cut or a view change (:meth:`ReinitPolicy.new_stretch`) and a confident frame restart it.
 """
@@ -95,7 +93,6 @@ from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import TrySchedule
 from broadtrack_graph.track.search_route import SearchRoute
 from broadtrack_graph.track.search_stages import search_plan
-from broadtrack_graph.track.stage_runner import StageRunner, default_search_workers
 
 Search = Callable[..., ReinitResult]
 """``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
@@ -137,13 +134,8 @@ class ReinitPolicy:
         self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
         self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
                        "global": 0, "stages": 0, "skipped_by_budget": 0}
-        self.searches = SearchRoute(config, StageRunner(search, default_search_workers() if config.search_workers is None
-                                                        else config.search_workers), self.registry, self.counts)
+        self.searches = SearchRoute(config, search, self.registry, self.counts)
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
-
-    def close(self) -> None:
-        """Stop the search's workers (the end of the run)."""
-        self.searches.stages.close()
 
     # ----------------------------------------------------------------- what the loop tells
 
@@ -215,7 +207,7 @@ class ReinitPolicy:
         # camera refined on the map (a search at its position without a map); the single-frame calibrators, which
         # place a camera from nothing, are for a chain's start.
         from_nothing = not (held is not None and self.chain.trusted)
-        guess = self.tries.refined_guess(i, chain_id, detections, curves, score, self.searches.stages.mapped,
+        guess = self.tries.refined_guess(i, chain_id, detections, curves, score,
                                          held if with_map and not from_nothing else None)
         if guess is not None and guess.confidence >= threshold:
             self.counts["guess_used"] += 1
@@ -261,8 +253,7 @@ class ReinitPolicy:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
         plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
-                           self.searches.shot_start_confidences, held_trusted=held is not None and self.chain.trusted,
-                           all_places=self.config.search_all_places)
+                           held_trusted=held is not None and self.chain.trusted)
         # found: a camera its chain is trusted from (a new shot's camera: by the margin)
         found, found_confidence, label = self.searches.run(
             plan, i, known, with_map, threshold + (margin if new_camera else 0.0),

@@ -17,10 +17,8 @@ milliseconds):
   frames (s = ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
   at most one, each stage paid (the bucket goes into debt): over any stretch after the shot's first search where nothing is
   found, searching takes about the share s of the run. Each search that finds nothing
-  confident doubles the price of the next (up to ``max_search_backoff``), so the gaps grow. The later searches
-  of a shot try only the stages that came nearest at its start
-  (:func:`~broadtrack_graph.track.search_stages.retry_plan`): a shot whose first frame could not be placed is
-  searched again a few seconds later, on frames that may show more, for a few stages each time.
+  confident doubles the price of the next (up to ``max_search_backoff``), so the gaps grow: a shot whose first
+  frame could not be placed is searched again a few seconds later, on frames that may show more.
 
 A cut or a view change (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.new_stretch`) and a
 confident frame (:meth:`~broadtrack_graph.track.reinit_policy.ReinitPolicy.confident`) restart the budget.

@@ -2,19 +2,17 @@
 
 :class:`SearchRoute` is the last route of :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy` (after the
 guesses, the court model and the field model): it runs a :class:`~broadtrack_graph.track.search_stages.SearchPlan`'s
-stages on the :class:`~broadtrack_graph.track.stage_runner.StageRunner` and keeps the best camera.
+stages in order and keeps the best camera.
 
-Which camera a search keeps: the known cameras and the default positions are the likely stages (``plan.likely``),
-whose better camera wins; a later stage's camera (a less likely position) must be confident and better by
-``reinit_switch_margin``. The search ends at the first stage whose best camera reaches ``certain_confidence`` for a
-new shot (``confidence_threshold`` mid-shot), or a known camera found at its own position confident by the margin.
+Which camera a search keeps: the best of its stages' (the known cameras', the default positions'). The search ends
+at the first stage whose best camera reaches ``certain_confidence`` for a new shot (``confidence_threshold``
+mid-shot), or a known camera found at its own position confident by ``reinit_switch_margin``.
 Without a marking map (keypoints or labelled lines of a detections file) the plan is cheap and labelled: the known
 cameras' positions, then the default positions (mirrored too) only.
 
 The budget (:class:`~broadtrack_graph.track.search_budget.SearchBudget`, in frames: the same cameras on any machine)
 is paid in stages: a search that finds a camera its chain is trusted from restarts it, one that does not makes the
-next wait longer. The confidences of the stages of a shot's first search are kept for the shot's later searches
-(:func:`~broadtrack_graph.track.search_stages.retry_plan`). No I/O.
+next wait longer; a shot's first search on a marking map leaves the bucket empty. No I/O.
 """
 
 from __future__ import annotations
@@ -24,7 +22,6 @@ from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.search_budget import SearchBudget
 from broadtrack_graph.track.search_stages import KNOWN_CAMERAS
-from broadtrack_graph.track.stage_runner import StageRunner
 
 
 class SearchRoute:
@@ -33,23 +30,24 @@ class SearchRoute:
     Args:
         config: ``confidence_threshold``, ``reinit_switch_margin``, ``certain_confidence``, ``search_time_share``,
             ``search_cost_frames``, ``max_search_backoff``.
-        stages: runs a plan's stages (and closes its workers at the end of the run).
+        search: one global search, ``(observations, detections, pitch, positions, curves, sampling) -> ReinitResult``
+            (positions: a stage's candidate focal points, None for the default ones).
         registry: the run's cameras by id (a returning camera is recognised where it stands).
         counts: the policy's counters (``global``, ``stages``), updated here.
     """
 
-    def __init__(self, config: TrackingConfig, stages: StageRunner, registry: CameraRegistry, counts: dict) -> None:
+    def __init__(self, config: TrackingConfig, search, registry: CameraRegistry, counts: dict) -> None:
         self.config = config
-        self.stages = stages
+        self.search = search
         self.registry = registry
         self.counts = counts
         share = min(max(config.search_time_share, 1e-3), 1.0)
         self.budget = SearchBudget(config.search_cost_frames * (1.0 - share) / share, config.max_search_backoff)
-        self.shot_start_confidences: dict[str, float] | None = None  # the shot's first search: stage -> confidence
+        self.shot_searched = False  # the shot's first search on a marking map has run
 
     def new_stretch(self) -> None:
         """A cut or a view change: the next search is a shot's first, paid now."""
-        self.shot_start_confidences = None
+        self.shot_searched = False
         self.budget.restart()
 
     def confident(self) -> None:
@@ -68,10 +66,9 @@ class SearchRoute:
             frame: (observations, detections, pitch, curves, sampling) of the frame.
             score: the tracker's confidence of a camera on this frame (None without a marking map).
         """
-        paid_before, shot_start = self.counts["stages"], plan.new_shot and self.shot_start_confidences is None
-        found, found_confidence, label, confidences = self._stages(plan, *frame, score)
-        if shot_start:  # what the shot's later searches try (search_stages.retry_plan)
-            self.shot_start_confidences = confidences
+        paid_before, shot_start = self.counts["stages"], plan.new_shot and not self.shot_searched
+        found, found_confidence, label = self._stages(plan, *frame, score)
+        self.shot_searched = self.shot_searched or shot_start
         self.counts["global"] += 1
         if with_map:
             self.budget.spend(frame_index, found is not None and found_confidence >= trusted_from,
@@ -79,9 +76,9 @@ class SearchRoute:
         return found, found_confidence, label
 
     def _stages(self, plan, observations, detections, pitch, curves, sampling,
-                score) -> tuple[ReinitResult | None, float, str, dict[str, float]]:
+                score) -> tuple[ReinitResult | None, float, str]:
         """The plan's stages, in order, until one is confident enough (module docstring): (best result or None, its
-        confidence, one line, stage label -> the confidence of its camera).
+        confidence, one line).
 
         Without a marking map (keypoints or labelled lines of a detections file) the plan is cheap and
         labelled: the known cameras' positions, then the default positions (mirrored too) only.
@@ -89,9 +86,8 @@ class SearchRoute:
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         enough = self.config.certain_confidence if plan.new_shot else threshold
         best, best_confidence, label, reasons, best_known = None, 0.0, "", [], False
-        found = []  # (confidence, result, stage label) of every stage's camera
-        stage_results = self.stages.labelled_results(plan.stages, observations, detections, pitch, curves, sampling)
-        for k, (stage_label, result) in enumerate(stage_results):
+        for stage_label, positions in plan.stages:
+            result = self.search(observations, detections, pitch, positions, curves, sampling)
             self.counts["stages"] += 1
             if result.camera is None:
                 reasons.append(f"{stage_label}: {result.reason}")
@@ -99,20 +95,14 @@ class SearchRoute:
             confidence = score(result.camera)
             if confidence is None:  # no marking map: the search's own score
                 confidence = result.score.jaccard if result.score is not None else 0.0
-            found.append((float(confidence), result, stage_label))
-            # The known cameras and the default positions are the likely ones: the better camera of the two wins.
-            # A later stage's camera (a less likely position) must be confident and better by the margin.
-            if best is None or (confidence > best_confidence if k < plan.likely
-                                else confidence >= threshold and confidence > best_confidence + margin):
+            if best is None or confidence > best_confidence:
                 best, best_confidence = result, float(confidence)
                 label = f"global search, {stage_label}: {result.reason}"
                 best_known = stage_label == KNOWN_CAMERAS and self.registry.nearest(  # a returning camera
                     result.camera.position_m, result.camera.R_cw[2]) is not None
             if best is not None and best_confidence >= (threshold + margin if best_known else enough):
                 break
-        stage_results.close()
-        confidences = {stage_label: confidence for confidence, _, stage_label in found}
         if best is None:
             why = "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
-            return None, 0.0, why, confidences
-        return best, best_confidence, label, confidences
+            return None, 0.0, why
+        return best, best_confidence, label

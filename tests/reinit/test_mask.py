@@ -116,7 +116,7 @@ def test_reinit_from_mask_finds_a_lower_league_camera_at_the_near_positions():
     frame = render_clip("low", 1, 1920, 1080, seed=0, cameras=[track.cameras[0]]).frames[0]
     det = WeightFreeDetector(PITCH).detect(frame.image)
     args = (det.marking_mask, det.marking_points_px, (1920, 1080), PITCH)
-    # The policy's stages search each low gantry position on its own (track.reinit_policy.SEARCH_STAGES).
+    # Searched at each low gantry position on its own (positions given: track --reinit-position).
     near = [reinit_from_mask(*args, positions_w=(p,), curves=CURVES, field_mask=det.field_mask)
             for p in NEAR_MAIN_POSITIONS_W]
     found = max((r for r in near if r.camera is not None), key=lambda r: r.score.jaccard)

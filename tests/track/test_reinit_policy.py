@@ -14,7 +14,6 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_policy import ReinitPolicy
 from broadtrack_graph.track.search_budget import SearchBudget
-from broadtrack_graph.track.search_stages import KIND_STAGES, SEARCH_STAGES
 from broadtrack_graph.types.observations import FrameObservations
 
 W, H = 1280, 720
@@ -53,9 +52,7 @@ class Fakes:
 
 
 def _policy(fakes, **config):
-    """A policy on the fakes, its search through every stage (``search_all_places``; off by default: the tests of the
-    default plan set it False)."""
-    config.setdefault("search_all_places", True)
+    """A policy on the fakes."""
     return ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence)
 
 
@@ -74,31 +71,31 @@ def _cut(policy):
     policy.new_stretch()
 
 
-def test_by_default_a_new_shot_is_searched_at_the_known_cameras_and_the_default_positions_only():
-    corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
-    fakes = Fakes({None: (MAIN, 0.3), corner_stage: (CORNER, 0.95)})
-    decision = _decide(_policy(fakes, search_all_places=False), 0)
-    assert decision.camera is MAIN and fakes.searched == [None]  # the corner stage is not searched
+def test_a_new_shot_is_searched_at_the_known_cameras_and_the_default_positions_only():
+    elsewhere = ((52.5, 70.0, -22.0),)  # a place cameras stand at, not searched
+    fakes = Fakes({None: (MAIN, 0.3), elsewhere: (CORNER, 0.95)})
+    decision = _decide(_policy(fakes), 0)
+    assert decision.camera is MAIN and fakes.searched == [None]
     known = (53.0, 70.0, -22.0)
     fakes = Fakes({(known,): (CORNER, 0.55)})  # confident, not by the margin: the default stage follows, no other
-    policy = _policy(fakes, search_all_places=False)
+    policy = _policy(fakes)
     policy.tripod("high-corner-1", known)
     decision = _decide(policy, 0)
     assert decision.camera is CORNER and decision.camera_id == "high-corner-1" and fakes.searched == [(known,), None]
-    # Mid-shot, a known camera that is not a main camera: its own position alone (no stage of its kind's places).
-    fakes = Fakes()
-    policy = _policy(fakes, search_all_places=False)
-    policy.chain.identify("high-corner-1")
+    # The better of the two stages' cameras wins.
+    fakes = Fakes({(known,): (CORNER, 0.5), None: (MAIN, 0.62)})
+    policy = _policy(fakes)
     policy.tripod("high-corner-1", known)
-    _decide(policy, 5)
-    assert fakes.searched == [(known,)]
-    # Labelled detections (no map, no court model): the same default stage, and a kind's stage mid-shot still.
-    policy = _policy(fakes, search_all_places=False)
-    policy.chain.identify("high-corner-1")
-    policy.tripod("high-corner-1", known)
-    fakes.searched.clear()
-    _decide(policy, 5, detections=None)
-    assert len(fakes.searched) == 1 + (1 if "high-corner" in KIND_STAGES else 0)
+    assert _decide(policy, 0).camera is MAIN
+    # Mid-shot, a known camera that is not a main camera: its own position alone, on a marking map or labelled
+    # detections.
+    for detections in (WITH_MAP, None):
+        fakes = Fakes()
+        policy = _policy(fakes)
+        policy.chain.identify("high-corner-1")
+        policy.tripod("high-corner-1", known)
+        _decide(policy, 5, detections=detections)
+        assert fakes.searched == [(known,)]
 
 
 def test_without_the_global_search_a_marking_map_is_not_searched():
@@ -110,20 +107,6 @@ def test_without_the_global_search_a_marking_map_is_not_searched():
     policy.tripod("main", (0.0, 55.0, -12.0))
     assert not _decide(policy, 5).searched and fakes.searched == []
     assert _decide(policy, 6, detections=None).searched  # labelled detections: the search is their only route
-
-
-def test_a_new_shot_is_searched_through_every_stage_and_the_best_camera_wins():
-    corner_stage = next(p for label, p in SEARCH_STAGES if label.startswith("high-corner"))
-    fakes = Fakes({None: (MAIN, 0.3), corner_stage: (CORNER, 0.62)})
-    decision = _decide(_policy(fakes), 0)
-    assert decision.camera is CORNER and decision.confidence == pytest.approx(0.62) and decision.searched
-    assert decision.camera_id == "high-corner-1" and not decision.continues_chain
-    assert fakes.searched == [p for _, p in SEARCH_STAGES]
-    # A confident camera of the default positions is bettered by a later stage only by the margin.
-    fakes = Fakes({None: (MAIN, 0.78), corner_stage: (CORNER, 0.9)})
-    assert _decide(_policy(fakes), 0).camera is CORNER
-    fakes = Fakes({None: (MAIN, 0.78), corner_stage: (CORNER, 0.85)})
-    assert _decide(_policy(fakes), 0).camera is MAIN
 
 
 def test_mid_shot_the_first_confident_stage_ends_the_search():
@@ -140,16 +123,6 @@ def test_a_certain_default_camera_stops_the_search_and_is_the_main_camera():
     fakes = Fakes({None: (MAIN, 0.95)})
     decision = _decide(_policy(fakes), 0)
     assert decision.camera is MAIN and decision.camera_id == "main" and fakes.searched == [None]
-
-
-def test_a_later_stage_must_be_confident_and_better_by_the_one_margin():
-    far = SEARCH_STAGES[1][1]
-    fakes = Fakes({None: (MAIN, 0.45), far: (CORNER, 0.49)})  # better, not confident: the default camera stays
-    assert _decide(_policy(fakes), 0).camera is MAIN
-    fakes = Fakes({None: (MAIN, 0.45), far: (CORNER, 0.52)})  # confident but within the margin (0.1)
-    assert _decide(_policy(fakes), 0).camera is MAIN
-    fakes = Fakes({None: (MAIN, 0.40), far: (CORNER, 0.52)})
-    assert _decide(_policy(fakes), 0).camera is CORNER
 
 
 def test_a_confident_guess_skips_the_search_and_continues_the_chain():
@@ -224,32 +197,18 @@ def test_the_budget_spaces_failed_searches_and_a_cut_restarts_it():
     fakes = Fakes()  # nothing is ever found
     policy = _policy(fakes, search_cost_frames=5.0, search_time_share=0.2, max_search_backoff=8)
     first = _decide(policy, 0)
-    stages = len(SEARCH_STAGES)
-    assert first.camera is None and first.searched and len(fakes.searched) == stages
+    assert first.camera is None and first.searched and fakes.searched == [None]  # no known camera: one stage
     blocked = _decide(policy, 1)
     assert not blocked.searched and "next global search at frame" in blocked.reason
     # The shot's own search leaves the bucket empty; a frame refills 1/20 of a stage and, after a failure, the next
-    # stage costs 2: searched again at frame 40, on the likely stage only (no stage found a camera to retry).
+    # stage costs 2: searched again at frame 40.
     assert policy.searches.budget.next_frame(1) == 40
     searched = [i for i in range(1, 700) if _decide(policy, i).searched]
     # Each retry (one stage) doubles the price, up to 8: gaps of 80, 160, then 160 frames.
     assert searched == [40, 120, 280, 440, 600]
-    assert fakes.searched[stages:] == [None] * 5
+    assert fakes.searched[1:] == [None] * 5
     _cut(policy)
-    assert _decide(policy, 700).searched and len(fakes.searched) == 5 + 2 * stages  # a new shot: every stage again
-
-
-def test_a_shot_is_searched_again_on_the_stage_that_came_nearest():
-    high_behind = KIND_STAGES["high-behind"][1]
-    fakes = Fakes({high_behind: (CORNER, 0.3), None: (MAIN, 0.2)})  # near misses, nothing confident
-    policy = _policy(fakes, search_cost_frames=5.0, search_time_share=0.2)
-    assert _decide(policy, 0).searched
-    fakes.searched.clear()
-    assert _decide(policy, 40).searched and fakes.searched == [None, high_behind]  # the likely stage, the nearest
-    fakes.stage_answers[high_behind] = (CORNER, 0.75)  # the frame shows more: the camera is found
-    assert policy.searches.budget.next_frame(41) == 40 + (2 + 2 * 2) * 20  # two stages paid at twice the price, doubled again
-    decision = _decide(policy, 160)
-    assert decision.camera is CORNER and decision.confidence == 0.75
+    assert _decide(policy, 700).searched and len(fakes.searched) == 7  # a new shot: searched at once
 
 
 def test_search_budget_in_frames():
@@ -335,11 +294,11 @@ def test_at_a_shot_start_a_guess_that_moved_to_another_camera_is_not_that_camera
 
 def test_a_returning_camera_ends_the_search_only_when_confident_by_the_margin():
     known = ((53.0, 70.0, -22.0),)
-    fakes = Fakes({known: (CORNER, 0.55)})  # confident, but not by the margin: the other stages are searched
+    fakes = Fakes({known: (CORNER, 0.55)})  # confident, but not by the margin: the default stage is searched
     policy = _policy(fakes)
     policy.tripod("high-corner-1", known[0])
     decision = _decide(policy, 0)
-    assert decision.camera is CORNER and len(fakes.searched) == 1 + len(SEARCH_STAGES)
+    assert decision.camera is CORNER and fakes.searched == [known, None]
 
 
 def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camera_searched_in_full():
@@ -349,7 +308,7 @@ def test_a_camera_found_at_a_known_position_that_stands_elsewhere_is_a_new_camer
     policy = _policy(fakes)
     policy.tripod("high-corner-1", known[0])
     decision = _decide(policy, 0)
-    assert decision.camera is elsewhere and len(fakes.searched) == 1 + len(SEARCH_STAGES)
+    assert decision.camera is elsewhere and fakes.searched == [known, None]
     assert decision.camera_id not in (None, "high-corner-1")
 
 
@@ -414,7 +373,6 @@ IMAGE = np.zeros((H, W, 3), np.uint8)
 
 
 def _with_model(fakes, camera, confidence, **config):
-    config.setdefault("search_all_places", True)
     model = FakeModel(fakes, camera, confidence)
     return ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence, model=model), model
 
@@ -496,7 +454,7 @@ def _a_new_shot_s_decision(image: np.ndarray, frame_index: int):
 
     detections = WeightFreeDetector().detect(image, None)
     pitch = PitchTemplate()
-    config = TrackingConfig(search_workers=0)
+    config = TrackingConfig()
     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, court=court_reinit)
     height, width = image.shape[:2]
     for index in range(frame_index, frame_index + config.court_agreement_frames + 1):
@@ -585,7 +543,6 @@ def _court_policy(fakes, court_camera, court_confidence, registry=None, explaine
         fakes.confidences[id(twin)] = court_confidence
         return ReinitResult(court_camera, None, "fake court", twin=twin, explained=explained)
 
-    config.setdefault("search_all_places", True)
     policy = ReinitPolicy(TrackingConfig(**config), fakes.search, fakes.refine, fakes.confidence,
                           registry or CameraRegistry(), court=court)
     return policy, calls
@@ -717,7 +674,7 @@ def test_a_new_shot_s_camera_takes_a_known_id_only_when_that_tripod_explains_the
 
     fakes = Fakes({None: (MAIN, 0.95)}, guess_confidence=at_tripod)  # the frame refined at the known tripod
     registry = CameraRegistry(known={"main": MAIN.position_m + np.array([0.0, 2.0, 0.0])})
-    policy = ReinitPolicy(TrackingConfig(search_all_places=True), fakes.search, fakes.refine, fakes.confidence,
+    policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence,
                           registry)
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.camera_id == camera_id

@@ -1,41 +1,38 @@
-"""The global search's stages (broadtrack_graph.track.search_stages): a shot's first plan and its later ones."""
+"""The global search's stages (broadtrack_graph.track.search_stages): a new shot's plan and a mid-shot one."""
 
 from __future__ import annotations
 
-from broadtrack_graph.track.search_stages import (
-    KNOWN_CAMERAS,
-    SEARCH_STAGES,
-    retry_plan,
-    search_plan,
-)
+from broadtrack_graph.track.search_stages import DEFAULT_STAGE, KNOWN_CAMERAS, search_plan
 
-KNOWN = {"main": (0.0, 55.0, -12.0)}
+KNOWN = {"main": (0.0, 55.0, -12.0), "high-behind-1": (-75.0, 0.0, -24.0)}
 
 
 def _labels(plan):
     return [label for label, _ in plan.stages]
 
 
-def test_a_new_shot_is_planned_through_every_stage_and_a_mid_shot_loss_through_its_camera_s():
+def test_a_new_shot_is_searched_at_the_known_cameras_then_the_default_positions():
     plan = search_plan(KNOWN, None, None, with_map=True)
-    assert plan.new_shot and plan.likely == 2
-    assert _labels(plan) == [KNOWN_CAMERAS] + [s[0] for s in SEARCH_STAGES]
+    assert plan.new_shot and _labels(plan) == [KNOWN_CAMERAS, DEFAULT_STAGE[0]]
+    assert plan.stages[0][1] == list(KNOWN.values()) and plan.stages[1] == DEFAULT_STAGE
+    assert search_plan({}, None, None, with_map=True).stages == [DEFAULT_STAGE]
+    # Labelled detections (no map): the same stages, not read on until a camera is certain.
+    unlabelled = search_plan(KNOWN, None, None, with_map=False)
+    assert not unlabelled.new_shot and _labels(unlabelled) == [KNOWN_CAMERAS, DEFAULT_STAGE[0]]
+
+
+def test_a_mid_shot_loss_is_searched_at_its_own_camera_s_position():
     mid_shot = search_plan(KNOWN, "main", None, with_map=True)
-    assert not mid_shot.new_shot and _labels(mid_shot) == ["camera main", "default positions"]
+    assert not mid_shot.new_shot and _labels(mid_shot) == ["camera main", DEFAULT_STAGE[0]]
+    assert mid_shot.stages[0][1] == [KNOWN["main"]]
     # A trusted chain's camera dipping under the threshold stands where its confident frames put it.
-    held = search_plan(KNOWN, "main", None, with_map=True, held_trusted=True)
-    assert not held.new_shot and held.likely == 1 and _labels(held) == ["camera main"]
-    assert _labels(search_plan(KNOWN, None, None, with_map=False)) == [KNOWN_CAMERAS, "default positions"]
+    assert _labels(search_plan(KNOWN, "main", None, with_map=True, held_trusted=True)) == ["camera main"]
+    # Another kind's camera: its own position alone, with a map or without.
+    for with_map in (True, False):
+        assert _labels(search_plan(KNOWN, "high-behind-1", None, with_map)) == ["camera high-behind-1"]
 
 
-def test_a_shot_s_later_search_tries_the_likely_stages_and_the_one_that_came_nearest():
-    full = search_plan(KNOWN, None, None, with_map=True)
-    corner, far = "high-corner cameras", "main camera further back"
-    # The likely stages' own confidences do not matter: they are searched anyway.
-    plan = retry_plan(full, {KNOWN_CAMERAS: 0.45, "default positions": 0.4, far: 0.3, corner: 0.35})
-    assert plan.new_shot and plan.likely == 2
-    assert _labels(plan) == [KNOWN_CAMERAS, "default positions", corner]
-    assert search_plan(KNOWN, None, None, True, {far: 0.3, corner: 0.35}) == plan
-    # A tie goes to the earlier stage; no camera: the likely stages only.
-    assert _labels(retry_plan(full, {corner: 0.3, far: 0.3}))[-1] == far
-    assert _labels(retry_plan(full, {})) == [KNOWN_CAMERAS, "default positions"]
+def test_given_positions_are_searched_alone():
+    given = [(1.0, 60.0, -10.0)]
+    for camera_id in (None, "main"):
+        assert search_plan(KNOWN, camera_id, given, with_map=True).stages == [("the given positions", given)]
