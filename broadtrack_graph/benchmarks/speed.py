@@ -124,10 +124,5 @@ def run(args) -> dict:
 
 
 def _cpu_s() -> float:
-    """CPU seconds of this process and of its finished children (the search's worker processes)."""
-    try:
-        import resource
-    except ImportError:  # not POSIX: this process only
-        return time.process_time()
-    children = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return time.process_time() + children.ru_utime + children.ru_stime
+    """CPU seconds of this process, all its threads (the tracker runs in one process)."""
+    return time.process_time()

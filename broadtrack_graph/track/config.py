@@ -56,7 +56,7 @@ class TrackingConfig:
     # agrees with itself
     court_agreement_view_change: float = 0.02
     # A new shot's camera this confident is certain: the search stops at it and the field model's camera is taken
-    # without a search; below it, every stage is searched.
+    # without a search; below it, both stages are searched.
     certain_confidence: float = 0.9
     # The global search, tried last when the guesses, the court model and the field model give no camera to take
     # (False: not tried on a marking map; a detections file's labelled lines, with no map, are searched still)

@@ -9,10 +9,10 @@ The rules (searches of the marking map; keypoints and labelled lines are searche
 milliseconds):
 
 * a known camera lost mid-shot (a blurred sweep) is still there: it is searched again after
-  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), two stages each (so is a shot's
+  1, 2, 4, ... frames (at most ``8 * max_search_backoff`` apart), a stage or two each (so is a shot's
   provisional camera, found above the threshold but not yet trusted: until a search finds one
   trusted from its frame, the gaps grow);
-* a shot whose camera is not known is searched at its first frame (every stage: the shot's own search, which leaves
+* a shot whose camera is not known is searched at its first frame (the shot's own search, which leaves
   the bucket empty), then paid from a bucket that fills by one stage every ``search_cost_frames * (1 - s) / s``
   frames (s = ``search_time_share``; a stage costs about ``search_cost_frames`` tracked frames), holding
   at most one, each stage paid (the bucket goes into debt): over any stretch after the shot's first search where nothing is
