@@ -191,7 +191,7 @@ def _sharp_edged(grey: np.ndarray, points: np.ndarray, normals: np.ndarray, reac
 
 def _threshold(tophat: np.ndarray, grass: np.ndarray | None, c) -> float:
     """The top-hat's threshold: ``tophat_threshold``, raised above the level grass texture reaches when a grass map is
-    given (its 90th percentile there plus ``tophat_noise_margin``)."""
+    given (its 90th percentile there plus ``tophat_noise_margin``; the grass of the field, where markings may be)."""
     threshold = c.tophat_threshold
     if grass is not None:
         sample = tophat[::4, ::4][grass[::4, ::4] > 0]  # markings are a few per cent of the grass

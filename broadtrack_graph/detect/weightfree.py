@@ -306,8 +306,9 @@ class WeightFreeDetector:
         field = cv2.bitwise_and(field, cv2.dilate(grass, self._reach_kernel))
         allowed = cv2.bitwise_and(cv2.bitwise_and(field, inner), cv2.bitwise_not(player_mask))
         # Frames reduced 2x or more to the working width are averaged clean of pixel noise and fine
-        # texture: the fixed threshold suits them; others get the threshold adapted to their grass.
-        threshold_grass = grass if W < 2 * work_w else None
+        # texture: the fixed threshold suits them; others get the threshold adapted to their grass where markings may
+        # be (grass-coloured pixels off the field, a green stand or crowd, are not the pitch's texture).
+        threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
         points, peaked, _ = self.ridges(grey, allowed, threshold_grass)
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).

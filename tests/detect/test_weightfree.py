@@ -318,3 +318,26 @@ def test_a_sharp_frame_s_markings_do_not_change_with_the_blur_rule():
     never = WeightFreeDetector(PITCH, WeightFreeConfig(blurred_from=float("inf"))).find_markings(image)
     np.testing.assert_array_equal(found.points_work_px, never.points_work_px)
     assert found.wide is not None  # kept for a wide marking the predicted camera may draw
+
+
+def test_a_crowd_of_grass_coloured_specks_off_the_field_does_not_raise_the_ridge_threshold():
+    """The top-hat's threshold adapts to the texture of the pitch's grass (``detect/ridges._threshold``): a stand of
+    many-coloured blocks, a third of them green enough to pass as grass, is bright texture off the field. Measured on
+    every grass-coloured pixel it raised the threshold over faint markings' contrast and they were lost."""
+    truth = Camera.from_degrees(700.0, 0.0, -8.0, 84.0, 0.0, (0.0, 55.0, -12.0), W, H)  # half the frame is stand
+    image, _ = draw_frame(truth, seed=3, line_grey=160)
+    stand = np.all(image.astype(int) < 70, axis=2)  # the drawn stands (dark grey), not the pitch or its markings
+    stand = cv2.erode(stand.astype(np.uint8), np.ones((31, 31), np.uint8)) > 0  # boards 15 px wide in front of it
+    rng = np.random.default_rng(4)
+    blocks = np.zeros((H // 3 + 1, W // 3 + 1, 3), np.uint8)
+    blocks[..., 0] = rng.integers(0, 180, blocks.shape[:2])  # any hue, a third of them green
+    blocks[..., 1] = rng.integers(120, 256, blocks.shape[:2])
+    blocks[..., 2] = rng.integers(60, 256, blocks.shape[:2])
+    crowd = cv2.cvtColor(np.repeat(np.repeat(blocks, 3, axis=0), 3, axis=1)[:H, :W], cv2.COLOR_HSV2BGR)
+    image_with_crowd = np.where(stand[..., None], crowd, image)
+    detector = WeightFreeDetector(PITCH, WeightFreeConfig(work_width_px=W))  # not reduced: the threshold adapts
+    plain = detector.detect(image)
+    with_crowd = detector.detect(image_with_crowd)
+    assert stand.mean() > 0.4 and with_crowd.field_mask[stand].mean() < 0.05  # the crowd is not field
+    assert _template_recall(truth, plain.marking_mask) > 0.8
+    assert _template_recall(truth, with_crowd.marking_mask) > 0.9 * _template_recall(truth, plain.marking_mask)
