@@ -1,10 +1,12 @@
 """Where broadcast cameras stand: focal-point guesses per camera kind, their mirror images, and
 the pan that faces the centre spot.
 
-A broadcast covers a match with several tripod cameras. The positions below are guesses for
-re-initialisation without a known tripod; a search at a guess reaches a camera a few metres
-away (the wide refinement schedule of :mod:`broadtrack_graph.reinit.mask`), so each kind lists
-the few positions that cover its usual range. Where the numbers come from:
+A broadcast covers a match with several tripod cameras. Each kind lists the few positions that
+cover its usual range: they name a found camera's kind (its camera id,
+:mod:`broadtrack_graph.track.camera_ids`) and place the synthetic field cameras. The global search
+of re-initialisation tries :data:`DEFAULT_TRIPOD_POSITIONS_W` only (and, when nothing fits there,
+the main camera further back, :mod:`broadtrack_graph.reinit.mask`); a search at a guess reaches a
+camera a few metres away (its wide refinement schedule). Where the numbers come from:
 
 - ``main``: the main camera on the halfway line, on the gantry of the main stand:
   (0, 55, -12) m, the placement of the synthetic main preset; larger stadiums put it further
