@@ -17,7 +17,8 @@ report merges them under their names; a section whose data is not given is skipp
   visible lines measured without the tracker's detector, re-initialisations, other-view
   frames, cuts, fps, stage timings, overlay videos). With ``--shadow KEPT``, each clip under a
   stand's shadow keeping that share of the light (:mod:`broadtrack_graph.benchmarks.shadow`); with ``--degrade
-  W:Q:N``, as a lower-league feed shows it (:mod:`broadtrack_graph.benchmarks.degrade`).
+  W:Q:N``, as a lower-league feed shows it (:mod:`broadtrack_graph.benchmarks.degrade`); with ``--starts STEP``,
+  also tracked from nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`).
 
 Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
 repository. Wall times are of the whole run on the machine as it was (upper bounds on a
@@ -66,6 +67,11 @@ def add_arguments(parser) -> None:
                         help="video: track each clip under a stand's shadow laid over the right of its frames, keeping "
                              "this share of the light (0.45: a sunny afternoon), and score the cameras on the unshaded "
                              "frames")
+    parser.add_argument("--starts", type=int_at_least(1), default=None, metavar="STEP",
+                        help="video: also track each clip from nothing from every STEP-th frame (a shot cut into "
+                             "there) and report how soon a camera is found and whether it is aligned")
+    parser.add_argument("--start-frames", type=int_at_least(1), default=15, metavar="N",
+                        help="video, with --starts: frames tracked from each start (default 15)")
     parser.add_argument("--degrade", type=parse_degradation, default=None, metavar="W:Q:N",
                         help="video: track each clip as a lower-league feed or a web stream shows it, reduced to W "
                              "pixels wide with noise of N grey levels and JPEG quality Q (854:25:3, say), and score "

@@ -11,7 +11,8 @@ clip is written beside the runs (never inside the repository). With ``--shadow K
 clip is tracked under a stand's shadow keeping that share of the light
 (:mod:`broadtrack_graph.benchmarks.shadow`), with ``--degrade W:Q:N`` as a lower-league feed shows it
 (:mod:`broadtrack_graph.benchmarks.degrade`), or both (:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras
-tracked on such a copy are scored on the original frames.
+tracked on such a copy are scored on the original frames. With ``--starts STEP`` every clip is also tracked from
+nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`: how soon a shot's camera is found).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from broadtrack_graph.actions.track import track_input
 from broadtrack_graph.benchmarks.clip_copy import chained, write_copy
 from broadtrack_graph.benchmarks.degrade import degrade_change
 from broadtrack_graph.benchmarks.options import tracker_options
+from broadtrack_graph.benchmarks.real_starts import score_starts, start_frames, starts_figures, track_starts
 from broadtrack_graph.benchmarks.shadow import shadow_change
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
@@ -60,7 +62,8 @@ def run_video_clips(args) -> dict:
     if degradation is not None:
         changes.append(degrade_change(degradation))
         suffix += f"-{degradation.label}"
-    report = {}
+    report, start_rows = {}, []
+    step, length = getattr(args, "starts", None), getattr(args, "start_frames", 15)
     for video in clips:
         # A changed copy (--shadow, --degrade) is tracked, its cameras scored on the original frames.
         name = video.stem + suffix
@@ -72,6 +75,13 @@ def run_video_clips(args) -> dict:
             track_input(tracked, run_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
                         progress=not args.no_progress)
         report[name] = score_clip(video, run_dir, args.score_every, end=args.end)
+        if step is not None:
+            starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
+            runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),
+                                progress=False)
+            rows = score_starts(video, runs, length)
+            report[name]["starts"] = starts_figures(rows, step, length)
+            start_rows += rows
         if not args.no_overlay and tracked.is_file():
             from broadtrack_graph.products.overlay import write_overlay
 
@@ -80,6 +90,9 @@ def run_video_clips(args) -> dict:
             report[name]["overlay"] = str(overlay)
     pooled = merged_summaries([figures.get("reliability") for figures in report.values()])
     section = {"clips": report, "reliability": pooled}
+    if step is not None:
+        section["starts"] = {key: value for key, value in starts_figures(start_rows, step, length).items()
+                             if key not in ("rows", "not_placed")}
     if kept is not None:
         section["shadow_kept"] = kept
     if degradation is not None:
