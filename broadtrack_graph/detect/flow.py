@@ -29,6 +29,10 @@ class FlowConfig:
     pyramid_levels: int = 3
     fb_max_px: float = 0.5  # forward-backward error bound, working pixels
     pitch_margin_m: float = 1.0  # matches must back-project inside the pitch grown by this
+    # Between two frames of a camera on a tripod every grass point moves by one homography: the matches it leaves
+    # further than this (working pixels) are dropped (0: kept), the pixels of an overlay that stays put while the
+    # camera moves among them (a score bug before the graphics mask has learned it, detect.graphics)
+    consensus_px: float = 3.0
     # Each working image is divided by its own Gaussian blur of this sigma (working pixels; 0: not): shading that
     # stays put in the frame (lens vignetting, exposure changes) is taken out, or where motion blur leaves little
     # texture it holds the matches back towards no motion
@@ -104,7 +108,8 @@ def grid_flow(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height
                                         pitch_half_size_m)
     if len(p0) == 0:
         return FlowMatches(np.zeros((0, 2)), np.zeros((0, 2)))
-    return FlowMatches(((p0[good] + 0.5) / scale - 0.5).astype(float), ((p1[good] + 0.5) / scale - 0.5).astype(float))
+    return _consistent(((p0[good] + 0.5) / scale - 0.5).astype(float), ((p1[good] + 0.5) / scale - 0.5).astype(float),
+                       config.consensus_px / scale)
 
 
 def _tracked_grid(prev_frame: FlowFrame, cur_frame: FlowFrame, width_px: int, height_px: int,
@@ -184,7 +189,25 @@ def on_pitch(candidates: FlowCandidates, prev_camera: Camera, config: FlowConfig
     if not len(uv0):
         return FlowMatches(np.zeros((0, 2)), np.zeros((0, 2)))
     inside = _on_pitch(prev_camera, uv0, config, pitch_half_size_m)
-    return FlowMatches(uv0[inside].astype(float), uv1[inside].astype(float))
+    scale = candidates.prev_frame.shape[1] / candidates.width_px
+    return _consistent(uv0[inside].astype(float), uv1[inside].astype(float), config.consensus_px / scale)
+
+
+MIN_CONSENSUS_MATCHES = 8
+"""Fewer matches are kept as they are: too few to tell the camera's motion from an overlay's."""
+
+
+def _consistent(uv0: np.ndarray, uv1: np.ndarray, threshold_px: float) -> FlowMatches:
+    """The matches (N, 2) frame pixels within ``threshold_px`` of the homography most of them follow (RANSAC; OpenCV
+    seeds it alike on every call: the same matches give the same result); all of them when ``threshold_px`` is 0 or
+    there are fewer than :data:`MIN_CONSENSUS_MATCHES`."""
+    if threshold_px <= 0 or len(uv0) < MIN_CONSENSUS_MATCHES:
+        return FlowMatches(uv0, uv1)
+    _, inliers = cv2.findHomography(uv0, uv1, cv2.RANSAC, threshold_px)
+    if inliers is None:
+        return FlowMatches(uv0, uv1)
+    keep = inliers.ravel().astype(bool)
+    return FlowMatches(uv0[keep], uv1[keep])
 
 
 def _on_pitch(camera: Camera, uv_px: np.ndarray, config: FlowConfig, pitch_half_size_m) -> np.ndarray:

@@ -63,3 +63,29 @@ def test_prepare_takes_the_repeat_tests_grey_unchanged():
     own = prepare(frame, config).grey
     assert np.array_equal(prepare(frame, config, reduced_grey(frame, config.work_width_px)).grey, own)
     assert np.array_equal(prepare(frame, config, reduced_grey(frame, 320)).grey, own)
+
+
+def test_an_overlay_that_stays_put_while_the_camera_moves_is_left_out_of_the_flow():
+    """A score bug pasted at the same place on both frames of a pan: its matches say 'no motion', against the
+    homography every grass point follows; they are dropped (consensus_px 0: kept)."""
+    prev, cur = _swept_frames(shift_px=8, blur_prev_px=1, blur_cur_px=1, vignetting=0.0)
+    rng = np.random.default_rng(5)
+    bug = cv2.cvtColor(rng.integers(0, 255, (90, 220), dtype=np.uint8), cv2.COLOR_GRAY2BGR)
+    for frame in (prev, cur):
+        frame[250:340, 40:260] = bug
+    for consensus, expected_static in ((1.5, 0), (0.0, 10)):
+        config = FlowConfig(work_width_px=W, grid_step_px=24, consensus_px=consensus)
+        matches = grid_flow(prepare(prev, config), prepare(cur, config), W, H, config=config)
+        motion = matches.uv_cur_px[:, 0] - matches.uv_prev_px[:, 0]
+        static = int(np.sum(np.abs(motion) < 1.0))
+        assert (static == 0) if expected_static == 0 else (static >= expected_static)
+        assert np.sum(np.abs(motion + 8) < 0.5) > 150  # the grass's matches stay
+
+
+def test_a_still_camera_keeps_every_match():
+    prev, _ = _swept_frames(shift_px=0, blur_prev_px=1, blur_cur_px=1, vignetting=0.0)
+    config = FlowConfig(work_width_px=W, grid_step_px=24)
+    kept = grid_flow(prepare(prev, config), prepare(prev.copy(), config), W, H, config=config)
+    everything = grid_flow(prepare(prev, config), prepare(prev.copy(), config), W, H,
+                           config=FlowConfig(work_width_px=W, grid_step_px=24, consensus_px=0.0))
+    assert len(kept) == len(everything) > 200
