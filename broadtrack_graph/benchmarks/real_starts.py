@@ -47,8 +47,7 @@ def track_starts(video: Path, out_dir: Path, starts: list[int], length: int, opt
     return runs
 
 
-def score_starts(video: Path, runs: dict[int, Path], length: int,
-                 config: AlignmentConfig = AlignmentConfig()) -> list[dict]:
+def score_starts(video: Path, runs: dict[int, Path], config: AlignmentConfig = AlignmentConfig()) -> list[dict]:
     """Per start (in order): {"start", "first_camera_delay" (frames after the start; None: no camera written),
     "cameras", "aligned", "misaligned"} (cameras the check cannot score, no marking seen, are neither). The clip is
     decoded once; each frame scores the cameras every start wrote on it."""

@@ -79,7 +79,7 @@ def run_video_clips(args) -> dict:
             starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
             runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),
                                 progress=False)
-            rows = score_starts(video, runs, length)
+            rows = score_starts(video, runs)
             report[name]["starts"] = starts_figures(rows, step, length)
             start_rows += rows
         if not args.no_overlay and tracked.is_file():

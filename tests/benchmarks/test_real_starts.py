@@ -44,7 +44,7 @@ def test_each_start_reports_its_first_camera_s_delay_and_the_check_scores_every_
     runs = {0: _run(tmp_path / "a", {0: truth, 1: truth, 2: truth}),  # placed at once, aligned
             1: _run(tmp_path / "b", {1: None, 2: None, 3: None}),  # nothing written
             2: _run(tmp_path / "c", {2: None, 3: None, 4: tilted, 5: tilted})}  # placed 2 frames in, a degree off
-    rows = score_starts(video, runs, 4)
+    rows = score_starts(video, runs)
     assert [(r["start"], r["first_camera_delay"], r["cameras"], r["aligned"], r["misaligned"]) for r in rows] == [
         (0, 0, 3, 3, 0), (1, None, 0, 0, 0), (2, 2, 2, 0, 2)]
     figures = starts_figures(rows, 1, 4)
