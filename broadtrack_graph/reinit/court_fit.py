@@ -20,7 +20,7 @@ Settings are :class:`~broadtrack_graph.reinit.court_config.CourtConfig`'s. Pitch
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -35,6 +35,15 @@ from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import best_distinct
 from broadtrack_graph.reinit.mask import fit_points, refine_on_map
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
+
+
+@dataclass(frozen=True)
+class _Fit:
+    """One fitted hypothesis: its score on the map (-cost: higher is better), its confidence and the camera."""
+
+    score: float
+    confidence: float
+    camera: Camera
 
 
 def fitted_camera(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size, curves: TemplateCurves,
@@ -59,18 +68,19 @@ def fitted_camera(hypotheses, costs, among: np.ndarray, structures, points_px, f
     if not chosen:
         return None
     points = fit_points(points_px, search)
-    fits = []  # (fit score, confidence, camera)
+    fits: list[_Fit] = []
     for k in chosen:
         if costs[k] > config.refine_cost_share * costs[chosen[0]]:
             break
         start = camera_through(H_px[k], hypotheses.sign[k], hypothesis_camera(hypotheses, k, W, H), curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
-        fits.append((score, confidence_of(camera), camera))
+        fits.append(_Fit(score, confidence_of(camera), camera))
         if score >= search.accept_fit_score:
             break  # a fit this good is not beaten by a worse-scoring hypothesis
-    best, confident = max(fits, key=lambda fit: fit[0]), max(fits, key=lambda fit: fit[1])
-    return main_side((confident if confident[1] >= best[1] + config.confidence_margin else best)[2], config.twin_tie_m)
+    best, confident = max(fits, key=lambda fit: fit.score), max(fits, key=lambda fit: fit.confidence)
+    kept = confident if confident.confidence >= best.confidence + config.confidence_margin else best
+    return main_side(kept.camera, config.twin_tie_m)
 
 
 def judged(camera: Camera | None, marking_mask, pitch: PitchTemplate, config: CourtConfig, confidence_of,

@@ -5,6 +5,7 @@ marking map, fitted to the ellipse's points. No I/O.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -16,6 +17,15 @@ from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
 from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+
+
+@dataclass(frozen=True)
+class _Closest:
+    """The camera of a focal point whose circle's image lies closest to an ellipse: that median gap (pixels) and
+    the camera."""
+
+    gap_px: float
+    camera: Camera
 
 
 def _pointing(direction_w: np.ndarray, ray_c: np.ndarray):
@@ -82,7 +92,7 @@ def circle_hypotheses(ellipses: list[ImageEllipse], points_px: np.ndarray, posit
         on_ellipse.append(on[np.linspace(0, len(on) - 1, min(len(on), config.ellipse_fit_points)).astype(int)])
     circle_names = [name for name, element in pitch.elements.items() if isinstance(element, Arc)]
     samples = pitch.sample_uniform(1.0, classes=circle_names)
-    closest: dict[tuple, tuple] = {}
+    closest: dict[tuple, _Closest] = {}  # (focal point, ellipse index, circle name) -> its closest camera
     for C in positions:
         C = np.asarray(C, float)
         pans, tilts, focals, which, names = ellipse_cameras(ellipses, C, frame_size, pitch, config)
@@ -98,12 +108,14 @@ def circle_hypotheses(ellipses: list[ImageEllipse], points_px: np.ndarray, posit
             k = group[int(np.nanargmin(gaps))]
             key = (tuple(C), index, name)
             gap = float(np.nanmin(gaps))
-            if key not in closest or gap < closest[key][0]:
-                closest[key] = (gap, Camera(focals[k], 0.0, pans[k], tilts[k], 0.0, C, W, H))
+            if key not in closest or gap < closest[key].gap_px:
+                closest[key] = _Closest(gap, Camera(focals[k], 0.0, pans[k], tilts[k], 0.0, C, W, H))
     fit_config = LineFitConfig(polish_power=0.0, iterations=10, cauchy_scale_px=config.structures.ellipse_band_px * W / 960.0)
     out = []
-    for (C, which, name), (_, camera) in sorted(closest.items(), key=lambda item: item[1][0])[: config.ellipse_fit_top_k]:
-        camera = fit_camera_to_lines(camera, {name: on_ellipse[which]}, curves, fit_config, fixed=(1, 4, 5, 6, 7)).camera
+    ranked = sorted(closest.items(), key=lambda item: item[1].gap_px)
+    for (C, which, name), nearest in ranked[:config.ellipse_fit_top_k]:
+        camera = fit_camera_to_lines(nearest.camera, {name: on_ellipse[which]}, curves, fit_config,
+                                     fixed=(1, 4, 5, 6, 7)).camera
         cost = scorer.costs(C, [camera.pan_rad], [camera.tilt_rad], [camera.focal_px], config.score_hit_px,
                             config.score_point_px)[0]
         if np.isfinite(cost):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -22,6 +23,16 @@ from broadtrack_graph.reinit.lines import camera_from_homography
 from broadtrack_graph.reinit.positions import candidate_positions
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.reinit.two_point import pair_scores, two_point_cameras
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    """A keypoint hypothesis: its key (inliers among all keypoints, then their capped error: higher is better), the
+    camera and the focal point it stands at (metres)."""
+
+    key: tuple
+    camera: Camera
+    position_w: tuple
 
 
 def reinit_from_keypoints(
@@ -65,7 +76,7 @@ def reinit_from_keypoints(
         pairs = [pairs[i] for i in rng.choice(len(pairs), max_pairs, replace=False)]
     # Hypotheses: the best pair per candidate focal point, scored by inliers among ALL keypoints.
     pair_index = np.asarray(pairs, int).reshape(-1, 2)
-    per_position = []
+    per_position: list[_Candidate] = []
     for position in positions:
         cameras = two_point_cameras(uv_px[pair_index], points_w[pair_index], position, width_px, height_px)
         count, capped = pair_scores(cameras, position, uv_px, points_w, width_px, height_px, inlier_px)
@@ -75,22 +86,23 @@ def reinit_from_keypoints(
         k = int(np.argmax(np.where(count == count.max(), capped, -np.inf)))
         camera = Camera(float(cameras[k, 0]), 0.0, float(cameras[k, 1]), float(cameras[k, 2]), 0.0,
                         np.asarray(position, float), width_px, height_px)
-        per_position.append(((int(count[k]), float(capped[k])), camera, position))
+        per_position.append(_Candidate((int(count[k]), float(capped[k])), camera, position))
     if not per_position:
         return ReinitResult(None, None, "", "no keypoint pair gave a camera", len(pairs))
     # The most promising hypotheses are refined on their inliers (loose, then tight) and re-scored.
-    per_position.sort(key=lambda item: item[0], reverse=True)
-    best = None
-    for _, camera, position in per_position[:refine_top]:
+    per_position.sort(key=lambda item: item.key, reverse=True)
+    best: _Candidate | None = None
+    for candidate in per_position[:refine_top]:
+        camera, position = candidate.camera, candidate.position_w
         # A focal point metres off shifts the far keypoints in proportion to f: start loose.
         for threshold in (max(4.0 * inlier_px, loose_per_focal * camera.focal_px), 2.0 * inlier_px, inlier_px):
             _, inliers = _score(camera, uv_px, points_w, threshold)
             if inliers.sum() >= 3:
                 camera = _refine_on_keypoints(camera, uv_px[inliers], points_w[inliers], np.asarray(position, float))
         key, _ = _score(camera, uv_px, points_w, inlier_px)
-        if best is None or key > best[0]:
-            best = (key, camera, position)
-    _, camera, position = best
+        if best is None or key > best.key:
+            best = _Candidate(key, camera, position)
+    camera, position = best.camera, best.position_w
     uv, front = camera.project(points_w)
     err = np.where(front, np.linalg.norm(uv - uv_px, axis=1), np.inf)
     share = float(np.mean(err < inlier_px))

@@ -275,6 +275,20 @@ class ReinitConfig:
     grid: SearchGrid = SearchGrid()  # the global search grid
 
 
+@dataclass(frozen=True)
+class _Ranked:
+    """A fitted hypothesis of :func:`reinit_from_lines`: its rank key (:func:`_rank_key`, higher is better), the order
+    it was tried in (the later first on a tie), the camera, its score, where it came from and its focal point's prior
+    (metres, or None)."""
+
+    key: tuple
+    order: int
+    camera: Camera
+    score: LabelledScore
+    label: str
+    prior: np.ndarray | None
+
+
 def _rank_key(score: LabelledScore, cost: float):
     return (score.jaccard, score.inlier_share, -score.mean_distance_px, -cost)
 
@@ -311,7 +325,7 @@ def reinit_from_lines(
     lines_px = {n: np.asarray(p, float).reshape(-1, 2) for n, p in lines_px.items() if n in pitch.elements and len(p)}
     if not lines_px:
         return ReinitResult(None, None, "", "no labelled point of a known class")
-    ranked: list[tuple] = []
+    ranked: list[_Ranked] = []
     tried = 0
     coarse_config = replace(fit_config, polish_power=0.0, iterations=config.coarse_iterations)
 
@@ -320,22 +334,22 @@ def reinit_from_lines(
         tried += 1
         fit = fit_camera_to_lines(initial, lines_px, curves, coarse_config, position_prior_w=prior)
         score = score_labelled(fit.camera, lines_px, config.tau_px, sampling)
-        ranked.append((_rank_key(score, fit.cost), tried, fit.camera, score, label, prior))
+        ranked.append(_Ranked(_rank_key(score, fit.cost), tried, fit.camera, score, label, prior))
         return fit.max_distance_px < config.good_enough_max_px or score.inlier_share >= config.good_enough_inlier_share
 
     def finish() -> ReinitResult:
         if not ranked:
             return ReinitResult(None, None, "", "no hypothesis could be formed", tried)
-        ranked.sort(key=lambda item: item[:2], reverse=True)
+        ranked.sort(key=lambda item: (item.key, item.order), reverse=True)
         best = ranked[0]
         if fit_config.polish_power > 2:
-            for _, _, camera, _, label, prior in ranked[: config.polished]:
-                fit = fit_camera_to_lines(camera, lines_px, curves, fit_config, position_prior_w=prior)
+            for item in ranked[: config.polished]:
+                fit = fit_camera_to_lines(item.camera, lines_px, curves, fit_config, position_prior_w=item.prior)
                 score = score_labelled(fit.camera, lines_px, config.tau_px, sampling)
-                candidate = (_rank_key(score, fit.cost), 0, fit.camera, score, label, prior)
-                if candidate[0] > best[0]:
+                candidate = _Ranked(_rank_key(score, fit.cost), 0, fit.camera, score, item.label, item.prior)
+                if candidate.key > best.key:
                     best = candidate
-        return ReinitResult(best[2], best[3], best[4], tried=tried)
+        return ReinitResult(best.camera, best.score, best.label, tried=tried)
 
     H = homography_from_lines(lines_px, pitch)
     if H is not None:

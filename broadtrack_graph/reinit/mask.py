@@ -16,7 +16,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -35,6 +35,17 @@ from broadtrack_graph.reinit.positions import DEFAULT_TRIPOD_POSITIONS_W
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
 log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class _BestFit:
+    """The search's best fit so far: its score on the map (-cost: higher is better), the camera, the focal point
+    its hypothesis stood at (metres), and whether it came from the first hypothesis fitted."""
+
+    score: float
+    camera: Camera
+    position_w: np.ndarray
+    first: bool
 
 
 def reinit_from_mask(
@@ -130,7 +141,7 @@ def reinit_from_mask(
     points = fit_points(points_px, config)
     fine = structures.fine_scorer
     check_w = np.vstack(list(pitch.sample_uniform(4.0, classes=ground).values()))
-    best = None  # (fit score, camera, focal point, whether from the first fitted hypothesis)
+    best: _BestFit | None = None
     refined: list[Camera] = []
 
     def start_of(hypothesis: Hypothesis) -> Camera:
@@ -154,8 +165,8 @@ def reinit_from_mask(
         # The best-scoring hypothesis is kept unless a later one fits clearly better: on sparse or blurred
         # markings a fit can slide along the focal length / distance trade-off onto clutter, or push
         # undetected markings out of the image, and look a little better.
-        if best is None or score > best[0] + (config.fit_switch_margin if best[3] else 0.0):
-            best = (score, camera, C, best is None)
+        if best is None or score > best.score + (config.fit_switch_margin if best.first else 0.0):
+            best = _BestFit(score, camera, C, best is None)
 
     for k in chosen:
         hypothesis = hypotheses[k]
@@ -166,14 +177,13 @@ def reinit_from_mask(
             continue  # a fit already landed here
         fit(start, config.wide_schedule is not None and -hypothesis.cost < config.wide_below_score
             and len(refined) + 1 < config.max_fits)
-        if best[0] >= config.accept_fit_score:
+        if best.score >= config.accept_fit_score:
             break
     if best is None:
         return ReinitResult(None, None, "", "no hypothesis could be fitted", len(hypotheses))
-    _, camera, position, _ = best
-    jac = camera_confidence(camera, marking_mask, curves, field_mask=field_mask)
-    return ReinitResult(camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
-                        f"mask search at {tuple(round(float(v)) for v in position)}", tried=len(hypotheses))
+    jac = camera_confidence(best.camera, marking_mask, curves, field_mask=field_mask)
+    return ReinitResult(best.camera, LabelledScore(jac, 0, 0, 0, 0.0, 0.0),
+                        f"mask search at {tuple(round(float(v)) for v in best.position_w)}", tried=len(hypotheses))
 
 
 class MapStructures:

@@ -20,10 +20,21 @@ tripod, even on one gantry.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.positions import MAIN_KIND, camera_kind
+
+
+@dataclass(frozen=True)
+class Guess:
+    """A known camera's guess for a frame: the camera id it continues, where it comes from, and the Camera."""
+
+    camera_id: str
+    label: str
+    camera: Camera
 
 
 class CameraRegistry:
@@ -116,8 +127,8 @@ class CameraRegistry:
         self.untrusted.discard(camera_id)
         self.last_confident[camera_id] = (frame_index, camera)
 
-    def guesses(self, frame_index: int, camera_id: str | None, max_age_frames: int) -> list[tuple[str, str, object]]:
-        """(camera id, label, Camera) guesses for a frame: the last confident camera of ``camera_id`` (None: of every
+    def guesses(self, frame_index: int, camera_id: str | None, max_age_frames: int) -> list[Guess]:
+        """The guesses for a frame: the last confident camera of ``camera_id`` (None: of every
         camera), seen at most ``max_age_frames`` before, and the same camera moved to its id's known position."""
         out = []
         for guess_id in [camera_id] if camera_id is not None else list(self.last_confident):
@@ -126,11 +137,11 @@ class CameraRegistry:
             seen, camera = self.last_confident[guess_id]
             if not 0 <= frame_index - seen <= max_age_frames:
                 continue
-            out.append((guess_id, f"last confident camera of {guess_id} (frame {seen})", camera))
+            out.append(Guess(guess_id, f"last confident camera of {guess_id} (frame {seen})", camera))
             known = self.positions.get(guess_id)
             if known is not None and np.linalg.norm(known - camera.position_m) > 0.5:
-                out.append((guess_id, f"last confident camera of {guess_id} (frame {seen}) at its tripod",
-                            camera.replace(position_m=known)))
+                out.append(Guess(guess_id, f"last confident camera of {guess_id} (frame {seen}) at its tripod",
+                                 camera.replace(position_m=known)))
         return out
 
     def forget_untrusted(self) -> None:

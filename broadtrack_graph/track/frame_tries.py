@@ -14,7 +14,7 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.tripod import image_motion_px
 from broadtrack_graph.reinit.scoring import ReinitResult
-from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.camera_ids import CameraRegistry, Guess
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.reinit_decision import Candidate, CourtCandidate
 from broadtrack_graph.track.search_budget import TrySchedule
@@ -72,9 +72,10 @@ class FrameTries:
             return best
         guesses = self.registry.guesses(frame_index, camera_id, self.config.max_guess_age_frames)
         if held is not None:
-            guesses = list(guesses) + [(camera_id, "the held camera", held)]
-        for guess_id, label, camera in guesses:
-            refined = self.refine([(label, camera)], detections, curves=curves)
+            guesses = list(guesses) + [Guess(camera_id, "the held camera", held)]
+        for guess in guesses:
+            guess_id = guess.camera_id
+            refined = self.refine([(guess.label, guess.camera)], detections, curves=curves)
             if refined.camera is None:
                 continue
             if every_camera and guess_id in self.registry.positions and not self.registry.stands_at(

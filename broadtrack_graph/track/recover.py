@@ -37,6 +37,15 @@ RECOVERABLE_STATUSES = (FrameStatus.FAILED, FrameStatus.NO_PITCH, FrameStatus.NO
 """Statuses of frames the recovery may give a camera (the forward pass failed on them)."""
 
 
+@dataclass(frozen=True)
+class _Walked:
+    """A gap frame's camera from a walk: the camera, its confidence and the frame index the walk started from."""
+
+    camera: Camera
+    confidence: float
+    source_frame: int
+
+
 @dataclass
 class Recovery:
     """What a recovery did.
@@ -111,7 +120,7 @@ def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObserv
     builder = None
     for lo, hi in gaps:
         result.gaps.append([records[lo].frame_index, records[hi - 1].frame_index])
-        found: dict[int, tuple[Camera, float, int]] = {}
+        found: dict[int, _Walked] = {}
         def tripod_of(record: TrackRecord) -> Tripod | None:
             return (tripods.get(record.camera_id) if record.camera_id is not None else None) if tripods else tripod
 
@@ -126,7 +135,8 @@ def recover_gaps(records: list[TrackRecord], observations: dict[int, FrameObserv
             if position not in found:
                 result.unrecovered.append(record.frame_index)
                 continue
-            camera, confidence, source = found[position]
+            walked = found[position]
+            camera, confidence, source = walked.camera, walked.confidence, walked.source_frame
             source_id = next(r.camera_id for r in records if r.frame_index == source)
             records[position] = replace(record, camera=camera, confidence=confidence, status=FrameStatus.TRACKED,
                                         camera_id=source_id,
@@ -153,8 +163,8 @@ def _walk(records, observations, positions, start: TrackRecord, pitch, graph_con
         confidence = frame_confidence(refined, obs, None, curves, sampling)
         if confidence is None or confidence < threshold:
             break
-        if position not in found or confidence > found[position][1]:
-            found[position] = (refined, float(confidence), start.frame_index)
+        if position not in found or confidence > found[position].confidence:
+            found[position] = _Walked(refined, float(confidence), start.frame_index)
         camera = refined
     return builder
 

@@ -70,14 +70,17 @@ def test_the_guesses_are_each_id_s_last_trusted_camera_and_that_camera_at_its_tr
     registry.trust("main", 10, main)
     registry.trust("high-corner-1", 20, corner)
     assert registry.untrusted == set()
-    assert [g[0] for g in registry.guesses(30, None, 750)] == ["main", "high-corner-1"]  # a new shot: every camera
-    assert [g[0] for g in registry.guesses(30, "main", 750)] == ["main"]
-    assert [g[0] for g in registry.guesses(770, None, 750)] == ["high-corner-1"]  # main's is 760 frames old
+    # A new shot: every camera's guess.
+    assert [g.camera_id for g in registry.guesses(30, None, 750)] == ["main", "high-corner-1"]
+    assert [g.camera_id for g in registry.guesses(30, "main", 750)] == ["main"]
+    assert [g.camera_id for g in registry.guesses(770, None, 750)] == ["high-corner-1"]  # main's is 760 frames old
     assert registry.guesses(5, None, 750) == []  # a camera trusted later than the frame is no guess of it
     registry.update("main", (0.0, 57.0, -13.0))  # its tripod, 2.2 m from the trusted camera's focal point
-    (_, label, camera), (_, moved_label, moved) = registry.guesses(30, "main", 750)
-    assert camera is main and label == "last confident camera of main (frame 10)"
-    assert moved_label.endswith("at its tripod") and np.allclose(moved.position_m, (0.0, 57.0, -13.0))
+    last, at_tripod = registry.guesses(30, "main", 750)
+    assert last.camera_id == at_tripod.camera_id == "main"
+    assert last.camera is main and last.label == "last confident camera of main (frame 10)"
+    moved = at_tripod.camera
+    assert at_tripod.label.endswith("at its tripod") and np.allclose(moved.position_m, (0.0, 57.0, -13.0))
     assert moved.pan_rad == main.pan_rad and moved.focal_px == main.focal_px
 
 
