@@ -211,7 +211,7 @@ def run(args) -> dict:
                 else:
                     started = time.perf_counter()
                     result = court(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
-                                   curves=curves, field_mask=detections.field_mask)
+                                   curves=curves, field_mask=detections.field_mask, player_mask=detections.player_mask)
                     seconds = time.perf_counter() - started
                     camera, reason = result.camera, result.reason
                     confidence = None if camera is None else confidence_of(camera)

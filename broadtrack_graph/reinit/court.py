@@ -38,7 +38,7 @@ from broadtrack_graph.reinit.court_circle import (
 )
 from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
-from broadtrack_graph.reinit.court_families import line_families, normalised_lines
+from broadtrack_graph.reinit.court_families import hidden_lengths_px, line_families, normalised_lines
 from broadtrack_graph.reinit.court_fit import fitted_camera, judged, main_side
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
@@ -56,7 +56,8 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 
 def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size: tuple[int, int],
                       pitch: PitchTemplate | None = None, curves: TemplateCurves | None = None,
-                      field_mask: np.ndarray | None = None, config: CourtConfig = CourtConfig()) -> ReinitResult:
+                      field_mask: np.ndarray | None = None, config: CourtConfig = CourtConfig(),
+                      player_mask: np.ndarray | None = None) -> ReinitResult:
     """A camera for a frame from its unlabelled marking map, with no guess of where the camera stands.
 
     Args:
@@ -64,6 +65,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         marking_points_px: (M, 2) centre-line points of the markings, frame pixels.
         frame_size: (W, H) of the frame (the camera's resolution).
         field_mask: optional bool map of the playing surface (for the confidence).
+        player_mask: optional bool map of the players (any size of the frame's aspect ratio): a line's stretch
+            they hide is not asked to be drawn (:func:`~.court_families.hidden_lengths_px`).
 
     Returns:
         ReinitResult: the camera at frame_size with its confidence (``score.jaccard``) and its twin
@@ -77,8 +80,9 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return ReinitResult(None, None, "", "too few marking pixels")
     structures = map_structures(marking_mask, points_px, (W, H), pitch, config.search)
     lines = structures.lines
-    hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config)
-    tiers = _later_tiers(structures, (W, H), pitch, config)
+    hidden = hidden_lengths_px(lines, player_mask, W)
+    hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config, hidden)
+    tiers = _later_tiers(structures, (W, H), pitch, config, hidden)
     # Each later tier joins while nothing explains the map well yet (circles_below_score) ...
     while tiers and not (len(costs) and -costs.min() >= config.circles_below_score):
         hypotheses, costs = _joined(hypotheses, costs, tiers.pop(0)(), structures, (W, H), config)
@@ -134,7 +138,8 @@ def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, c
     return cameras_from_homographies(H_n[refitted], frame_size, pitch, config.lines)
 
 
-def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig) -> list:
+def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
+                 hidden_px: np.ndarray | None = None) -> list:
     """The hypotheses tried after the straight markings', in order, each a call (an empty set when its markings are
     missing): three lines of one direction and one across (a zoomed goal mouth), a circle with the
     line across it, then the centre circle with a touchline (more hypotheses, and looser: tried last)."""
@@ -143,7 +148,7 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
     def pencil():
         if len(lines) < 4:
             return concatenate([])
-        return pencil_hypotheses(lines, frame_size, pitch, config.pencil, config.lines)
+        return pencil_hypotheses(lines, frame_size, pitch, config.pencil, config.lines, hidden_px)
 
     def circles(across: bool):
         if not lines:
@@ -164,13 +169,14 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
     return concatenate([hypotheses, part]), np.concatenate([costs, scores])
 
 
-def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: CourtConfig):
+def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
+                     hidden_px: np.ndarray | None = None):
     """The straight markings' hypotheses (the likeliest splits of the lines first, until ``max_hypotheses``: a
     frame full of lines stays bounded) and their map costs."""
     lines = structures.lines
     support = np.array([line.support_px for line in lines])
     parts = []
-    for families in line_families(lines, frame_size, config.lines):
+    for families in line_families(lines, frame_size, config.lines, hidden_px):
         parts.append(line_hypotheses(families, support, pitch, frame_size, config.lines))
         if sum(len(part) for part in parts) >= config.max_hypotheses:
             break
@@ -226,6 +232,6 @@ def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_to
 
 
 def court_reinit(detections, frame_size: tuple[int, int], curves: TemplateCurves) -> ReinitResult:
-    """:func:`reinit_from_court` on a frame's detections (its marking map, marking points and field mask)."""
+    """:func:`reinit_from_court` on a frame's detections (its marking map, marking points, field and player masks)."""
     return reinit_from_court(detections.marking_mask, detections.marking_points_px, frame_size, curves.pitch, curves,
-                             detections.field_mask)
+                             detections.field_mask, player_mask=detections.player_mask)

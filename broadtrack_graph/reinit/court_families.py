@@ -1,7 +1,8 @@
 """The image's straight markings split into the pitch's two directions by where they meet. No I/O.
 
 The pitch's straight markings run in two directions (parallel to the touchlines and to the goal lines); in the
-image the lines of each meet at a vanishing point. Every intersection of two solid image lines is a candidate,
+image the lines of each meet at a vanishing point. A line is solid when the map draws it along most of its extent
+where no player stands on it (:func:`hidden_lengths_px`). Every intersection of two solid image lines is a candidate,
 unless it lies inside either line's extent (painted lines crossing there are not parallel on the grass: a corner),
 voted for by the support of the lines pointing at it (:func:`vanishing_votes`); the likeliest pairs of distinct
 candidates that a focal length in range can make orthogonal split the lines into two families
@@ -133,17 +134,44 @@ class VanishingVotes:
     meets: np.ndarray
 
 
+def hidden_lengths_px(lines: list[ImageLine], player_mask: np.ndarray | None, frame_width_px: int) -> np.ndarray:
+    """(L,) frame pixels of each line's extent that the players hide: a painted line is drawn along its extent
+    except where a player stands on it (the map holds no marking there). Zeros without a player mask.
+
+    Args:
+        player_mask: (h, w) bool, any size of the frame's aspect ratio.
+    """
+    if player_mask is None or not lines or not player_mask.any():
+        return np.zeros(len(lines))
+    h, w = player_mask.shape
+    to_mask = w / float(frame_width_px)
+    out = np.zeros(len(lines))
+    for k, line in enumerate(lines):
+        lo, hi = line.extent_px
+        along = np.arange(lo, hi, max(1.0 / to_mask, 1.0))  # about one mask pixel a step
+        if not len(along):
+            continue
+        uv = (line.centre_px + along[:, None] * line.direction) * to_mask
+        cols, rows = np.clip(uv[:, 0].astype(int), 0, w - 1), np.clip(uv[:, 1].astype(int), 0, h - 1)
+        out[k] = (hi - lo) * float(np.mean(player_mask[rows, cols]))
+    return out
+
+
 def vanishing_votes(lines: list[ImageLine], frame_size: tuple[int, int],
-                    config: CourtLineConfig = CourtLineConfig()) -> VanishingVotes | None:
-    """The candidate vanishing points of the lines (:class:`VanishingVotes`); None under two solid lines."""
+                    config: CourtLineConfig = CourtLineConfig(), hidden_px: np.ndarray | None = None
+                    ) -> VanishingVotes | None:
+    """The candidate vanishing points of the lines (:class:`VanishingVotes`); None under two solid lines.
+    ``hidden_px``: (L,) the length of each line's extent the players hide (:func:`hidden_lengths_px`), not asked
+    to be drawn (at most half of it)."""
     lines_n, s, centre = normalised_lines(lines, frame_size)
     if len(lines_n) < 2:
         return None
     centres_n = (np.array([line.centre_px for line in lines]) - centre) / s
     lengths_px = np.array([max(line.extent_px[1] - line.extent_px[0], 1.0) for line in lines])
+    shown_px = lengths_px if hidden_px is None else np.maximum(lengths_px - hidden_px, 0.5 * lengths_px)
     support = np.array([line.support_px for line in lines])
     crowded = hatched(lines, frame_size[0], config.hatch)
-    solid = (support >= config.min_line_coverage * lengths_px) & ~crowded
+    solid = (support >= config.min_line_coverage * shown_px) & ~crowded
     tolerances = np.clip(np.arctan(config.family_angle_px / (0.5 * lengths_px)),
                          math.radians(config.family_angle_min_deg), math.radians(config.family_angle_max_deg))
     i, j = np.triu_indices(len(lines_n), 1)
@@ -162,7 +190,8 @@ def vanishing_votes(lines: list[ImageLine], frame_size: tuple[int, int],
 
 
 def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
-                  config: CourtLineConfig = CourtLineConfig()) -> list[LineFamilies]:
+                  config: CourtLineConfig = CourtLineConfig(), hidden_px: np.ndarray | None = None
+                  ) -> list[LineFamilies]:
     """Ways of splitting the image lines into the pitch's two directions, likeliest first.
 
     Every intersection of two lines is a candidate vanishing point, voted for by the support (map
@@ -173,11 +202,11 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     directions satisfy ``v1 . v2 = -f^2`` about the image centre). Each family's vanishing point is the
     least-squares meeting point of its lines. A goal net's strands or a board's edges make vanishing
     points of their own: the pairs of the map's few best points are all kept, and the map decides.
-    Lines drawn along less than ``min_line_coverage`` of their extent (a Hough line through scattered
-    specks) and lines of a hatch (:func:`~broadtrack_graph.detect.marking_structures.hatched`: a goal net's strands)
-    join no family.
+    Lines drawn along less than ``min_line_coverage`` of their extent where no player hides it (``hidden_px``,
+    :func:`vanishing_votes`; a Hough line through scattered specks) and lines of a hatch
+    (:func:`~broadtrack_graph.detect.marking_structures.hatched`: a goal net's strands) join no family.
     """
-    votes = vanishing_votes(lines, frame_size, config)
+    votes = vanishing_votes(lines, frame_size, config, hidden_px)
     if votes is None or len(votes.lines_n) < 4:
         return []
     lines_n, s, centre, support, i, j, meets = (votes.lines_n, votes.scale_px, votes.centre_px, votes.support_px,

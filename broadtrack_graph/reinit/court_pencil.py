@@ -51,7 +51,8 @@ class CourtPencilConfig:
 
 def pencil_hypotheses(lines: list[ImageLine], frame_size: tuple[int, int], pitch: PitchTemplate,
                       config: CourtPencilConfig = CourtPencilConfig(),
-                      line_config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
+                      line_config: CourtLineConfig = CourtLineConfig(), hidden_px: np.ndarray | None = None
+                      ) -> PlaneHypotheses:
     """Every camera putting three lines of an image family on three pitch lines of one direction and another image
     line on a pitch line of the other direction (module docstring), gated by
     :func:`~.court_lines.cameras_from_homographies`.
@@ -59,8 +60,9 @@ def pencil_hypotheses(lines: list[ImageLine], frame_size: tuple[int, int], pitch
     Args:
         lines: the straight markings of the map (frame pixels).
         frame_size: (W, H) pixels.
+        hidden_px: (L,) each line's length the players hide (:func:`~.court_families.vanishing_votes`).
     """
-    votes = vanishing_votes(lines, frame_size, line_config)
+    votes = vanishing_votes(lines, frame_size, line_config, hidden_px)
     if votes is None or len(votes.lines_n) < 4:
         return concatenate([])
     support = votes.support_px

@@ -72,13 +72,15 @@ def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path,
               for i in (FIRST, FIRST + 1)]
     calls = []
 
-    def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None):
-        calls.append((marking_mask.dtype, marking_points_px.shape[1], frame_size, isinstance(pitch, PitchTemplate)))
+    def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None,
+                 player_mask=None):
+        calls.append((marking_mask.dtype, marking_points_px.shape[1], frame_size, isinstance(pitch, PitchTemplate),
+                      player_mask.dtype))
         return ReinitResult(truths[len(calls) - 1], None, "stand-in", reason="the true camera")
 
     monkeypatch.setattr(random_placements, "_court_route", lambda: (stand_in, None))
     report = run_bench(tmp_path, "--routes", "court")
-    assert calls == [(np.dtype(bool), 2, (WIDTH, HEIGHT), True)] * 2
+    assert calls == [(np.dtype(bool), 2, (WIDTH, HEIGHT), True, np.dtype(bool))] * 2  # the players' mask too
     for row in report["frames_by_index"]:
         court = row["routes"]["court"]
         assert court["error_px"] == 0.0 and court["confidence"] == row["truth_confidence"]
@@ -139,7 +141,8 @@ def test_visible_paint_is_where_the_markings_show_and_fixes_the_camera_only_when
 def test_the_plain_renderer_draws_the_same_cameras_and_its_paint_shows(tmp_path, monkeypatch):
     truths = []
 
-    def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None):
+    def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None,
+                 player_mask=None):
         return ReinitResult(None, None, "stand-in", reason="no camera")
 
     monkeypatch.setattr(random_placements, "_court_route", lambda: (stand_in, None))

@@ -54,3 +54,37 @@ def test_lines_crossing_on_the_grass_do_not_make_a_vanishing_point():
     assert not any({int(a), int(b)} in ({0, 2}, {0, 3}) for a, b in zip(corners.i, corners.j))
     assert split_found(CourtLineConfig())
     assert not split_found(CourtLineConfig(crossing_inside_share=0.5))  # no meeting point inside an extent's middle
+
+
+def test_the_stretch_of_a_line_the_players_hide_is_measured_on_their_mask():
+    from broadtrack_graph.detect.marking_structures import ImageLine
+    from broadtrack_graph.reinit.court_families import hidden_lengths_px
+
+    line = ImageLine(np.array([0.0, 1.0]), -360.0, np.array([640.0, 360.0]), np.array([1.0, 0.0]), (-400.0, 400.0),
+                     300.0)  # y = 360 from x = 240 to 1040 (frame pixels)
+    players = np.zeros((540, 960), bool)  # the working size: 0.75 of the frame's
+    players[250:290, 330:420] = True  # frame x 440-560 on the line: 120 px hidden
+    players[100:140, 330:420] = True  # off the line
+    hidden = hidden_lengths_px([line], players, W)
+    assert abs(hidden[0] - 120.0) <= 3.0
+    assert hidden_lengths_px([line], None, W)[0] == 0.0
+
+
+def test_a_line_broken_by_players_still_joins_its_direction():
+    """Two lines of each direction; one is drawn along under half its extent because players stand on the rest. As
+    specks it joins no direction and the split fails; with the players' stretch not asked to be drawn, it does."""
+    from dataclasses import replace
+
+    from broadtrack_graph.reinit.court_families import vanishing_votes
+
+    lines = image_lines(box_view(), BOX_SEGMENTS)
+    length = lines[0].extent_px[1] - lines[0].extent_px[0]
+    lines[0] = replace(lines[0], support_px=0.35 * length)  # 65 % of it under players
+    assert not vanishing_votes(lines, (W, H)).solid[0]
+    hidden = np.zeros(len(lines))
+    hidden[0] = 0.4 * length
+    assert vanishing_votes(lines, (W, H), hidden_px=hidden).solid[0]
+    # At most half a line is excused: a few specks beside a crowd of players stay specks.
+    lines[0] = replace(lines[0], support_px=0.2 * length)
+    hidden[0] = 0.9 * length
+    assert not vanishing_votes(lines, (W, H), hidden_px=hidden).solid[0]
