@@ -139,7 +139,7 @@ def hidden_lengths_px(lines: list[ImageLine], player_mask: np.ndarray | None, fr
     except where a player stands on it (the map holds no marking there). Zeros without a player mask.
 
     Args:
-        player_mask: (h, w) bool, any size of the frame's aspect ratio.
+        player_mask: (h, w) bool (or non-zero where a player stands), any size of the frame's aspect ratio.
     """
     if player_mask is None or not lines or not player_mask.any():
         return np.zeros(len(lines))
@@ -153,7 +153,7 @@ def hidden_lengths_px(lines: list[ImageLine], player_mask: np.ndarray | None, fr
             continue
         uv = (line.centre_px + along[:, None] * line.direction) * to_mask
         cols, rows = np.clip(uv[:, 0].astype(int), 0, w - 1), np.clip(uv[:, 1].astype(int), 0, h - 1)
-        out[k] = (hi - lo) * float(np.mean(player_mask[rows, cols]))
+        out[k] = (hi - lo) * float(np.mean(player_mask[rows, cols] != 0))
     return out
 
 

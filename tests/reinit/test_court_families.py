@@ -68,6 +68,7 @@ def test_the_stretch_of_a_line_the_players_hide_is_measured_on_their_mask():
     hidden = hidden_lengths_px([line], players, W)
     assert abs(hidden[0] - 120.0) <= 3.0
     assert hidden_lengths_px([line], None, W)[0] == 0.0
+    assert hidden_lengths_px([line], players.astype(np.uint8) * 255, W)[0] == hidden[0]  # a 0 / 255 mask alike
 
 
 def test_a_line_broken_by_players_still_joins_its_direction():
