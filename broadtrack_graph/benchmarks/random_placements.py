@@ -257,8 +257,9 @@ def _seconds(values) -> dict:
 
 
 def route_figures(rows: list[dict], route: str) -> dict:
-    """Counts and shares (% of the rows) of each outcome of a route, wrong twins, frames whose true camera is
-    confident enough to be written (what a route can reach at most), and the route's seconds per frame."""
+    """Counts and shares (% of the rows) of each outcome of a route, wrong twins (and found or twin, wrong but not a
+    twin), frames whose true camera is confident enough to be written (what a route can reach at most), and the
+    route's seconds per frame."""
     results = [row["routes"][route] for row in rows]
     n = len(results)
     out: dict = {"frames": n}
@@ -266,7 +267,12 @@ def route_figures(rows: list[dict], route: str) -> dict:
         k = sum(r["outcome"] == name for r in results)
         out[name], out[f"{name}_pct"] = k, round(100.0 * k / n, 1) if n else None
     out["wrong_twin"] = sum(bool(r.get("twin")) for r in results)
-    out["wrong_twin_pct"] = round(100.0 * out["wrong_twin"] / n, 1) if n else None
+    # Found or its twin: what SoccerNet's own metric scores as right (it keeps the mirrored labelling of a frame);
+    # and the wrong cameras that are not twins.
+    out["found_or_twin"] = out["found"] + out["wrong_twin"]
+    out["wrong_not_twin"] = out["wrong"] - out["wrong_twin"]
+    for name in ("wrong_twin", "found_or_twin", "wrong_not_twin"):
+        out[f"{name}_pct"] = round(100.0 * out[name] / n, 1) if n else None
     out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
     out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
@@ -316,16 +322,17 @@ def summary_table(report: dict) -> str:
              f"determinable ({report['not_determinable']} apart); render {report['render_s']['median']} s, detect "
              f"{report['detect_s']['median']} s median"]
     lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'twin%':>6} {'near%':>6} "
-                 f"{'none%':>6} {'s med':>6} {'s p95':>6} {'visible':>7} {'marks ok':>8} {'truth ok':>8}")
+                 f"{'none%':>6} {'f+twin%':>7} {'s med':>6} {'s p95':>6} {'visible':>7} {'marks ok':>8} "
+                 f"{'truth ok':>8}")
     for route, figures in report["by_route"].items():
         groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
                   "not determinable": figures["not_determinable"]}
         for name, f in groups.items():
             pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}")
-                   for o in ("found", "wrong", "wrong_twin", "near", "none")]
+                   for o in ("found", "wrong", "wrong_twin", "near", "none", "found_or_twin")]
             seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
             lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
-                         f"{pct[4]:>6} {seconds[0]:>6} {seconds[1]:>6} {f['markings_visible']:>7} "
+                         f"{pct[4]:>6} {pct[5]:>7} {seconds[0]:>6} {seconds[1]:>6} {f['markings_visible']:>7} "
                          f"{f['markings_detected']:>8} "
                          f"{f['truth_written']:>8}")
     for note in report["skipped_routes"].values():

@@ -109,6 +109,24 @@ def test_outcomes():
     assert outcome(None, None, 0.6, 3.0) == "none"
 
 
+def test_route_figures_count_the_twins_with_the_found_and_apart_from_the_wrong():
+    route_figures = random_placements.route_figures
+
+    def row(outcome_name, twin=None):
+        result = {"outcome": outcome_name, "seconds": 0.1}
+        if twin is not None:
+            result["twin"] = twin
+        return {"routes": {"court": result}, "truth_written": True}
+
+    rows = [row("found"), row("wrong", True), row("wrong", False), row("none"), row("near")]
+    figures = route_figures(rows, "court")
+    assert (figures["found"], figures["wrong"], figures["wrong_twin"]) == (1, 2, 1)
+    assert (figures["found_or_twin"], figures["wrong_not_twin"]) == (2, 1)
+    shares = (figures["found_or_twin_pct"], figures["wrong_not_twin_pct"], figures["wrong_twin_pct"])
+    assert shares == (40.0, 20.0, 20.0)
+    assert route_figures([], "court")["found_or_twin_pct"] is None
+
+
 def test_the_twin_sees_every_marking_where_the_camera_sees_its_mirror_image():
     camera = draw_random_camera(np.random.default_rng(2), 640, 360).camera
     points = np.vstack(list(PitchTemplate().sample_uniform(2.0).values()))
