@@ -6,7 +6,8 @@ contrast over the steepest gradient is the edge's width (a step edge's central d
 the strongest edges of sharp broadcast frames measure :data:`SHARP_EDGE_WIDTH_PX` at the working width). A frame
 enlarged to the working width (a 640 px video) shows edges wider by the enlargement without being blurred: its
 sharp width is scaled by it. A blur along one direction only (a pure pan's) leaves the edges along it sharp, and
-they are most of the strongest: such a frame reads as sharp.
+they are most of the strongest: such a frame reads as sharp (:mod:`.motion_blur` finds that smear and undoes it
+first).
 """
 
 from __future__ import annotations

@@ -57,6 +57,7 @@ from scipy.spatial import cKDTree
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
+from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
 from broadtrack_graph.detect.ridges import WideInputs, marking_ridges, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
 from broadtrack_graph.detect.playing_field import grass_and_field
@@ -108,6 +109,9 @@ class WeightFreeConfig:
     # blur, a soft lens) has its wide markings found without a camera, the two gates eased by its blur b (edge share
     # wide_edge_share / b, threshold max(1, wide_threshold_factor / b)): every marking of it is smeared wide and faint.
     blurred_from: float = 1.4
+    # A straight motion blur found in the frame (a pan's smear, which leaves the markings along it sharp and the frame
+    # reading sharp) is undone on the grey working image before the markings are looked for (detect.motion_blur).
+    motion_blur: MotionBlurConfig = MotionBlurConfig()
     player_open_px: int = 5  # opening that removes lines but keeps bodies
     player_min_area_px: int = 40  # smaller non-grass blobs are not players
     player_margin_px: int = 3  # ridge points this close to a player are dropped
@@ -293,6 +297,9 @@ class WeightFreeDetector:
         image = check_image(image_bgr)
         H, W = image.shape[:2]
         small, grey, scale = self.working_images(image, working_bgr)
+        motion = estimate_motion_blur(grey, self.config.motion_blur)
+        if motion is not None:  # a pan's smear across the markings, undone first (detect.motion_blur)
+            grey = deblurred(grey, motion, self.config.motion_blur.wiener_nsr)
         work_h, work_w = grey.shape
         grass, field = self.field_and_grass(small)
         boxes, player_mask = self.players(grass, field)

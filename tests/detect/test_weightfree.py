@@ -9,6 +9,7 @@ from drawn_frames import draw_frame
 from broadtrack_graph.detect.detector import PredictedCamera, draw_detections
 from broadtrack_graph.detect.flow import FlowConfig, flow_candidates, grid_flow, on_pitch, prepare
 from broadtrack_graph.detect.meanshift import mean_shift_thin
+from broadtrack_graph.detect.motion_blur import MotionBlurConfig
 from broadtrack_graph.detect.template_raster import template_mask
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 from broadtrack_graph.geometry.camera import Camera
@@ -302,8 +303,10 @@ def test_a_blurred_frame_s_markings_are_found_without_a_camera_on_the_reduced_le
 
     frame = draw_placement(3, 245, 1280, 720, list(LOOK_NAMES))
     truth = frame["drawn"].camera
-    found = WeightFreeDetector(PITCH).detect(frame["image"])
-    unblurred = WeightFreeDetector(PITCH, WeightFreeConfig(blurred_from=float("inf"))).detect(frame["image"])
+    smear_kept = MotionBlurConfig(min_length_px=0)  # this rule alone, the smear not undone first (test_motion_blur)
+    found = WeightFreeDetector(PITCH, WeightFreeConfig(motion_blur=smear_kept)).detect(frame["image"])
+    unblurred = WeightFreeDetector(PITCH, WeightFreeConfig(blurred_from=float("inf"), motion_blur=smear_kept)).detect(
+        frame["image"])
     assert determinability(truth, PITCH, explained_by=found.marking_mask).determinable
     assert not determinability(truth, PITCH, explained_by=unblurred.marking_mask).determinable
     curves = TemplateCurves(PITCH)
