@@ -18,14 +18,14 @@ Finding the blur (:func:`estimate_motion_blur`):
   half its value at lag 0 (``depth`` -0.5) where such detail dominates (a smeared step edge adds a positive
   triangle instead). Every image's derivative has a negative lobe a few pixels out (an edge's own width, a thin
   line's two sides, the grain of a textured grass, reaching 6-8 px at the detector's working width): lengths under
-  ``min_length_px`` are not told apart from it. A scene with a strong direction of
-  its own (lines or stripes all one way) pulls the structure tensor's direction off the smear's: the direction is
-  measured again as the one within ``refine_angle_deg`` whose lobe is deepest.
+  ``min_length_px`` are not told apart from it. A scene with a strong direction of its own (lines or stripes all one
+  way) pulls the structure tensor's direction off the smear's: the direction is measured again as the one within
+  ``refine_angle_deg`` whose lobe is deepest.
 * **Coherence.** A smear averages the frame's fine detail out along its direction, so the derivative along it has
   no negative lobe of its own before the smear's (from :data:`COHERENCE_LAG_PX` to half the length it stays about
   level or above: each edge spread over ``L`` pixels is alike over a few of them); a sharp frame's derivative has
-  its own lobe two to five pixels out (a line's two sides, an edge's overshoot), which a short smear's lobe is not
-  told from (``min_length_px``).
+  its own lobe from two pixels out (a line's two sides, an edge's overshoot, the grass's grain), which a short
+  smear's lobe is not told from (``min_length_px``).
 * A blur is taken when the lobe is at least ``min_length_px`` out, as deep as ``max_depth`` (half the ideal box's),
   no lobe before it (``min_coherence``) and the gradient's energy anisotropic (``max_anisotropy``).
   It is looked for on the image reduced 2x (a quarter of the cost; every frame pays it), then measured again at
