@@ -48,6 +48,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.sharpness import gradients
+
 COHERENCE_LAG_PX = 2.0
 """The first lag of the coherence: the first clear of the derivative filter's own reach (the 3x3 Sobel spreads a step
 over two pixels, so any edge's derivative is alike one pixel out)."""
@@ -91,7 +93,7 @@ def estimate_motion_blur(grey: np.ndarray, config: MotionBlurConfig = MotionBlur
         return None
     h, w = grey.shape
     half = cv2.resize(grey, (max(1, w // 2), max(1, h // 2)), interpolation=cv2.INTER_AREA).astype(np.float32)
-    gx, gy = _gradients(half)
+    gx, gy = gradients(half)
     angle, anisotropy = _least_energy_direction(gx, gy)
     if anisotropy > config.max_anisotropy:
         return None
@@ -103,7 +105,7 @@ def estimate_motion_blur(grey: np.ndarray, config: MotionBlurConfig = MotionBlur
     if k is None or along[k] > config.max_depth or along[0] < config.min_coherence_reduced:
         return None
     # Measured again at full size around the reduced image's length and direction.
-    gx, gy = _gradients(np.asarray(grey, np.float32))
+    gx, gy = gradients(np.asarray(grey, np.float32))
     fine = np.arange(max(1.0, 2 * lags[k] - 2), 2 * lags[k] + 3)
     maps = _DerivativeCorrelations.of(gx, gy, fine[-1])
     if maps is None:
@@ -171,11 +173,6 @@ def deblurred(grey: np.ndarray, blur: MotionBlur, nsr: float = MotionBlurConfig.
     im = (G[..., 1] * K[..., 0] - G[..., 0] * K[..., 1]) / power
     out = cv2.dft(np.dstack([re, im]), flags=cv2.DFT_INVERSE | cv2.DFT_REAL_OUTPUT | cv2.DFT_SCALE)
     return np.clip(out[pad:pad + h, pad:pad + w], 0, 255).astype(np.uint8)
-
-
-def _gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return (cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=0.125),
-            cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=0.125))
 
 
 def _least_energy_direction(gx: np.ndarray, gy: np.ndarray) -> tuple[float, float]:

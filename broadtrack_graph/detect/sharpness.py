@@ -28,8 +28,7 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
         grey: (h, w) uint8 grey image.
     """
     image = grey.astype(np.float32)
-    gx = cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=0.125)  # grey levels per pixel
-    gy = cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=0.125)
+    gx, gy = gradients(image)
     magnitude = cv2.magnitude(gx, gy)
     h, w = image.shape
     m = reach_px + 1
@@ -46,6 +45,12 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
     profile = cv2.remap(image, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     contrast = cv2.reduce(profile, 1, cv2.REDUCE_MAX)[:, 0] - cv2.reduce(profile, 1, cv2.REDUCE_MIN)[:, 0]
     return float(np.median(contrast / gradient))
+
+
+def gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(gx, gy) float32 (h, w): the 3x3 Sobel derivatives of a float32 image (h, w), in grey levels per pixel."""
+    return (cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=0.125),
+            cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=0.125))
 
 
 def _strongest(magnitude: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
