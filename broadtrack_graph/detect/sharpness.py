@@ -27,22 +27,21 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
     Args:
         grey: (h, w) uint8 grey image.
     """
-    image = grey.astype(np.float32)
-    gx, gy = gradients(image)
-    magnitude = cv2.magnitude(gx, gy)
-    h, w = image.shape
+    h, w = grey.shape
     m = reach_px + 1
-    inner = magnitude[m:h - m, m:w - m]
-    if inner.size < strongest:
+    if (h - 2 * m) * (w - 2 * m) < strongest or h <= 2 * m or w <= 2 * m:
         return None
-    rows, cols = _strongest(inner, strongest)
-    rows, cols = rows + m, cols + m
-    gradient = np.maximum(magnitude[rows, cols], 1e-3)
-    nx, ny = gx[rows, cols] / gradient, gy[rows, cols] / gradient
+    # The derivatives of a uint8 image are whole numbers of eighths: exact in int16, made float32 where needed.
+    gx16 = cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3)[m:h - m, m:w - m]
+    gy16 = cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)[m:h - m, m:w - m]
+    rows, cols, gradient = _strongest(gx16, gy16, strongest)
+    gx, gy = _eighths(gx16[rows, cols]), _eighths(gy16[rows, cols])
+    gradient = np.maximum(gradient, 1e-3)
+    nx, ny = gx / gradient, gy / gradient
     steps = np.arange(-reach_px, reach_px + 1, dtype=np.float32)
-    xs = (cols[:, None] + steps * nx[:, None]).astype(np.float32)
-    ys = (rows[:, None] + steps * ny[:, None]).astype(np.float32)
-    profile = cv2.remap(image, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    xs = (cols[:, None] + m + steps * nx[:, None]).astype(np.float32)
+    ys = (rows[:, None] + m + steps * ny[:, None]).astype(np.float32)
+    profile = cv2.remap(grey.astype(np.float32), xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
     contrast = cv2.reduce(profile, 1, cv2.REDUCE_MAX)[:, 0] - cv2.reduce(profile, 1, cv2.REDUCE_MIN)[:, 0]
     return float(np.median(contrast / gradient))
 
@@ -53,19 +52,48 @@ def gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=0.125))
 
 
-def _strongest(magnitude: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """(rows, cols) of the ``count`` largest pixels of ``magnitude`` (h, w) float32 (ties taken in any order): those
-    at least a level that every fourth row and column puts at about twice ``count`` pixels over it, ranked (the
-    whole image ranked when fewer pass)."""
-    sample = magnitude[::4, ::4].ravel()
-    k = 2 * count * len(sample) // magnitude.size
+def _eighths(derivative: np.ndarray) -> np.ndarray:
+    """float32: int16 Sobel sums in grey levels per pixel (the 3x3 Sobel's weights sum to 8 across an edge)."""
+    return derivative.astype(np.float32) * np.float32(0.125)
+
+
+def _magnitude(gx16: np.ndarray, gy16: np.ndarray) -> np.ndarray:
+    """float32: the gradient's length (grey levels per pixel) of int16 Sobel sums of any shape, correctly rounded
+    (the sum of squares is a whole number, exact in int32)."""
+    gx, gy = gx16.astype(np.int32), gy16.astype(np.int32)
+    return np.sqrt((gx * gx + gy * gy).astype(np.float32)) * np.float32(0.125)
+
+
+def _strongest(gx16: np.ndarray, gy16: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(rows, cols, magnitudes) of the ``count`` pixels of the int16 Sobel sums (h, w) with the longest gradient
+    (ties taken in any order): those at least a level that every fourth row and column puts at about twice ``count``
+    pixels over it, ranked (the whole image ranked when fewer pass). The gradient's length is taken only where one
+    derivative alone reaches the level over sqrt(2), as every pixel at the level's does."""
+    sample = _magnitude(gx16[::4, ::4], gy16[::4, ::4]).ravel()
+    k = 2 * count * len(sample) // gx16.size
     if 1 <= k < len(sample):
-        over = cv2.findNonZero(cv2.compare(magnitude, float(np.partition(sample, -k)[-k]), cv2.CMP_GE))
-        if over is not None and len(over) >= count:
-            cols, rows = over.reshape(-1, 2).T
-            top = np.argpartition(magnitude[rows, cols], -count)[-count:]
-            return rows[top], cols[top]
-    return np.unravel_index(np.argpartition(magnitude.ravel(), -count)[-count:], magnitude.shape)
+        level = float(np.partition(sample, -k)[-k])
+        # A whole number of Sobel sums below the level over sqrt(2): the float's rounding kept clear of.
+        reach = int(np.floor(8.0 * level / np.sqrt(2.0))) - 1
+        below = cv2.bitwise_and(cv2.inRange(gx16, 1 - reach, reach - 1), cv2.inRange(gy16, 1 - reach, reach - 1))
+        near = cv2.findNonZero(cv2.bitwise_not(below))
+        if near is None:
+            return _ranked(gx16, gy16, count)
+        cols, rows = near.reshape(-1, 2).T
+        magnitude = _magnitude(gx16[rows, cols], gy16[rows, cols])
+        over = magnitude >= level
+        if np.count_nonzero(over) >= count:
+            rows, cols, magnitude = rows[over], cols[over], magnitude[over]
+            top = np.argpartition(magnitude, -count)[-count:]
+            return rows[top], cols[top], magnitude[top]
+    return _ranked(gx16, gy16, count)
+
+
+def _ranked(gx16: np.ndarray, gy16: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_strongest` by ranking every pixel."""
+    magnitude = _magnitude(gx16, gy16)
+    rows, cols = np.unravel_index(np.argpartition(magnitude.ravel(), -count)[-count:], magnitude.shape)
+    return rows, cols, magnitude[rows, cols]
 
 
 def blur_factor(grey: np.ndarray, frame_width_px: int) -> float:

@@ -41,3 +41,26 @@ def test_a_frame_enlarged_to_the_working_width_is_sharp_at_its_own_pixels_and_a_
 def test_an_image_too_small_to_tell_counts_as_sharp():
     assert edge_width_px(np.zeros((20, 20), np.uint8)) is None
     assert blur_factor(np.zeros((20, 20), np.uint8), 20) == 1.0
+
+
+def test_the_strongest_edges_are_those_of_ranking_every_pixel_s_gradient():
+    """The candidates taken only where one derivative reaches the level over sqrt(2) are the pixels a full ranking
+    of the gradient's length over the level gives: the same set, on textured, blurred and flat images."""
+    from broadtrack_graph.detect.sharpness import _magnitude, _strongest
+
+    rng = np.random.default_rng(4)
+    images = [_squares(), cv2.blur(_squares(), (7, 3)), rng.integers(0, 256, (120, 160), dtype=np.uint8),
+              cv2.GaussianBlur(rng.integers(0, 256, (200, 300), dtype=np.uint8), (0, 0), 3.0)]
+    for image in images:
+        gx16 = cv2.Sobel(image, cv2.CV_16S, 1, 0, ksize=3)
+        gy16 = cv2.Sobel(image, cv2.CV_16S, 0, 1, ksize=3)
+        magnitude = cv2.magnitude(gx16.astype(np.float32) / 8, gy16.astype(np.float32) / 8)
+        np.testing.assert_allclose(_magnitude(gx16, gy16), magnitude, rtol=1e-6)
+        count = 500
+        rows, cols, lengths = _strongest(gx16, gy16, count)
+        assert len(set(zip(rows.tolist(), cols.tolist()))) == count
+        np.testing.assert_array_equal(lengths, _magnitude(gx16[rows, cols], gy16[rows, cols]))
+        # Every pixel left out is no longer than the shortest taken.
+        taken = np.zeros(image.shape, bool)
+        taken[rows, cols] = True
+        assert _magnitude(gx16, gy16)[~taken].max() <= lengths.min()
