@@ -2,11 +2,15 @@
 
 A white top-hat of the grey working image keeps structures up to about the kernel's width brighter than their
 surroundings; its pixels above a threshold (a fixed level, or above the level the grass texture reaches on the
-frame) where markings may be are the candidates. Each candidate is moved to the sub-pixel centre of its ridge with
-Steger's method: the Hessian of the smoothed top-hat gives the direction across the line (its most negative
-eigenvalue's eigenvector) and the offset along it; a candidate whose centre lies within half a pixel, on a ridge
-curved enough, and with enough other centre-line points around it (a marking is long, a speck of texture is not)
-is kept. Derivatives are taken at the candidate pixels only.
+frame) where markings may be are the candidates; on a blurred frame, whose markings are smeared to a fraction of
+their contrast, the pixels over a lower level (``faint_threshold``, or the grass texture's) 8-connected to them join
+them (hysteresis: a faint stretch of line is followed from its brighter ones; texture under the threshold joins only
+where it touches a candidate; of its points, those more colourful than the ground around them are then dropped,
+:func:`white`: the coloured lines of other sports on artificial turf are followed as well). Each candidate is moved
+to the sub-pixel centre of its ridge with Steger's method: the Hessian of the smoothed top-hat gives the direction
+across the line (its most negative eigenvalue's eigenvector) and the offset along it; a candidate whose centre lies
+within half a pixel, on a ridge curved enough, and with enough other centre-line points around it (a marking is
+long, a speck of texture is not) is kept. Derivatives are taken at the candidate pixels only.
 
 Markings wider than the Hessian's scale or the top-hat's kernel (a zoomed view, the near lines of a low camera)
 have a flat top there: the points found lie off the centre or on the line's edges, and past about 12 px there
@@ -39,7 +43,8 @@ def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
 
 
 def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None, tophat_kernel: np.ndarray,
-                   ridge_kernel: np.ndarray, c) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                   ridge_kernel: np.ndarray, c, follow_faint: bool = False
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Sub-pixel centre-line points (N, 2) (working pixels), whether each lies on a peaked ridge (N,) bool (a line
     the Hessian's scale resolves; module docstring) and the candidate map (uint8) (module docstring).
 
@@ -51,11 +56,37 @@ def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | No
         ridge_kernel: the 1-D float32 Gaussian of the Hessian's scale (``ridge_sigma_px``), applied along both axes.
         c: the detector's settings (:class:`~broadtrack_graph.detect.weightfree.WeightFreeConfig`: its threshold,
             support, curvature and wide-marking fields).
+        follow_faint: join to the candidates the pixels over the weak level (``faint_threshold``, or the grass
+            texture's) 8-connected to them (hysteresis; a blurred frame's: its markings are smeared to a fraction of
+            their contrast, their faint stretches followed from the bright ones).
     """
     tophat = cv2.morphologyEx(grey, cv2.MORPH_TOPHAT, tophat_kernel)
     allowed01 = cv2.threshold(allowed, 0, 1, cv2.THRESH_BINARY)[1]
-    points, peak, _, candidates = _centre_points(tophat, allowed01, _threshold(tophat, grass, c), ridge_kernel, c)
+    weak = _threshold(tophat, grass, c, c.faint_threshold) if follow_faint else None
+    points, peak, _, candidates = _centre_points(tophat, allowed01, _threshold(tophat, grass, c), ridge_kernel, c,
+                                                 weak)
     return points, peak >= c.wide_min_peak, candidates
+
+
+def white(colour_bgr: np.ndarray, points: np.ndarray, max_rise: float, window_px: int = 15) -> np.ndarray:
+    """(N,) bool: the points no more colourful than the ground around them: the image's chroma (the largest channel
+    less the smallest, grey levels) at each point (bilinear, at its sub-pixel place) at most ``max_rise`` over its mean
+    in the ``window_px`` square there. White paint mixed into grass takes colour away, whatever its share of the
+    pixel; the coloured lines of other sports on artificial turf (yellow, orange, red, light blue) add it.
+
+    Args:
+        colour_bgr: (h, w, 3) uint8 image; points: (N, 2) pixels of it.
+    """
+    if not len(points):
+        return np.zeros(0, bool)
+    b, g, r = cv2.split(colour_bgr)
+    chroma = cv2.subtract(cv2.max(cv2.max(b, g), r), cv2.min(cv2.min(b, g), r)).astype(np.float32)
+    around = cv2.blur(chroma, (window_px, window_px))
+    xs = points[:, 0].astype(np.float32).reshape(-1, 1)
+    ys = points[:, 1].astype(np.float32).reshape(-1, 1)
+    at = cv2.remap(chroma, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    mean = cv2.remap(around, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return (at - mean)[:, 0] <= max_rise
 
 
 def wide_ridges(grey: np.ndarray, wide_allowed: np.ndarray, grass: np.ndarray | None, points: np.ndarray,
@@ -189,10 +220,11 @@ def _sharp_edged(grey: np.ndarray, points: np.ndarray, normals: np.ndarray, reac
     return (height > 0) & (rise >= share * height) & (fall >= share * height)
 
 
-def _threshold(tophat: np.ndarray, grass: np.ndarray | None, c) -> float:
-    """The top-hat's threshold: ``tophat_threshold``, raised above the level grass texture reaches when a grass map is
-    given (its 90th percentile there plus ``tophat_noise_margin``; the grass of the field, where markings may be)."""
-    threshold = c.tophat_threshold
+def _threshold(tophat: np.ndarray, grass: np.ndarray | None, c, floor: float | None = None) -> float:
+    """The top-hat's threshold: ``floor`` (``tophat_threshold`` when None), raised above the level grass texture
+    reaches when a grass map is given (its 90th percentile there plus ``tophat_noise_margin``; the grass of the field,
+    where markings may be)."""
+    threshold = c.tophat_threshold if floor is None else floor
     if grass is not None:
         sample = tophat[::4, ::4][grass[::4, ::4] > 0]  # markings are a few per cent of the grass
         if len(sample) > 100:
@@ -200,14 +232,26 @@ def _threshold(tophat: np.ndarray, grass: np.ndarray | None, c) -> float:
     return threshold
 
 
-def _centre_points(tophat: np.ndarray, allowed01: np.ndarray, threshold: float, ridge_kernel: np.ndarray, c
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _hysteresis(strong01: np.ndarray, weak01: np.ndarray) -> np.ndarray:
+    """(h, w) uint8 0/1: the pixels of ``weak01`` (which holds ``strong01``) 8-connected to a pixel of ``strong01``."""
+    count, labels = cv2.connectedComponents(weak01, connectivity=8)
+    reached = np.zeros(count, np.uint8)
+    reached[labels[strong01 > 0]] = 1
+    reached[0] = 0
+    return reached[labels]
+
+
+def _centre_points(tophat: np.ndarray, allowed01: np.ndarray, threshold: float, ridge_kernel: np.ndarray, c,
+                   weak_threshold: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """One level's centre-line points (N, 2) (its pixels), their peakedness (N,), unit normals (N, 2) (across the
     line) and the candidate map: the top-hat's pixels over the threshold where allowed01 is 1, moved to their
     ridge's centre and kept on curvature and support (module docstring). Peakedness: the curvature across the
     ridge over its height (1 / px^2; a line wider than the Hessian's scale has a flat top, under ``wide_min_peak``).
     """
     candidates = cv2.bitwise_and(cv2.threshold(tophat, threshold, 1, cv2.THRESH_BINARY)[1], allowed01)
+    if weak_threshold is not None and weak_threshold < threshold:  # hysteresis (marking_ridges' follow_faint)
+        candidates = _hysteresis(candidates, cv2.bitwise_and(
+            cv2.threshold(tophat, weak_threshold, 1, cv2.THRESH_BINARY)[1], allowed01))
     found = cv2.findNonZero(candidates)
     if found is None:
         return np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2)), candidates

@@ -58,7 +58,7 @@ from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
-from broadtrack_graph.detect.ridges import WideInputs, marking_ridges, wide_points
+from broadtrack_graph.detect.ridges import WideInputs, marking_ridges, white, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.registration import named_off_the_pitch
@@ -89,6 +89,8 @@ class WeightFreeConfig:
     tophat_kernel_px: int = 9  # white top-hat size: lines up to about this wide are kept
     tophat_threshold: float = 14.0  # grey levels above the local background (at least) ...
     tophat_noise_margin: float = 4.0  # ... and this much above the 90th percentile of the top-hat on grass
+    faint_threshold: float = 8.0  # a blurred frame's pixels above this (and the grass's level) joined to those above
+    faint_max_chroma_rise: float = 6.0  # ... and its points more colourful than the ground around by this dropped
     support_window_px: int = 9  # a centre-line point needs min_support others in this window ...
     min_support: int = 7  # ... (a line crossing it gives about the window size; specks fewer)
     orientation_bins: int = 1  # > 2: support counts only neighbours within +-1 of these orientation bins (1: all)
@@ -207,11 +209,11 @@ class WeightFreeDetector:
             mask = cv2.dilate(mask, self._margin_kernel)
         return boxes.astype(float).reshape(-1, 4), mask
 
-    def ridges(self, grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None = None
+    def ridges(self, grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None = None, blurred: bool = False
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Sub-pixel centre-line points (N, 2) (working pixels), their peaked flags (N,) and the candidate map
         (uint8): :func:`~broadtrack_graph.detect.ridges.marking_ridges` with this detector's kernels and settings."""
-        return marking_ridges(grey, allowed, grass, self._tophat_kernel, self._ridge_kernel, self.config)
+        return marking_ridges(grey, allowed, grass, self._tophat_kernel, self._ridge_kernel, self.config, blurred)
 
     def name_points(self, points_px: np.ndarray, predicted: PredictedCamera, scale: float,
                     size: tuple[int, int], template=None) -> dict[str, np.ndarray]:
@@ -316,14 +318,15 @@ class WeightFreeDetector:
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass where markings may
         # be (grass-coloured pixels off the field, a green stand or crowd, are not the pitch's texture).
         threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
-        points, peaked, _ = self.ridges(grey, allowed, threshold_grass)
+        blur = blur_factor(grey, W) if self.config.wide_levels > 0 else 1.0
+        points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from)
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).
         wide = WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
                           peaked) if self.config.wide_levels > 0 else None
-        blur = blur_factor(grey, W) if wide is not None else 1.0
-        if blur >= self.config.blurred_from:
+        if blur >= self.config.blurred_from:  # its faint paint followed (ridges): other sports' coloured lines are not
             points, wide = self._wide_points(wide, points, blur), None
+            points = points[white(small, points, self.config.faint_max_chroma_rise)]
         unnamed = Detections(
             width_px=W, height_px=H,
             marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),

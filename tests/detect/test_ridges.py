@@ -5,17 +5,17 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.ridges import marking_ridges, wide_ridges
+from broadtrack_graph.detect.ridges import marking_ridges, white, wide_ridges
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 
 W, H = 320, 200
 
 
-def _ridges(grey, allowed=None, grass=None, config=WeightFreeConfig()):
+def _ridges(grey, allowed=None, grass=None, config=WeightFreeConfig(), follow_faint=False):
     detector = WeightFreeDetector(config=config)
     allowed = np.full((H, W), 255, np.uint8) if allowed is None else allowed
     points, _, candidates = marking_ridges(grey, allowed, grass, detector._tophat_kernel, detector._ridge_kernel,
-                                           config)
+                                           config, follow_faint)
     return points, candidates
 
 
@@ -61,6 +61,38 @@ def test_the_threshold_rises_with_the_grass_texture():
     on_line = np.abs(adapted[:, 1] - (100.0 + 0.2 * (adapted[:, 0] - 160.0))) < 2.0
     assert len(plain) > 10 * len(adapted)  # the fixed level takes the noise for thousands of ridge points
     assert on_line.mean() > 0.95 and on_line.sum() > 300
+
+
+def test_a_blurred_frame_s_faint_line_is_followed_from_its_brighter_stretches():
+    # A line 10 grey levels over grass (under the threshold, over the faint level) with three short stretches of 40:
+    # followed from them along its whole length when asked (a blurred frame's), else only those stretches are found;
+    # the faint line alone gives nothing either way.
+    faint = _line_image(0.0, level=10.0)
+    bright = _line_image(0.0, level=40.0)
+    touched = faint.copy()
+    for x0 in (40, 150, 260):
+        touched[:, x0:x0 + 6] = bright[:, x0:x0 + 6]
+    assert len(_ridges(faint, follow_faint=True)[0]) == 0
+    followed, _ = _ridges(touched, follow_faint=True)
+    on_line = np.abs(followed[:, 1] - (100.0 + 0.2 * (followed[:, 0] - 160.0))) < 1.0
+    assert on_line.mean() > 0.95 and on_line.sum() > 250  # well beyond the 18 columns of the bright stretches
+    assert len(_ridges(touched)[0]) < 60
+
+
+def test_white_paint_is_kept_and_a_coloured_line_is_dropped_however_faint():
+    # Grass (BGR 60, 140, 70) with a white line at y = 60 and a yellow one at y = 140, each drawn at full strength and
+    # mixed a fifth into the grass (a faint or thin line): the points on the white line are kept, the yellow's dropped.
+    grass = np.array([60.0, 140.0, 70.0])
+    for share in (1.0, 0.2):
+        image = np.tile(grass, (H, W, 1))
+        for y, paint in ((60, (235.0, 240.0, 240.0)), (140, (30.0, 220.0, 235.0))):
+            image[y - 1:y + 2] = (1 - share) * grass + share * np.array(paint)
+        image = image.astype(np.uint8)
+        xs = np.arange(20.0, W - 20.0, 5.0)
+        on_white = np.column_stack([xs, np.full(len(xs), 60.0)])
+        on_yellow = np.column_stack([xs, np.full(len(xs), 140.0)])
+        assert white(image, on_white, 6.0).all()
+        assert not white(image, on_yellow, 6.0).any()
 
 
 def _wide(grey, config=WeightFreeConfig()):
