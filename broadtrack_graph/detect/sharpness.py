@@ -29,7 +29,7 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
     """
     h, w = grey.shape
     m = reach_px + 1
-    if (h - 2 * m) * (w - 2 * m) < strongest or h <= 2 * m or w <= 2 * m:
+    if h <= 2 * m or w <= 2 * m or (h - 2 * m) * (w - 2 * m) < strongest:
         return None
     # The derivatives of a uint8 image are whole numbers of eighths: exact in int16, made float32 where needed.
     gx16 = cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3)[m:h - m, m:w - m]
