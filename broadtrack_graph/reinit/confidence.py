@@ -39,7 +39,6 @@ image's motion, the only part that checks a camera along it. No I/O.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -49,6 +48,7 @@ import numpy as np
 from broadtrack_graph.detect.weightfree import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
+from broadtrack_graph.geometry.pixel_neighbours import pixels_within
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
 
 DEFAULT_THRESHOLD = 0.5
@@ -81,45 +81,6 @@ class ConfidenceConfig:
     # template samples this close to the field map's outer edge are not compared (0: they are): the weight-free
     # detector keeps no marking there
     field_edge_px: int = WeightFreeConfig.boundary_margin_px
-
-
-def pixels_within(points_px: np.ndarray, size: tuple[int, int], tolerance_px: float) -> tuple[np.ndarray, np.ndarray]:
-    """The pixels of a (w, h) grid strictly closer than ``tolerance_px`` to each point.
-
-    Args:
-        points_px: (N, 2) pixel coordinates (x, y), pixel (c, r) at integer coordinates (c, r).
-        size: (w, h) of the grid.
-        tolerance_px: the distance (pixels).
-
-    Returns:
-        near: (N, K) bool, the pair is within the tolerance and the pixel inside the grid; pixel: (N, K) int,
-        flat index ``r * w + c`` of each point's K candidate pixels (meaningless where not ``near``).
-        The same pairs as a KD-tree query with ``distance_upper_bound=tolerance_px``, without building a tree.
-    """
-    w, h = size
-    ox, oy = _reachable_offsets(float(tolerance_px))
-    base = np.floor(points_px).astype(np.int32)  # grid indices (a frame is far under 2^31 pixels)
-    cols, rows = base[:, 0:1] + ox, base[:, 1:2] + oy
-    dx, dy = cols - points_px[:, 0:1], rows - points_px[:, 1:2]
-    distance2 = dx * dx
-    distance2 += dy * dy
-    near = (distance2 < tolerance_px * tolerance_px) & (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
-    return near, rows * w + cols
-
-
-@functools.lru_cache(maxsize=8)
-def _reachable_offsets(tolerance_px: float) -> tuple[np.ndarray, np.ndarray]:
-    """(K,) int32 column and row offsets from floor(point) that a point of the unit cell can be within the
-    tolerance of (the same for every call with this tolerance: made once)."""
-    reach = int(math.ceil(tolerance_px))
-    offsets = np.arange(-reach, reach + 2)
-    ox, oy = (o.ravel() for o in np.meshgrid(offsets, offsets))
-    gap_x, gap_y = np.maximum(np.maximum(ox - 1, -ox), 0), np.maximum(np.maximum(oy - 1, -oy), 0)
-    reachable = gap_x * gap_x + gap_y * gap_y < tolerance_px * tolerance_px
-    ox, oy = ox[reachable].astype(np.int32), oy[reachable].astype(np.int32)
-    ox.setflags(write=False)
-    oy.setflags(write=False)
-    return ox, oy
 
 
 def _resized(mask: np.ndarray, w: int, h: int) -> np.ndarray:

@@ -10,8 +10,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
 from broadtrack_graph.reinit.confidence import (ConfidenceConfig, confidence_parts, field_coverage,
-                                                 found_by_paint_width, inside_field_edge, pixels_within,
-                                                 recall_across_motion)
+                                                 found_by_paint_width, inside_field_edge, recall_across_motion)
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -89,24 +88,6 @@ def test_the_band_runs_along_the_outline_not_round_the_holes_of_players():
     assert inside[H - 1].all() and inside[250:, 0].all()  # the image's border is not an edge
     assert inside_field_edge(field, 5) is inside  # the same map asked again: made once
     assert inside_field_edge(field, 0) is field
-
-
-@pytest.mark.parametrize("tolerance_px", [2.5, 1.0, 3.2])
-def test_pixels_within_a_tolerance_are_the_pairs_a_kd_tree_finds(tolerance_px):
-    from scipy.spatial import cKDTree
-
-    rng = np.random.default_rng(7)
-    points = rng.uniform(-5.0, 70.0, (400, 2))
-    points[:150] = np.round(points[:150] * 2.0) / 2.0  # on pixels and half-way between: the strict boundary
-    w, h = 64, 48
-    near, pixel = pixels_within(points, (w, h), tolerance_px)
-    rows, cols = np.mgrid[0:h, 0:w]
-    grid = np.column_stack([cols.ravel(), rows.ravel()]).astype(float)
-    expected = cKDTree(grid).query_ball_point(points, tolerance_px + 1.0)
-    for k in range(len(points)):
-        found = set(pixel[k][near[k]].tolist())
-        truth = {j for j in expected[k] if np.sum((grid[j] - points[k]) ** 2) < tolerance_px**2}
-        assert found == truth
 
 
 def test_markings_found_on_lines_too_thin_to_expect_are_still_explained():
