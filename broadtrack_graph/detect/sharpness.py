@@ -20,6 +20,10 @@ SHARP_EDGE_WIDTH_PX = 2.2
 3x3 central difference; the lens and the resampling add the rest): 2.1-2.5 px on real 720p and 1080p broadcasts."""
 
 
+SOBEL_SCALE = 0.125
+"""Grey levels per pixel of one 3x3 Sobel sum: its weights add up to 8 across an edge."""
+
+
 def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -> float | None:
     """Median width (pixels) of the ``strongest`` edges of a grey image: across each (along its gradient,
     ``reach_px`` each way) the contrast over the gradient there. None when the image has too few pixels.
@@ -48,20 +52,20 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
 
 def gradients(image: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(gx, gy) float32 (h, w): the 3x3 Sobel derivatives of a float32 image (h, w), in grey levels per pixel."""
-    return (cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=0.125),
-            cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=0.125))
+    return (cv2.Sobel(image, cv2.CV_32F, 1, 0, ksize=3, scale=SOBEL_SCALE),
+            cv2.Sobel(image, cv2.CV_32F, 0, 1, ksize=3, scale=SOBEL_SCALE))
 
 
 def _eighths(derivative: np.ndarray) -> np.ndarray:
-    """float32: int16 Sobel sums in grey levels per pixel (the 3x3 Sobel's weights sum to 8 across an edge)."""
-    return derivative.astype(np.float32) * np.float32(0.125)
+    """float32: int16 Sobel sums in grey levels per pixel (:data:`SOBEL_SCALE`)."""
+    return derivative.astype(np.float32) * np.float32(SOBEL_SCALE)
 
 
 def _magnitude(gx16: np.ndarray, gy16: np.ndarray) -> np.ndarray:
     """float32: the gradient's length (grey levels per pixel) of int16 Sobel sums of any shape, correctly rounded
     (the sum of squares is a whole number, exact in int32)."""
     gx, gy = gx16.astype(np.int32), gy16.astype(np.int32)
-    return np.sqrt((gx * gx + gy * gy).astype(np.float32)) * np.float32(0.125)
+    return np.sqrt((gx * gx + gy * gy).astype(np.float32)) * np.float32(SOBEL_SCALE)
 
 
 def _strongest(gx16: np.ndarray, gy16: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
