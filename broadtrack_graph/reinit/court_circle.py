@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import ImageEllipse
-from broadtrack_graph.geometry.matrices import inverses
+from broadtrack_graph.geometry.matrices import cross3, inverses
 from broadtrack_graph.reinit.court_lines import focal_and_mismatch
 
 
@@ -253,9 +253,9 @@ class _Pencils(_OneParameterSearch):
     def homographies(self, which: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         E, E_inv, line, pole, world = self.E[which], self.E_inv[which], self.line[which], self.pole[which], self.world[which]
         direction = np.column_stack([np.cos(angles), np.sin(angles), np.zeros(len(angles))])
-        d = np.cross(pole, direction)
+        d = cross3(pole, direction)
         d1, d2, cut = _line_cuts_many(E, d)
-        crossing = np.cross(d, line)
+        crossing = cross3(d, line)
         # The crossing's place t along D1 -> D2 (the component along the chord), then O's by the cross ratio of the
         # world's (-r or r, r or -r, c, 0) in the cuts' order.
         chord = (d2 - d1)[:, :2]

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import HatchRule, ImageLine, hatched
+from broadtrack_graph.geometry.matrices import cross3
 
 
 @dataclass(frozen=True)
@@ -179,7 +180,7 @@ def vanishing_votes(lines: list[ImageLine], frame_size: tuple[int, int],
     i, j = i[pair_ok], j[pair_ok]
     if not len(i):
         return None
-    points = np.cross(lines_n[i], lines_n[j])
+    points = cross3(lines_n[i], lines_n[j])
     points /= np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
     apart = ~_crossing(lines, points, i, j, s, centre, config.crossing_inside_share)
     i, j, points = i[apart], j[apart], points[apart]

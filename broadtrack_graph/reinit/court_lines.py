@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.state import angles_from_rotations
 from broadtrack_graph.reinit.court_families import CourtLineConfig, LineFamilies
@@ -116,8 +117,8 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
         pairs_a, pairs_b = np.triu_indices(len(lines_a), 1), np.triu_indices(len(lines_b), 1)
         ends_a = np.stack([lines_a[pairs_a[0]], lines_a[pairs_a[1]]], axis=1)  # (Pa, 2, 3)
         ends_b = np.stack([lines_b[pairs_b[0]], lines_b[pairs_b[1]]], axis=1)  # (Pb, 2, 3)
-        v_x = _unit(np.cross(ends_a[:, 0], ends_a[:, 1]))  # (Pa, 3): each pair's meeting point
-        v_y = _unit(np.cross(ends_b[:, 0], ends_b[:, 1]))  # (Pb, 3)
+        v_x = _unit(cross3(ends_a[:, 0], ends_a[:, 1]))  # (Pa, 3): each pair's meeting point
+        v_y = _unit(cross3(ends_b[:, 0], ends_b[:, 1]))  # (Pb, 3)
         with np.errstate(divide="ignore", invalid="ignore"):
             tau_a = (ends_a @ q)[:, None, :] / np.einsum("pki,qi->pqk", ends_a, v_y)  # (Pa, Pb, 2)
             tau_b = (ends_b @ q)[None, :, :] / np.einsum("qki,pi->pqk", ends_b, v_x)  # (Pa, Pb, 2)
@@ -197,7 +198,7 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     a = H_n * scale_k  # columns a1, a2, a3
     n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
     # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det).
-    h12 = np.cross(H_n[:, :, 0], H_n[:, :, 1])
+    h12 = cross3(H_n[:, :, 0], H_n[:, :, 1])
     w0 = h12[:, 2] / np.einsum("ki,ki->k", h12, H_n[:, :, 2])  # the triple product h1 x h2 . h3 is det H
     sign = np.sign(w0)
     scale = np.sqrt(n1 * n2)
@@ -209,7 +210,7 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     across = r1 - r2
     across /= np.linalg.norm(across, axis=1, keepdims=True)
     r1, r2 = (bisector + across) / math.sqrt(2.0), (bisector - across) / math.sqrt(2.0)
-    R = np.stack([r1, r2, np.cross(r1, r2)], axis=2)
+    R = np.stack([r1, r2, cross3(r1, r2)], axis=2)
     t = sign[:, None] * a[:, :, 2] / scale[:, None]
     C = -np.einsum("kji,kj->ki", R, t)
     half_l, half_w = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import ImageLine
+from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_families import CourtLineConfig, distinct_sets, vanishing_votes
 from broadtrack_graph.reinit.court_lines import (
@@ -105,10 +106,10 @@ def _homographies(family_n: np.ndarray, across_n: np.ndarray, family_offsets_m: 
         solvable = np.abs(np.linalg.det(A)) > 1e-12
         alpha, beta, gamma = np.moveaxis(np.linalg.solve(np.where(solvable[:, None, None], A, np.eye(3)),
                                                          np.broadcast_to(tau, c.shape)[..., None])[..., 0], 1, 0)
-    horizon = np.cross(v_a[None, :], gamma[:, None] * q[None, :] - alpha[:, None] * u[None, :])  # (T, 3)
+    horizon = cross3(v_a[None, :], gamma[:, None] * q[None, :] - alpha[:, None] * u[None, :])  # (T, 3)
     out = []
     for across in across_n:
-        v_b = np.cross(horizon, across)  # (T, 3)
+        v_b = cross3(horizon, across)  # (T, 3)
         with np.errstate(invalid="ignore", divide="ignore"):
             f2 = -(v_b[:, :2] @ v_a[:2]) / (v_b[:, 2] * v_a[2])
             # The family's map c = a tau' + b in the pencil coordinate tau' = (l . q) / (l . v_b), affine (v_b is on

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import ImageLine
+from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.pitch import PitchTemplate, Segment
 from broadtrack_graph.reinit.map_score import Hypothesis, MapScorer, best_distinct
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
@@ -45,7 +46,7 @@ def _symmetric_triads(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
     e2 = a - b
     e2 /= np.linalg.norm(e2, axis=1, keepdims=True)
-    return np.stack([e1, e2, np.cross(e1, e2)], axis=2)
+    return np.stack([e1, e2, cross3(e1, e2)], axis=2)
 
 
 @dataclass
@@ -84,7 +85,7 @@ class _PairGeometry:
             self.spans[index, :len(extent)] = extent
         self.normals_img = np.array([line.normal for line in lines]).reshape(-1, 2)
         self.offsets_c = np.array([line.offset_px for line in lines]) + self.normals_img @ [W / 2.0, H / 2.0]
-        normals_w = np.cross(self.directions_w, self.points_w - self.C)
+        normals_w = cross3(self.directions_w, self.points_w - self.C)
         self.normals_w = normals_w / np.linalg.norm(normals_w, axis=1, keepdims=True)
         self.centres_c = np.array([line.centre_px for line in lines]).reshape(-1, 2) - [W / 2.0, H / 2.0]
         self.directions = np.array([line.direction for line in lines]).reshape(-1, 2)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera, angles_from_rotation
+from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.pitch import Arc, PitchTemplate, Segment
 from broadtrack_graph.geometry.template import TemplateCurves, TemplateSampling
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
@@ -65,7 +66,7 @@ def homography_from_lines(lines_px: dict[str, np.ndarray], pitch: PitchTemplate)
         line = _fit_image_line(np.asarray(points, dtype=float))
         if line is None:
             continue
-        world = np.cross([*element.start_w[:2], 1.0], [*element.end_w[:2], 1.0])
+        world = cross3([*element.start_w[:2], 1.0], [*element.end_w[:2], 1.0])
         image_lines.append(line)
         world_lines.append(world / np.linalg.norm(world[:2]))
     if len(image_lines) < 4:
@@ -129,7 +130,7 @@ def camera_from_homography(H: np.ndarray, width_px: int, height_px: int, referen
     reference = np.zeros((1, 3)) if reference_points_w is None else np.asarray(reference_points_w, float).reshape(-1, 3)
     for sign in (1.0, -1.0):
         r1, r2, t = sign * scale * A[:, 0], sign * scale * A[:, 1], sign * scale * A[:, 2]
-        M = np.column_stack([r1, r2, np.cross(r1, r2)])
+        M = np.column_stack([r1, r2, cross3(r1, r2)])
         u, _, vt = np.linalg.svd(M)
         R = u @ vt
         if np.linalg.det(R) < 0:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z, angles_from_rotations
 
 
@@ -137,8 +138,8 @@ def two_point_cameras(uv_pairs_px: np.ndarray, point_pairs_w: np.ndarray, positi
                             axis=2)
     rays_c /= np.linalg.norm(rays_c, axis=2, keepdims=True)
     # Rotations aligning world rays onto camera rays (Kabsch with the two rays and their cross product).
-    a = np.concatenate([rays_w, np.cross(rays_w[:, 0], rays_w[:, 1])[:, None]], axis=1)
-    b = np.concatenate([rays_c, np.cross(rays_c[:, 0], rays_c[:, 1])[:, None]], axis=1)
+    a = np.concatenate([rays_w, cross3(rays_w[:, 0], rays_w[:, 1])[:, None]], axis=1)
+    b = np.concatenate([rays_c, cross3(rays_c[:, 0], rays_c[:, 1])[:, None]], axis=1)
     u, _, vt = np.linalg.svd(np.einsum("pki,pkj->pij", b, a))
     u[:, :, 2] *= np.sign(np.linalg.det(u @ vt))[:, None]
     angles = angles_from_rotations(u @ vt)  # the roll is dropped
