@@ -26,9 +26,10 @@ Per route and frame: **written** = a camera at least ``confidence_threshold + re
 confident (what a new shot's chain needs to be written; the court route: at least the bar the tracker takes its
 camera at, ``track.reinit_policy.court_accept_at``); **found** = written and its ground template within
 ``--success-px`` (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of
-those, the truth's half turn about the centre spot, the view the markings cannot tell apart); **near-written** =
-written, between the two; **none** = not written. Shares are of the counted frames, overall, by where the camera
-stands (main stand, far side, behind a goal, corner) and by height (low: under 12 m); seconds per frame as median
+those, within ``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell
+apart); **near-written** = written, between the two off the truth or its twin; **none** = not written. Shares are
+of the counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by
+height (low: under 12 m); seconds per frame as median
 and 95th percentile. ``markings_detected`` counts the frames whose detected markings, read on the true camera's
 projection, still determine it (the same rule on the marking map: what detection leaves a route);
 ``truth_written`` the frames whose true camera is itself confident enough
@@ -85,6 +86,16 @@ def outcome(confidence: float | None, error_px: float | None, written_at: float,
     if error_px <= success_px:
         return "found"
     return "wrong" if error_px > WRONG_PX else "near"
+
+
+def twin_outcome(camera_outcome: str, twin_error_px: float | None, success_px: float) -> tuple[str, bool]:
+    """(outcome, twin) of a written camera far off the truth but near its twin (the truth's half turn about the
+    centre spot, the view the markings cannot tell apart): a twin within ``success_px`` stays ``wrong`` with
+    ``twin`` True (counted with the found), one within :data:`WRONG_PX` is ``near`` as a camera as far off the
+    truth itself is; any other outcome is returned as it is."""
+    if camera_outcome != "wrong" or twin_error_px is None or twin_error_px > WRONG_PX:
+        return camera_outcome, False
+    return ("wrong", True) if twin_error_px <= success_px else ("near", True)
 
 
 def _camera_info(drawn) -> dict:
@@ -226,7 +237,7 @@ def run(args) -> dict:
                     twin_error = _median_error(camera, twin_camera(truth), ground)
                     result_row["twin_error_px"] = _round(twin_error, 2)  # written or not
                     if result_row["outcome"] == "wrong":
-                        result_row["twin"] = twin_error is not None and twin_error <= args.success_px
+                        result_row["outcome"], result_row["twin"] = twin_outcome("wrong", twin_error, args.success_px)
                 row["routes"][route] = result_row
             rows.append(row)
     finally:
@@ -266,9 +277,9 @@ def route_figures(rows: list[dict], route: str) -> dict:
     for name in OUTCOMES:
         k = sum(r["outcome"] == name for r in results)
         out[name], out[f"{name}_pct"] = k, round(100.0 * k / n, 1) if n else None
-    out["wrong_twin"] = sum(bool(r.get("twin")) for r in results)
+    out["wrong_twin"] = sum(r["outcome"] == "wrong" and bool(r.get("twin")) for r in results)
     # Found or its twin: what SoccerNet's own metric scores as right (it keeps the mirrored labelling of a frame);
-    # and the wrong cameras that are not twins.
+    # and the wrong cameras that are not twins (a camera near the twin is near: twin_outcome).
     out["found_or_twin"] = out["found"] + out["wrong_twin"]
     out["wrong_not_twin"] = out["wrong"] - out["wrong_twin"]
     for name in ("wrong_twin", "found_or_twin", "wrong_not_twin"):

@@ -11,7 +11,7 @@ import numpy as np
 from broadtrack_graph.benchmarks import placement_frames, random_placements
 from broadtrack_graph.benchmarks.placement_frames import RANDOM_STREAM
 from broadtrack_graph.benchmarks.random_cameras import STANDS, draw_random_camera
-from broadtrack_graph.benchmarks.random_placements import outcome
+from broadtrack_graph.benchmarks.random_placements import outcome, twin_outcome
 from broadtrack_graph.reinit.court_fit import twin_camera
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -109,6 +109,14 @@ def test_outcomes():
     assert outcome(None, None, 0.6, 3.0) == "none"
 
 
+def test_a_camera_off_the_truth_but_near_its_twin_is_judged_by_the_twin():
+    assert twin_outcome("wrong", 2.0, 3.0) == ("wrong", True)  # the twin: counted with the found
+    assert twin_outcome("wrong", 6.3, 3.0) == ("near", True)  # as near as a camera 6.3 px off the truth itself
+    assert twin_outcome("wrong", 10.5, 3.0) == ("wrong", False)
+    assert twin_outcome("wrong", None, 3.0) == ("wrong", False)
+    assert twin_outcome("near", 1.0, 3.0) == ("near", False)  # nearer the truth than a twin could make it
+
+
 def test_route_figures_count_the_twins_with_the_found_and_apart_from_the_wrong():
     route_figures = random_placements.route_figures
 
@@ -118,10 +126,10 @@ def test_route_figures_count_the_twins_with_the_found_and_apart_from_the_wrong()
             result["twin"] = twin
         return {"routes": {"court": result}, "truth_written": True}
 
-    rows = [row("found"), row("wrong", True), row("wrong", False), row("none"), row("near")]
+    rows = [row("found"), row("wrong", True), row("wrong", False), row("none"), row("near", True)]
     figures = route_figures(rows, "court")
-    assert (figures["found"], figures["wrong"], figures["wrong_twin"]) == (1, 2, 1)
-    assert (figures["found_or_twin"], figures["wrong_not_twin"]) == (2, 1)
+    assert (figures["found"], figures["wrong"], figures["wrong_twin"], figures["near"]) == (1, 2, 1, 1)
+    assert (figures["found_or_twin"], figures["wrong_not_twin"]) == (2, 1)  # a near twin is neither
     shares = (figures["found_or_twin_pct"], figures["wrong_not_twin_pct"], figures["wrong_twin_pct"])
     assert shares == (40.0, 20.0, 20.0)
     assert route_figures([], "court")["found_or_twin_pct"] is None
