@@ -29,8 +29,8 @@ camera at, ``track.reinit_policy.court_accept_at``); **found** = written and its
 those, within ``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell
 apart); **near-written** = written, between the two off the truth or its twin; **none** = not written. Shares are
 of the counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by
-height (low: under 12 m); seconds per frame as median
-and 95th percentile. ``markings_detected`` counts the frames whose detected markings, read on the true camera's
+height (low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames
+whose detected markings, read on the true camera's
 projection, still determine it (the same rule on the marking map: what detection leaves a route);
 ``truth_written`` the frames whose true camera is itself confident enough
 to be written (no route can write more); ``markings_visible`` the frames whose markings, kept only where the

@@ -30,4 +30,3 @@ def test_cross3_gives_numpys_cross_products_bit_for_bit_over_broadcast_shapes():
         assert got.shape == expected.shape and got.dtype == expected.dtype
         assert np.array_equal(got, expected)
     assert np.array_equal(cross3([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0])  # x cross y is z
-
