@@ -168,6 +168,8 @@ def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: Alignme
         "cameras_on_known_other_view_frames": sum(1 for i in other_known if i in records and records[i].camera is not None),
         "status_counts": summary.get("status_counts"),
         "fps": summary.get("fps"),
+        "cpu_ms_per_frame": summary.get("cpu_ms_per_frame"),
+        "cores_used": summary.get("cores_used"),
         "timings_s": summary.get("timings_s"),
         "solver_restarts": summary.get("solver_restarts"),
     }

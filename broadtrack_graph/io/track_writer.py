@@ -69,6 +69,7 @@ class TrackWriter:
             logger.info("%s: removed %d camera files of an earlier run", self.out_dir, removed)
         self._track = open(self.folder.track_path, "w", encoding="utf-8")
         self._started_wall = time.time()
+        self._started_cpu = time.process_time()  # the process's CPU time (every thread) at the start
         self._started_utc = datetime.now(timezone.utc).isoformat(timespec="seconds")
         self._status_counts = {status.value: 0 for status in FrameStatus}
         self._frames = 0
@@ -127,6 +128,7 @@ class TrackWriter:
     def summary(self, complete: bool, extra: dict | None = None) -> dict:
         """The summary.json object for the frames written so far."""
         elapsed = time.time() - self._started_wall
+        cpu = time.process_time() - self._started_cpu
         with_camera = sum(self._status_counts[s] for s in FrameStatus if s.has_camera)
         return {
             "complete": bool(complete),
@@ -144,6 +146,11 @@ class TrackWriter:
             "last_frame_index": self._last_frame_index,
             "elapsed_s": round(elapsed, 3),
             "fps": round(self._frames / elapsed, 3) if elapsed > 0 else None,
+            # The process's CPU seconds since the run began, every thread (tracking, decoding, OpenCV's, the video
+            # decoder's): per frame, what the run costs a machine; over the wall time, the cores it kept busy.
+            "cpu_s": round(cpu, 3),
+            "cpu_ms_per_frame": round(1000.0 * cpu / self._frames, 2) if self._frames else None,
+            "cores_used": round(cpu / elapsed, 2) if elapsed > 0 else None,
             "files": {"track": TRACK_FILE, "cameras": CAMERA_DIR, "cameras_960x540": CAMERA_DIR_960 if self.also_960x540 else None},
             "run": self.run_info,
             **(extra or {}),

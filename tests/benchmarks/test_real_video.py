@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import cv2
@@ -37,3 +38,6 @@ def test_the_reliability_table_counts_aligned_cameras_by_confidence(tmp_path):
     rows = {row["confidence"]: (row["cameras"], row["right"]) for row in reliability["rows"]}
     assert rows["0.9-1.0"] == (2, 2) and rows["0.5-0.6"] == (2, 0)
     assert reliability["cameras"] == 4 and reliability["written_right_share"] == 0.5
+    summary = json.loads((run / "summary.json").read_text())  # the run's cost, as its summary states it
+    assert figures["cpu_ms_per_frame"] == summary["cpu_ms_per_frame"] and figures["cores_used"] == summary["cores_used"]
+    assert figures["cpu_ms_per_frame"] is not None

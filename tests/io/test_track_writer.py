@@ -6,6 +6,7 @@ import json
 import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -201,3 +202,21 @@ def test_observer_sees_each_record_after_its_line_is_flushed(tmp_path):
     back = read_track(tmp_path / "run").records[3]
     rebuilt = record_from_json(seen[3][1], W, H)
     assert np.array_equal(rebuilt.camera.to_vector(), back.camera.to_vector())
+
+
+def test_summary_counts_the_processes_cpu_time_since_the_run_began(tmp_path):
+    before = time.process_time()
+    while time.process_time() - before < 0.05:  # CPU spent before the run: not the run's
+        pass
+    with TrackWriter(tmp_path / "run", W, H) as writer:
+        started = time.process_time()
+        while time.process_time() - started < 0.2:  # the run's own work
+            sum(range(1000))
+        for record in records():
+            writer.write(record)
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    spent = time.process_time() - started
+    assert 0.2 <= summary["cpu_s"] <= spent + 0.01
+    # cpu_s is rounded to the millisecond, so the figure per frame is to a fifth of it
+    assert summary["cpu_ms_per_frame"] == pytest.approx(1000 * summary["cpu_s"] / 5, abs=0.11)
+    assert summary["cores_used"] == pytest.approx(summary["cpu_s"] / summary["elapsed_s"], rel=0.05)
