@@ -287,8 +287,37 @@ def route_figures(rows: list[dict], route: str) -> dict:
     out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
     out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
+    right = [r["outcome"] == "found" or (r["outcome"] == "wrong" and bool(r.get("twin"))) for r in results]
+    # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written.
+    reachable = [bool(row.get("markings_detected")) and bool(row["truth_written"]) for row in rows]
+    out["reachable"] = sum(reachable)
+    out["found_or_twin_of_reachable_pct"] = round(100.0 * sum(
+        ok for ok, can in zip(right, reachable) if can) / out["reachable"], 1) if out["reachable"] else None
+    out["misses_by_cause"] = dict(zip(MISS_CAUSES, (0,) * len(MISS_CAUSES)))
+    for row, ok in zip(rows, right):
+        if not ok:
+            out["misses_by_cause"][miss_cause(row)] += 1
     out["seconds"] = _seconds([r["seconds"] for r in results])
     return out
+
+
+MISS_CAUSES = ("paint_not_shown", "not_detected", "truth_under_bar", "route")
+"""Why a frame is neither found nor a twin, the first that applies: its paint does not show enough to fix the camera
+(the look's faded or hidden markings), the detector's markings do not fix it, the true camera itself is not
+confident enough to be written on them, or else the route's own miss."""
+
+
+MISS_CAUSE_WORDS = {"paint_not_shown": "paint not shown", "not_detected": "markings not detected",
+                    "truth_under_bar": "truth under the bar", "route": "the route's own"}
+
+
+def miss_cause(row: dict) -> str:
+    """The :data:`MISS_CAUSES` entry of a frame's miss (rows without the paint's figure count it as shown)."""
+    if not row.get("markings_visible", True):
+        return "paint_not_shown"
+    if not row.get("markings_detected"):
+        return "not_detected"
+    return "truth_under_bar" if not row["truth_written"] else "route"
 
 
 def summarise(rows: list[dict], routes: list[str]) -> dict:
@@ -346,6 +375,10 @@ def summary_table(report: dict) -> str:
                          f"{pct[4]:>6} {pct[5]:>7} {seconds[0]:>6} {seconds[1]:>6} {f['markings_visible']:>7} "
                          f"{f['markings_detected']:>8} "
                          f"{f['truth_written']:>8}")
+        f = figures["determinable"]
+        causes = ", ".join(f"{MISS_CAUSE_WORDS[cause]} {count}" for cause, count in f["misses_by_cause"].items())
+        lines.append(f"{route:<7} determinable misses by cause: {causes}; found or twin of the {f['reachable']} "
+                     f"reachable (markings fix the truth, truth written): {f['found_or_twin_of_reachable_pct']} %")
     for note in report["skipped_routes"].values():
         lines.append(note)
     return "\n".join(lines)

@@ -135,6 +135,23 @@ def test_route_figures_count_the_twins_with_the_found_and_apart_from_the_wrong()
     assert route_figures([], "court")["found_or_twin_pct"] is None
 
 
+def test_each_miss_has_one_cause_and_the_reachable_frames_are_counted_apart():
+    def row(outcome_name, visible=True, detected=True, written=True, twin=None):
+        result = {"outcome": outcome_name, "seconds": 0.1, **({} if twin is None else {"twin": twin})}
+        return {"routes": {"court": result}, "markings_visible": visible, "markings_detected": detected,
+                "truth_written": written}
+
+    rows = [row("found"), row("wrong", twin=True), row("none", visible=False, detected=False, written=False),
+            row("none", detected=False), row("none", detected=False, written=False), row("wrong", written=False),
+            row("none"), row("near"), row("wrong", twin=False), row("found", detected=False)]
+    figures = random_placements.route_figures(rows, "court")
+    assert figures["misses_by_cause"] == {"paint_not_shown": 1, "not_detected": 2, "truth_under_bar": 1, "route": 3}
+    assert sum(figures["misses_by_cause"].values()) == len(rows) - figures["found_or_twin"]
+    # reachable: detected and written (found, twin, none, near, wrong not a twin): 2 of those 5 found or twin
+    assert (figures["reachable"], figures["found_or_twin_of_reachable_pct"]) == (5, 40.0)
+    assert random_placements.route_figures([], "court")["found_or_twin_of_reachable_pct"] is None
+
+
 def test_the_twin_sees_every_marking_where_the_camera_sees_its_mirror_image():
     camera = draw_random_camera(np.random.default_rng(2), 640, 360).camera
     points = np.vstack(list(PitchTemplate().sample_uniform(2.0).values()))
