@@ -38,8 +38,10 @@ paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
 still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
 what is not in the image). ``paint_found_by_width``: per look, the true cameras' template samples (wide enough by
 their scale to be expected) by the width of their paint across the image (:data:`PAINT_WIDTH_BINS_PX`, working
-pixels) and the share of them the detector found (``reinit.confidence.found_by_paint_width``). Frame i of a seed is
-the same in every run (``--first K`` starts at frame K).
+pixels) and the share of them the detector found (``reinit.confidence.found_by_paint_width``). ``misses_by_cause``:
+each counted frame a route neither finds nor twins, by the first of :data:`MISS_CAUSES` that applies; with
+``found_or_twin_of_reachable_pct``, the share found or twin of the frames the route can reach (detected markings fix
+the truth, the truth written). Frame i of a seed is the same in every run (``--first K`` starts at frame K).
 """
 
 from __future__ import annotations
