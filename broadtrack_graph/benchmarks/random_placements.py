@@ -279,7 +279,8 @@ def route_figures(rows: list[dict], route: str) -> dict:
     for name in OUTCOMES:
         k = sum(r["outcome"] == name for r in results)
         out[name], out[f"{name}_pct"] = k, round(100.0 * k / n, 1) if n else None
-    out["wrong_twin"] = sum(r["outcome"] == "wrong" and bool(r.get("twin")) for r in results)
+    twins = [r["outcome"] == "wrong" and bool(r.get("twin")) for r in results]
+    out["wrong_twin"] = sum(twins)
     # Found or its twin: what SoccerNet's own metric scores as right (it keeps the mirrored labelling of a frame);
     # and the wrong cameras that are not twins (a camera near the twin is near: twin_outcome).
     out["found_or_twin"] = out["found"] + out["wrong_twin"]
@@ -289,13 +290,13 @@ def route_figures(rows: list[dict], route: str) -> dict:
     out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
     out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
-    right = [r["outcome"] == "found" or (r["outcome"] == "wrong" and bool(r.get("twin"))) for r in results]
+    right = [r["outcome"] == "found" or twin for r, twin in zip(results, twins)]
     # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written.
     reachable = [bool(row.get("markings_detected")) and bool(row["truth_written"]) for row in rows]
     out["reachable"] = sum(reachable)
     out["found_or_twin_of_reachable_pct"] = round(100.0 * sum(
         ok for ok, can in zip(right, reachable) if can) / out["reachable"], 1) if out["reachable"] else None
-    out["misses_by_cause"] = dict(zip(MISS_CAUSES, (0,) * len(MISS_CAUSES)))
+    out["misses_by_cause"] = dict.fromkeys(MISS_CAUSES, 0)
     for row, ok in zip(rows, right):
         if not ok:
             out["misses_by_cause"][miss_cause(row)] += 1
@@ -303,14 +304,11 @@ def route_figures(rows: list[dict], route: str) -> dict:
     return out
 
 
-MISS_CAUSES = ("paint_not_shown", "not_detected", "truth_under_bar", "route")
-"""Why a frame is neither found nor a twin, the first that applies: its paint does not show enough to fix the camera
-(the look's faded or hidden markings), the detector's markings do not fix it, the true camera itself is not
-confident enough to be written on them, or else the route's own miss."""
-
-
-MISS_CAUSE_WORDS = {"paint_not_shown": "paint not shown", "not_detected": "markings not detected",
-                    "truth_under_bar": "truth under the bar", "route": "the route's own"}
+MISS_CAUSES = {"paint_not_shown": "paint not shown", "not_detected": "markings not detected",
+               "truth_under_bar": "truth under the bar", "route": "the route's own"}
+"""Why a frame is neither found nor a twin, the first that applies (key: its words in the table): its paint does not
+show enough to fix the camera (the look's faded or hidden markings), the detector's markings do not fix it, the true
+camera itself is not confident enough to be written on them, or else the route's own miss."""
 
 
 def miss_cause(row: dict) -> str:
@@ -378,7 +376,7 @@ def summary_table(report: dict) -> str:
                          f"{f['markings_detected']:>8} "
                          f"{f['truth_written']:>8}")
         f = figures["determinable"]
-        causes = ", ".join(f"{MISS_CAUSE_WORDS[cause]} {count}" for cause, count in f["misses_by_cause"].items())
+        causes = ", ".join(f"{MISS_CAUSES[cause]} {count}" for cause, count in f["misses_by_cause"].items())
         lines.append(f"{route:<7} determinable misses by cause: {causes}; found or twin of the {f['reachable']} "
                      f"reachable (markings fix the truth, truth written): {f['found_or_twin_of_reachable_pct']} %")
     for note in report["skipped_routes"].values():
