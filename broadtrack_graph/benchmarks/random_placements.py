@@ -33,7 +33,8 @@ height (low: under 12 m); seconds per frame as median and 95th percentile. ``mar
 whose detected markings, read on the true camera's
 projection, still determine it (the same rule on the marking map: what detection leaves a route);
 ``truth_written`` the frames whose true camera is itself confident enough
-to be written (no route can write more); ``markings_visible`` the frames whose markings, kept only where the
+to be written by the route (no route can write more; the court route's bar is the one its camera would be taken at
+with the markings the true camera explains on the map); ``markings_visible`` the frames whose markings, kept only where the
 paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more (``placement_frames.visible_paint``),
 still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
 what is not in the image). ``paint_found_by_width``: per look, the true cameras' template samples (wide enough by
@@ -153,6 +154,7 @@ def run(args) -> dict:
     from broadtrack_graph.reinit.confidence import found_by_paint_width
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
+    from broadtrack_graph.reinit.scoring import ReinitResult
     from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.track.reinit_policy import ReinitPolicy, court_accept_at
     from broadtrack_graph.types.observations import FrameObservations
@@ -230,9 +232,12 @@ def run(args) -> dict:
                     confidence = None if camera is None else confidence_of(camera)
                 error = _median_error(camera, truth, ground)
                 bar = court_accept_at(config, result) if route == "court" else written_at_by_route[route]
+                truth_bar = court_accept_at(config, ReinitResult(truth, None, "", explained=found_markings)) \
+                    if route == "court" else written_at_by_route[route]
                 result_row = {"outcome": outcome(confidence, error, bar, args.success_px),
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
-                              "seconds": round(seconds, 3), "reason": reason}
+                              "seconds": round(seconds, 3), "reason": reason,
+                              "truth_written": (truth_confidence or 0.0) >= truth_bar}
                 if camera is not None and error is not None and error > args.success_px:
                     from broadtrack_graph.reinit.court_fit import twin_camera  # only here: the route may be skipped
 
@@ -287,19 +292,20 @@ def route_figures(rows: list[dict], route: str) -> dict:
     out["wrong_not_twin"] = out["wrong"] - out["wrong_twin"]
     for name in ("wrong_twin", "found_or_twin", "wrong_not_twin"):
         out[f"{name}_pct"] = round(100.0 * out[name] / n, 1) if n else None
-    out["truth_written"] = sum(bool(row["truth_written"]) for row in rows)
+    written = [truth_written(row, route) for row in rows]
+    out["truth_written"] = sum(written)
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
     out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
     right = [r["outcome"] == "found" or twin for r, twin in zip(results, twins)]
     # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written.
-    reachable = [bool(row.get("markings_detected")) and bool(row["truth_written"]) for row in rows]
+    reachable = [bool(row.get("markings_detected")) and can for row, can in zip(rows, written)]
     out["reachable"] = sum(reachable)
     out["found_or_twin_of_reachable_pct"] = round(100.0 * sum(
         ok for ok, can in zip(right, reachable) if can) / out["reachable"], 1) if out["reachable"] else None
     out["misses_by_cause"] = dict.fromkeys(MISS_CAUSES, 0)
     for row, ok in zip(rows, right):
         if not ok:
-            out["misses_by_cause"][miss_cause(row)] += 1
+            out["misses_by_cause"][miss_cause(row, route)] += 1
     out["seconds"] = _seconds([r["seconds"] for r in results])
     return out
 
@@ -311,13 +317,20 @@ show enough to fix the camera (the look's faded or hidden markings), the detecto
 camera itself is not confident enough to be written on them, or else the route's own miss."""
 
 
-def miss_cause(row: dict) -> str:
-    """The :data:`MISS_CAUSES` entry of a frame's miss (rows without the paint's figure count it as shown)."""
+def truth_written(row: dict, route: str) -> bool:
+    """Whether the frame's true camera is confident enough to be written by ``route`` (its bar; rows written before
+    the routes had their own say the row's)."""
+    return bool(row["routes"].get(route, {}).get("truth_written", row["truth_written"]))
+
+
+def miss_cause(row: dict, route: str) -> str:
+    """The :data:`MISS_CAUSES` entry of a frame's miss by ``route`` (rows without the paint's figure count it as
+    shown)."""
     if not row.get("markings_visible", True):
         return "paint_not_shown"
     if not row.get("markings_detected"):
         return "not_detected"
-    return "truth_under_bar" if not row["truth_written"] else "route"
+    return "route" if truth_written(row, route) else "truth_under_bar"
 
 
 def summarise(rows: list[dict], routes: list[str]) -> dict:

@@ -16,6 +16,7 @@ from broadtrack_graph.reinit.court_fit import twin_camera
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.scoring import ReinitResult
+from broadtrack_graph.track.config import TrackingConfig
 
 # Frames 3 and 4 of seed 36 at 960x540: a main-stand camera the shipped field model finds (under a tenth of a
 # second), and one whose markings do not determine a camera (each under a second of search).
@@ -84,7 +85,10 @@ def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path,
     for row in report["frames_by_index"]:
         court = row["routes"]["court"]
         assert court["error_px"] == 0.0 and court["confidence"] == row["truth_confidence"]
-        assert court["outcome"] == ("found" if row["truth_written"] else "none")
+        # the stand-in's camera explains no markings: taken at the court bar without a grid of lines
+        assert court["outcome"] == ("found" if court["confidence"] >= TrackingConfig().court_accept_confidence
+                                    else "none")
+        assert court["truth_written"] >= (court["outcome"] == "found")  # the true camera's own bar is never higher
         # what detection leaves a route: never more than the frame's markings determine
         assert isinstance(row["markings_detected"], bool) and (row["determinable"] or not row["markings_detected"])
     figures = report["by_route"]["court"]["determinable"]
@@ -150,6 +154,17 @@ def test_each_miss_has_one_cause_and_the_reachable_frames_are_counted_apart():
     # reachable: detected and written (found, twin, none, near, wrong not a twin): 2 of those 5 found or twin
     assert (figures["reachable"], figures["found_or_twin_of_reachable_pct"]) == (5, 40.0)
     assert random_placements.route_figures([], "court")["found_or_twin_of_reachable_pct"] is None
+
+
+def test_a_true_camera_under_the_routes_own_bar_is_not_reachable_by_it():
+    # Written at the tracker's bar, but under the court model's (its camera is taken higher without a grid of lines)
+    row = {"routes": {"court": {"outcome": "none", "seconds": 0.1, "truth_written": False}},
+           "markings_visible": True, "markings_detected": True, "truth_written": True}
+    figures = random_placements.route_figures([row], "court")
+    assert figures["misses_by_cause"]["truth_under_bar"] == 1 and figures["reachable"] == 0
+    assert figures["truth_written"] == 0
+    del row["routes"]["court"]["truth_written"]  # a report written before the routes had their own bar
+    assert random_placements.route_figures([row], "court")["misses_by_cause"]["route"] == 1
 
 
 def test_the_twin_sees_every_marking_where_the_camera_sees_its_mirror_image():
