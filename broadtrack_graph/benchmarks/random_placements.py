@@ -22,27 +22,27 @@ thread), from the weight-free detector's markings (detection is timed apart):
   camera judged by the tracker's confidence (``frame_confidence``, not timed); skipped with a note when it
   cannot be imported.
 
-Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin``
-confident (what a new shot's chain needs to be written; the court route: at least the bar the tracker takes its
-camera at, ``track.reinit_policy.court_accept_at``); **found** = written and its ground template within
-``--success-px`` (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of
-those, within ``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell
-apart); **near-written** = written, between the two off the truth or its twin; **none** = not written. Shares are
-of the counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by
-height (low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames
-whose detected markings, read on the true camera's
-projection, still determine it (the same rule on the marking map: what detection leaves a route);
-``truth_written`` the frames whose true camera is itself confident enough
-to be written by the route (no route can write more; the court route's bar is the one its camera would be taken at
-with the markings the true camera explains on the map); ``markings_visible`` the frames whose markings, kept only where the
-paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more (``placement_frames.visible_paint``),
-still determine the camera (faint, narrow paint rendered small can vanish into the grass: no detector can find
-what is not in the image). ``paint_found_by_width``: per look, the true cameras' template samples (wide enough by
-their scale to be expected) by the width of their paint across the image (:data:`PAINT_WIDTH_BINS_PX`, working
-pixels) and the share of them the detector found (``reinit.confidence.found_by_paint_width``). ``misses_by_cause``:
-each counted frame a route neither finds nor twins, by the first of :data:`MISS_CAUSES` that applies; with
-``found_or_twin_of_reachable_pct``, the share found or twin of the frames the route can reach (detected markings fix
-the truth, the truth written). Frame i of a seed is the same in every run (``--first K`` starts at frame K).
+Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin`` confident (what
+a new shot's chain needs to be written; the court route: at least the bar the tracker takes its camera at,
+``track.reinit_policy.court_accept_at``); **found** = written and its ground template within ``--success-px``
+(median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of those, within
+``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell apart);
+**near-written** = written, between the two off the truth or its twin; **none** = not written. Shares are of the
+counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by height
+(low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames whose
+detected markings, read on the true camera's projection, still determine it (the same rule on the marking map: what
+detection leaves a route); ``truth_written`` the frames whose true camera is itself confident enough to be written
+by the route (no route can write more; the court route's bar is the one its camera would be taken at with the
+markings the true camera explains on the map); ``markings_visible`` the frames whose markings, kept only where the
+paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
+(``placement_frames.visible_paint``), still determine the camera (faint, narrow paint rendered small can vanish into
+the grass: no detector can find what is not in the image). ``paint_found_by_width``: per look, the true cameras'
+template samples (wide enough by their scale to be expected) by the width of their paint across the image
+(:data:`PAINT_WIDTH_BINS_PX`, working pixels) and the share of them the detector found
+(``reinit.confidence.found_by_paint_width``). ``misses_by_cause``: each counted frame a route neither finds nor
+twins, by the first of :data:`MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``, the share found or
+twin of the frames the route can reach (detected markings fix the truth, the truth written). Frame i of a seed is
+the same in every run (``--first K`` starts at frame K).
 """
 
 from __future__ import annotations
