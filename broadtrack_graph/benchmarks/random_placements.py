@@ -245,6 +245,9 @@ def run(args) -> dict:
                     result_row["twin_error_px"] = _round(twin_error, 2)  # written or not
                     if result_row["outcome"] == "wrong":
                         result_row["outcome"], result_row["twin"] = twin_outcome("wrong", twin_error, args.success_px)
+                # the truth or its twin, not written: the route's bar, not its camera, missed it
+                result_row["right_under_bar"] = result_row["outcome"] == "none" and camera is not None and any(
+                    e is not None and e <= args.success_px for e in (error, result_row.get("twin_error_px")))
                 row["routes"][route] = result_row
             rows.append(row)
     finally:
@@ -311,10 +314,12 @@ def route_figures(rows: list[dict], route: str) -> dict:
 
 
 MISS_CAUSES = {"paint_not_shown": "paint not shown", "not_detected": "markings not detected",
-               "truth_under_bar": "truth under the bar", "route": "the route's own"}
+               "truth_under_bar": "truth under the bar", "right_under_bar": "right camera under the bar",
+               "route": "the route's own"}
 """Why a frame is neither found nor a twin, the first that applies (key: its words in the table): its paint does not
 show enough to fix the camera (the look's faded or hidden markings), the detector's markings do not fix it, the true
-camera itself is not confident enough to be written on them, or else the route's own miss."""
+camera itself is not confident enough to be written on them, the route's camera is the truth or its twin but not
+confident enough to be written, or else the route's own miss (a wrong camera, or none)."""
 
 
 def truth_written(row: dict, route: str) -> bool:
@@ -330,7 +335,9 @@ def miss_cause(row: dict, route: str) -> str:
         return "paint_not_shown"
     if not row.get("markings_detected"):
         return "not_detected"
-    return "route" if truth_written(row, route) else "truth_under_bar"
+    if not truth_written(row, route):
+        return "truth_under_bar"
+    return "right_under_bar" if row["routes"][route].get("right_under_bar") else "route"
 
 
 def summarise(rows: list[dict], routes: list[str]) -> dict:

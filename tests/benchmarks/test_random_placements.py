@@ -89,6 +89,7 @@ def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path,
         assert court["outcome"] == ("found" if court["confidence"] >= TrackingConfig().court_accept_confidence
                                     else "none")
         assert court["truth_written"] >= (court["outcome"] == "found")  # the true camera's own bar is never higher
+        assert court["right_under_bar"] == (court["outcome"] == "none")  # the truth itself, not written
         # what detection leaves a route: never more than the frame's markings determine
         assert isinstance(row["markings_detected"], bool) and (row["determinable"] or not row["markings_detected"])
     figures = report["by_route"]["court"]["determinable"]
@@ -148,8 +149,10 @@ def test_each_miss_has_one_cause_and_the_reachable_frames_are_counted_apart():
     rows = [row("found"), row("wrong", twin=True), row("none", visible=False, detected=False, written=False),
             row("none", detected=False), row("none", detected=False, written=False), row("wrong", written=False),
             row("none"), row("near"), row("wrong", twin=False), row("found", detected=False)]
+    rows[6]["routes"]["court"]["right_under_bar"] = True  # the truth (or its twin) returned, under the bar
     figures = random_placements.route_figures(rows, "court")
-    assert figures["misses_by_cause"] == {"paint_not_shown": 1, "not_detected": 2, "truth_under_bar": 1, "route": 3}
+    assert figures["misses_by_cause"] == {"paint_not_shown": 1, "not_detected": 2, "truth_under_bar": 1,
+                                          "right_under_bar": 1, "route": 2}
     assert sum(figures["misses_by_cause"].values()) == len(rows) - figures["found_or_twin"]
     # reachable: detected and written (found, twin, none, near, wrong not a twin): 2 of those 5 found or twin
     assert (figures["reachable"], figures["found_or_twin_of_reachable_pct"]) == (5, 40.0)
