@@ -40,9 +40,9 @@ the grass: no detector can find what is not in the image). ``paint_found_by_widt
 template samples (wide enough by their scale to be expected) by the width of their paint across the image
 (:data:`PAINT_WIDTH_BINS_PX`, working pixels) and the share of them the detector found
 (``reinit.confidence.found_by_paint_width``). ``misses_by_cause``: each counted frame a route neither finds nor
-twins, by the first of :data:`MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``, the share found or
-twin of the frames the route can reach (detected markings fix the truth, the truth written). Frame i of a seed is
-the same in every run (``--first K`` starts at frame K).
+twins, by the first of :data:`~.placement_misses.MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``,
+the share found or twin of the frames the route can reach (detected markings fix the truth, the truth written).
+Frame i of a seed is the same in every run (``--first K`` starts at frame K).
 """
 
 from __future__ import annotations
@@ -54,6 +54,7 @@ import time
 import numpy as np
 
 from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
+from broadtrack_graph.benchmarks.placement_misses import MISS_CAUSES, miss_cause, truth_written
 
 ROUTES = ("tracker", "search", "court")
 WRONG_PX = 10.0
@@ -311,33 +312,6 @@ def route_figures(rows: list[dict], route: str) -> dict:
             out["misses_by_cause"][miss_cause(row, route)] += 1
     out["seconds"] = _seconds([r["seconds"] for r in results])
     return out
-
-
-MISS_CAUSES = {"paint_not_shown": "paint not shown", "not_detected": "markings not detected",
-               "truth_under_bar": "truth under the bar", "right_under_bar": "right camera under the bar",
-               "route": "the route's own"}
-"""Why a frame is neither found nor a twin, the first that applies (key: its words in the table): its paint does not
-show enough to fix the camera (the look's faded or hidden markings), the detector's markings do not fix it, the true
-camera itself is not confident enough to be written on them, the route's camera is the truth or its twin but not
-confident enough to be written, or else the route's own miss (a wrong camera, or none)."""
-
-
-def truth_written(row: dict, route: str) -> bool:
-    """Whether the frame's true camera is confident enough to be written by ``route`` (its bar; rows written before
-    the routes had their own say the row's)."""
-    return bool(row["routes"].get(route, {}).get("truth_written", row["truth_written"]))
-
-
-def miss_cause(row: dict, route: str) -> str:
-    """The :data:`MISS_CAUSES` entry of a frame's miss by ``route`` (rows without the paint's figure count it as
-    shown)."""
-    if not row.get("markings_visible", True):
-        return "paint_not_shown"
-    if not row.get("markings_detected"):
-        return "not_detected"
-    if not truth_written(row, route):
-        return "truth_under_bar"
-    return "right_under_bar" if row["routes"][route].get("right_under_bar") else "route"
 
 
 def summarise(rows: list[dict], routes: list[str]) -> dict:
