@@ -1,16 +1,17 @@
 """The weight-free detector's marking ridges: thin bright lines on grass, to sub-pixel centre-line points. No I/O.
 
-A white top-hat of the grey working image keeps structures up to about the kernel's width brighter than their
-surroundings; its pixels above a threshold (a fixed level, or above the level the grass texture reaches on the
-frame) where markings may be are the candidates; on a blurred frame, whose markings are smeared to a fraction of
-their contrast, the pixels over a lower level (``faint_threshold``, or the grass texture's) 8-connected to them join
-them (hysteresis: a faint stretch of line is followed from its brighter ones; texture under the threshold joins only
-where it touches a candidate; of its points, those more colourful than the ground around them are then dropped,
-:func:`white`: the coloured lines of other sports on artificial turf are followed as well). Each candidate is moved
-to the sub-pixel centre of its ridge with Steger's method: the Hessian of the smoothed top-hat gives the direction
-across the line (its most negative eigenvalue's eigenvector) and the offset along it; a candidate whose centre lies
-within half a pixel, on a ridge curved enough, and with enough other centre-line points around it (a marking is
-long, a speck of texture is not) is kept. Derivatives are taken at the candidate pixels only.
+A white top-hat of the working image's marking channel (:func:`marking_channel`) keeps structures up to about the
+kernel's width brighter than their surroundings; its pixels above a threshold (a fixed level, or above the level the
+grass texture reaches on the frame) where markings may be are the candidates; on a blurred frame, whose markings are
+smeared to a fraction of their contrast, the pixels over a lower level (``faint_threshold``, or the grass texture's)
+8-connected to them join them (hysteresis: a faint stretch of line is followed from its brighter ones; texture under
+the threshold joins only where it touches a candidate; of its points, those more colourful than the ground around
+them are then dropped, :func:`white`: the coloured lines of other sports on artificial turf are followed as well).
+Each candidate is moved to the sub-pixel centre of its ridge with Steger's method: the Hessian of the smoothed
+top-hat gives the direction across the line (its most negative eigenvalue's eigenvector) and the offset along it; a
+candidate whose centre lies within half a pixel, on a ridge curved enough, and with enough other centre-line points
+around it (a marking is long, a speck of texture is not) is kept. Derivatives are taken at the candidate pixels
+only.
 
 Markings wider than the Hessian's scale or the top-hat's kernel (a zoomed view, the near lines of a low camera)
 have a flat top there: the points found lie off the centre or on the line's edges, and past about 12 px there
@@ -311,3 +312,18 @@ def _centre_points(tophat: np.ndarray, allowed01: np.ndarray, threshold: float, 
     points = np.column_stack([xs[ok] + t[ok] * nx[ok], ys[ok] + t[ok] * ny[ok]]).astype(float)
     return points, -lam[ok] / np.maximum(n[0, 0][ok], 1e-6), np.column_stack([nx[ok], ny[ok]]), candidates
 
+
+def marking_channel(bgr: np.ndarray, channel: str) -> np.ndarray:
+    """(h, w) uint8 image the markings are looked for in, of an (h, w, 3) BGR image: ``"min"``, the least of each
+    pixel's three levels, or ``"luma"``, its grey level.
+
+    White paint raises all three levels, while grass is dark in red and blue: in the least of them the paint stands
+    further above the grass than in the luma, and the grass's own light and shade (mowing stripes, wear, a stand's
+    shadow), which scale its levels, move it less. Other sports' coloured lines, dark in one level, stand out less.
+    """
+    if channel == "min":
+        blue, green, red = cv2.split(bgr)
+        return cv2.min(cv2.min(blue, green), red)
+    if channel == "luma":
+        return cv2.cvtColor(bgr, cv2.COLOR_BGR2GRAY)
+    raise ValueError(f"unknown marking channel '{channel}'; choose 'min' or 'luma'")

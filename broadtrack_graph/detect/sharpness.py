@@ -7,7 +7,9 @@ the strongest edges of sharp broadcast frames measure :data:`SHARP_EDGE_WIDTH_PX
 enlarged to the working width (a 640 px video) shows edges wider by the enlargement without being blurred: its
 sharp width is scaled by it. A blur along one direction only (a pure pan's) leaves the edges along it sharp, and
 they are most of the strongest: such a frame reads as sharp (:mod:`.motion_blur` finds that smear and undoes it
-first).
+first). The edges may be taken from a region only (the pitch, where the markings are looked for): what lies around it
+is not blurred with it (a score graphic drawn sharp over a pan, a stand's crowd whose sharp blocks outnumber the
+grass's edges, a stand out of the lens's focus).
 """
 
 from __future__ import annotations
@@ -24,12 +26,15 @@ SOBEL_SCALE = 0.125
 """Grey levels per pixel of one 3x3 Sobel sum: its weights add up to 8 across an edge."""
 
 
-def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -> float | None:
+def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12,
+                  where: np.ndarray | None = None) -> float | None:
     """Median width (pixels) of the ``strongest`` edges of a grey image: across each (along its gradient,
     ``reach_px`` each way) the contrast over the gradient there. None when the image has too few pixels.
 
     Args:
         grey: (h, w) uint8 grey image.
+        where: optional (h, w) bool or uint8 region the edges are taken from (their profiles may reach out of it);
+            one of fewer than four times ``strongest`` pixels is not enough to tell, and the whole image is used.
     """
     h, w = grey.shape
     m = reach_px + 1
@@ -38,6 +43,11 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12) -
     # The derivatives of a uint8 image are whole numbers of eighths: exact in int16, made float32 where needed.
     gx16 = cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3)[m:h - m, m:w - m]
     gy16 = cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)[m:h - m, m:w - m]
+    if where is not None:
+        region = np.ascontiguousarray(where[m:h - m, m:w - m], dtype=np.uint8)
+        if cv2.countNonZero(region) >= 4 * strongest:  # edges outside it count as flat
+            gx16 = cv2.bitwise_and(gx16, gx16, mask=region)
+            gy16 = cv2.bitwise_and(gy16, gy16, mask=region)
     rows, cols, gradient = _strongest(gx16, gy16, strongest)
     gx, gy = _eighths(gx16[rows, cols]), _eighths(gy16[rows, cols])
     gradient = np.maximum(gradient, 1e-3)
@@ -100,10 +110,11 @@ def _ranked(gx16: np.ndarray, gy16: np.ndarray, count: int) -> tuple[np.ndarray,
     return rows, cols, magnitude[rows, cols]
 
 
-def blur_factor(grey: np.ndarray, frame_width_px: int) -> float:
+def blur_factor(grey: np.ndarray, frame_width_px: int, where: np.ndarray | None = None) -> float:
     """How many times wider the strongest edges of the working grey image ``grey`` are than a sharp frame's (1: sharp
-    or no edges to tell), a frame ``frame_width_px`` wide enlarged to it taken as sharp at its own pixels' width."""
-    width = edge_width_px(grey)
+    or no edges to tell), a frame ``frame_width_px`` wide enlarged to it taken as sharp at its own pixels' width
+    (``where``: the region the edges are taken from, as for :func:`edge_width_px`)."""
+    width = edge_width_px(grey, where=where)
     if width is None:
         return 1.0
     sharp = SHARP_EDGE_WIDTH_PX * max(1.0, grey.shape[1] / float(frame_width_px))

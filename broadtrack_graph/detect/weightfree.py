@@ -15,7 +15,8 @@ mapped back to the frame's pixels. Pipeline:
    (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`); the player mask returned takes the legs
    too (:func:`~broadtrack_graph.detect.player_feet.with_legs`), but ridges are dropped on the bodies only (a
    marking running under a player's feet, down the image, would be taken for a leg);
-3. marking ridges: white top-hat of the grey image, thresholded at a fixed level or, for
+3. marking ridges: white top-hat of the marking channel (:func:`~broadtrack_graph.detect.ridges.marking_channel`: by
+   default the grey level), thresholded at a fixed level or, for
    frames not reduced 2x or more to the working width (they keep pixel noise and fine grass
    texture that area averaging removes), above the level the texture reaches on that
    frame (90th percentile on grass plus a margin), inside the field, away from players; each
@@ -58,7 +59,7 @@ from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
-from broadtrack_graph.detect.ridges import WideInputs, marking_ridges, white, wide_points
+from broadtrack_graph.detect.ridges import WideInputs, marking_channel, marking_ridges, white, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.registration import named_off_the_pitch
@@ -85,6 +86,7 @@ class WeightFreeConfig:
     field_min_area_fraction: float = 0.02  # grass regions smaller than this share of the image are ignored
     whole_grass_share: float = 0.9  # a 4x4 cell this much grass or white is whole ...
     field_min_whole_share: float = 0.5  # ... and a field region has at least this share of such cells (0: any)
+    marking_channel: str = "luma"  # the image markings are looked for in, "luma" or "min" (ridges.marking_channel)
     presmooth_sigma_px: float = 0.0  # optional Gaussian on the grey image of frames not reduced >= 2x (0 = off)
     tophat_kernel_px: int = 9  # white top-hat size: lines up to about this wide are kept
     tophat_threshold: float = 14.0  # grey levels above the local background (at least) ...
@@ -265,8 +267,8 @@ class WeightFreeDetector:
 
     def working_images(self, image_bgr: np.ndarray, working_bgr: np.ndarray | None = None
                        ) -> tuple[np.ndarray, np.ndarray, float]:
-        """(colour, pre-smoothed grey) working images and the working / frame pixel scale (``working_bgr``: the
-        colour one when already made, :meth:`area_working_image`)."""
+        """(colour, pre-smoothed marking channel) working images and the working / frame pixel scale
+        (``working_bgr``: the colour one when already made, :meth:`area_working_image`)."""
         H, W = image_bgr.shape[:2]
         work_w = self.config.work_width_px
         work_h = max(1, int(round(H * work_w / W)))
@@ -281,7 +283,7 @@ class WeightFreeDetector:
             # Bilinear for reductions under 2x (1280 -> 960: area averaging at a non-integer ratio costs about 6x
             # more for a blur of well under a pixel) and for enlargements (640x360 -> 960x540).
             small = cv2.resize(image_bgr, (work_w, work_h), interpolation=cv2.INTER_LINEAR)
-        grey = cv2.cvtColor(small, cv2.COLOR_BGR2GRAY)
+        grey = marking_channel(small, self.config.marking_channel)
         sigma = presmooth_sigma(W, work_w, self.config.presmooth_sigma_px)
         if sigma > 0.05:
             grey = cv2.GaussianBlur(grey, (0, 0), sigma)
@@ -318,7 +320,8 @@ class WeightFreeDetector:
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass where markings may
         # be (grass-coloured pixels off the field, a green stand or crowd, are not the pitch's texture).
         threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
-        blur = blur_factor(grey, W) if self.config.wide_levels > 0 else 1.0
+        # The blur of the pitch, where the markings are (the stands, a graphic over it are not blurred with it).
+        blur = blur_factor(grey, W, cv2.bitwise_and(field, inner)) if self.config.wide_levels > 0 else 1.0
         points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from)
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).

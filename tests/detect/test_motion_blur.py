@@ -110,8 +110,8 @@ def test_undoing_the_smear_brings_a_line_across_it_back():
 def test_the_detector_finds_a_smeared_frame_s_markings_again():
     """Frame 55 of ``bench placements --random --seed 3 --renderer plain``: a camera on the main stand's side, its frame
     smeared over 17 px at 1280 px (13 at the working width) along about 100 deg. As it comes, the markings the
-    detector finds do not fix the camera and the true camera explains almost none of them; with the smear undone they
-    fix it and it explains them."""
+    detector finds (a blurred frame's, wide ones with them) do not fix the camera and the true camera explains less
+    than half of them; with the smear undone they fix it and it explains most."""
     from broadtrack_graph.benchmarks.placement_frames import draw_frame
     from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
     from broadtrack_graph.geometry.determinable import determinability
@@ -135,7 +135,7 @@ def test_the_detector_finds_a_smeared_frame_s_markings_again():
     assert not determinability(truth, pitch, explained_by=as_it_comes.marking_mask).determinable
     assert confidence_parts(truth, undone.marking_mask, curves, field_mask=undone.field_mask)["confidence"] >= 0.7
     assert confidence_parts(truth, as_it_comes.marking_mask, curves, field_mask=as_it_comes.field_mask)[
-        "confidence"] < 0.2
+        "confidence"] < 0.5
 
 
 def test_a_sharp_real_looking_frame_is_left_as_it_is():

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+import pytest
 
-from broadtrack_graph.detect.ridges import marking_ridges, white, wide_ridges
+from broadtrack_graph.detect.ridges import marking_channel, marking_ridges, white, wide_ridges
 from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 
 W, H = 320, 200
@@ -137,3 +138,27 @@ def test_a_soft_wide_stripe_is_not_a_wide_marking():
     stripe = np.clip(90.0 + 50.0 * np.exp(-0.5 * (distance / 6.0) ** 2), 0, 255).astype(np.uint8)
     assert len(_wide(stripe)[1]) == 0
     assert len(_wide(stripe, WeightFreeConfig(wide_edge_share=0.0))[1]) > 50  # the rule is what leaves it
+
+
+def test_faint_white_paint_stands_out_in_the_least_channel_and_a_yellow_line_does_not():
+    # Grass (B, G, R) = (50, 130, 60), luma about 100; a white line (200) covering 12 % of its pixels: 12 grey levels
+    # over the grass in luma (under the fixed threshold of 14), 18 in the least channel (50 -> 200). A yellow line
+    # (B 40, G 230, R 230) as bright as paint in luma is darker than grass in blue.
+    rows, cols = np.mgrid[0:H, 0:W].astype(float)
+    image = np.empty((H, W, 3), float)
+    image[:] = (50.0, 130.0, 60.0)
+    white_line = np.abs(rows - 70.0) < 1.5
+    image[white_line] = 0.88 * image[white_line] + 0.12 * 200.0
+    yellow_line = np.abs(rows - 140.0) < 1.5
+    image[yellow_line] = (40.0, 230.0, 230.0)
+    image = image.round().astype(np.uint8)
+    least, luma = marking_channel(image, "min"), marking_channel(image, "luma")
+    assert least[70, 10] - least[20, 10] == 18 and luma[70, 10] - luma[20, 10] == 12
+    for channel, white_found in ((least, True), (luma, False)):
+        points, _ = _ridges(channel)
+        near_white = np.abs(points[:, 1] - 70.0) < 2.0
+        near_yellow = np.abs(points[:, 1] - 140.0) < 2.0
+        assert (near_white.sum() > 200) == white_found
+        assert near_yellow.sum() == 0 if channel is least else near_yellow.sum() > 200
+    with pytest.raises(ValueError, match="marking channel"):
+        marking_channel(image, "green")

@@ -64,3 +64,20 @@ def test_the_strongest_edges_are_those_of_ranking_every_pixel_s_gradient():
         taken = np.zeros(image.shape, bool)
         taken[rows, cols] = True
         assert _magnitude(gx16, gy16)[~taken].max() <= lengths.min()
+
+
+def test_the_blur_of_a_region_is_read_from_its_own_edges_not_from_sharp_ones_around_it():
+    """A pan smears the pitch (the lower half) while sharp blocks above it (a crowd, a graphic) have the strongest
+    edges: the whole frame reads sharp, the pitch's region as blurred as it is."""
+    rng = np.random.default_rng(4)
+    crowd = np.kron(rng.integers(20, 200, (34, 120)), np.ones((8, 8))).astype(np.uint8)[:270, :960]
+    pitch = cv2.blur(_squares(960, 270), (9, 9))
+    image = np.vstack([crowd, pitch])
+    region = np.zeros(image.shape, np.uint8)
+    region[290:, :] = 1
+    assert blur_factor(image, 960) < 1.4
+    assert blur_factor(image, 960, region) >= 1.8
+    assert abs(blur_factor(image, 960, region) - blur_factor(pitch, 960)) < 0.25
+    tiny = np.zeros(image.shape, np.uint8)
+    tiny[300:310, 100:200] = 1  # too few pixels to tell: the whole image's
+    assert blur_factor(image, 960, tiny) == blur_factor(image, 960)
