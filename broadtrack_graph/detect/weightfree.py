@@ -315,13 +315,13 @@ class WeightFreeDetector:
         inner = cv2.erode(field, self._boundary_kernel) if self.config.boundary_margin_px > 0 else field
         outline = field
         field = cv2.bitwise_and(field, cv2.dilate(grass, self._reach_kernel))
-        allowed = cv2.bitwise_and(cv2.bitwise_and(field, inner), cv2.bitwise_not(player_mask))
+        pitch = cv2.bitwise_and(field, inner)  # where markings are looked for, and the blur read (the stands are not)
+        allowed = cv2.bitwise_and(pitch, cv2.bitwise_not(player_mask))
         # Frames reduced 2x or more to the working width are averaged clean of pixel noise and fine
         # texture: the fixed threshold suits them; others get the threshold adapted to their grass where markings may
         # be (grass-coloured pixels off the field, a green stand or crowd, are not the pitch's texture).
         threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
-        # The blur of the pitch, where the markings are (the stands, a graphic over it are not blurred with it).
-        blur = blur_factor(grey, W, cv2.bitwise_and(field, inner)) if self.config.wide_levels > 0 else 1.0
+        blur = blur_factor(grey, W, pitch) if self.config.wide_levels > 0 else 1.0
         points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from)
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).
