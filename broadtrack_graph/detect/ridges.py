@@ -36,6 +36,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.point_cells import pixels_of
+from broadtrack_graph.detect.ridge_sides import grass_beside
 
 
 def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
@@ -44,7 +45,7 @@ def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
 
 
 def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None, tophat_kernel: np.ndarray,
-                   ridge_kernel: np.ndarray, c, follow_faint: bool = False
+                   ridge_kernel: np.ndarray, c, follow_faint: bool = False, sides: np.ndarray | None = None
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Sub-pixel centre-line points (N, 2) (working pixels), whether each lies on a peaked ridge (N,) bool (a line
     the Hessian's scale resolves; module docstring) and the candidate map (uint8) (module docstring).
@@ -60,12 +61,17 @@ def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | No
         follow_faint: join to the candidates the pixels over the weak level (``faint_threshold``, or the grass
             texture's) 8-connected to them (hysteresis; a blurred frame's: its markings are smeared to a fraction of
             their contrast, their faint stretches followed from the bright ones).
+        sides: (h, w) uint8 grass mask, or None: the points kept only with grass on both sides past their ridge's
+            edges (``side_margin_px``, :func:`~broadtrack_graph.detect.ridge_sides.grass_beside`).
     """
     tophat = cv2.morphologyEx(grey, cv2.MORPH_TOPHAT, tophat_kernel)
     allowed01 = cv2.threshold(allowed, 0, 1, cv2.THRESH_BINARY)[1]
     weak = _threshold(tophat, grass, c, c.faint_threshold) if follow_faint else None
-    points, peak, _, candidates = _centre_points(tophat, allowed01, _threshold(tophat, grass, c), ridge_kernel, c,
-                                                 weak)
+    points, peak, normals, candidates = _centre_points(tophat, allowed01, _threshold(tophat, grass, c), ridge_kernel,
+                                                       c, weak)
+    if sides is not None and c.side_margin_px > 0:  # paint lies on grass (detect.ridge_sides)
+        on_grass = grass_beside(points, normals, candidates, sides, c.side_margin_px)
+        points, peak = points[on_grass], peak[on_grass]
     return points, peak >= c.wide_min_peak, candidates
 
 

@@ -20,9 +20,10 @@ mapped back to the frame's pixels. Pipeline:
    frames not reduced 2x or more to the working width (they keep pixel noise and fine grass
    texture that area averaging removes), above the level the texture reaches on that
    frame (90th percentile on grass plus a margin), inside the field, away from players; each
-   candidate pixel is moved to the sub-pixel centre of the ridge with Steger's
-   Hessian method (offset along the line normal, kept when within half a pixel),
-   derivatives taken at the candidate pixels only (:mod:`~broadtrack_graph.detect.ridges`); a blurred frame's
+   candidate pixel is moved to the sub-pixel centre of the ridge with Steger's Hessian method (offset along the
+   line normal, kept when within half a pixel), derivatives taken at the candidate pixels only
+   (:mod:`~broadtrack_graph.detect.ridges`), and kept with grass on both sides past its edges
+   (:mod:`~broadtrack_graph.detect.ridge_sides`); a blurred frame's
    markings, smeared wide and faint, are found on the image reduced 2x and 4x too, with gates eased by its blur
    (:func:`~broadtrack_graph.detect.ridges.wide_ridges`, :mod:`~broadtrack_graph.detect.sharpness`);
 4. naming: with a predicted camera, the template is projected and densified
@@ -98,6 +99,7 @@ class WeightFreeConfig:
     orientation_bins: int = 1  # > 2: support counts only neighbours within +-1 of these orientation bins (1: all)
     ridge_sigma_px: float = 1.0  # Gaussian scale of the Hessian
     ridge_min_curvature: float = 1.5  # -lambda_min of the smoothed top-hat (grey levels / px^2)
+    side_margin_px: float = 2.0  # a ridge point needs grass this far past its ridge's edges, both sides (0: not)
     # Markings wider than the top-hat's kernel or the Hessian's scale (zoomed views, a low camera's near lines) are
     # found again on the image reduced 2x, 4x (detect.ridges.wide_ridges) when the predicted camera draws a marking
     # at least wide_from_px wide: this many levels; a point whose ridge is flatter than wide_min_peak (curvature
@@ -190,8 +192,7 @@ class WeightFreeDetector:
     def players(self, grass: np.ndarray, field: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(boxes (P, 4) working pixels, mask uint8 at the working size) of upright non-grass blobs in the field.
 
-        The opening and the connected components run at half the working width (bodies are
-        tens of pixels tall there; the cost is a quarter).
+        The opening and the connected components run at half the working width (bodies are tens of pixels tall there).
         """
         c = self.config
         h, w = grass.shape
@@ -211,11 +212,11 @@ class WeightFreeDetector:
             mask = cv2.dilate(mask, self._margin_kernel)
         return boxes.astype(float).reshape(-1, 4), mask
 
-    def ridges(self, grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None = None, blurred: bool = False
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Sub-pixel centre-line points (N, 2) (working pixels), their peaked flags (N,) and the candidate map
-        (uint8): :func:`~broadtrack_graph.detect.ridges.marking_ridges` with this detector's kernels and settings."""
-        return marking_ridges(grey, allowed, grass, self._tophat_kernel, self._ridge_kernel, self.config, blurred)
+    def ridges(self, grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | None = None, blurred: bool = False,
+               sides: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Points (N, 2) (working pixels), peaked flags (N,), candidate map: :func:`~.ridges.marking_ridges` here."""
+        return marking_ridges(grey, allowed, grass, self._tophat_kernel, self._ridge_kernel, self.config, blurred,
+                              sides)
 
     def name_points(self, points_px: np.ndarray, predicted: PredictedCamera, scale: float,
                     size: tuple[int, int], template=None) -> dict[str, np.ndarray]:
@@ -322,7 +323,7 @@ class WeightFreeDetector:
         # be (grass-coloured pixels off the field, a green stand or crowd, are not the pitch's texture).
         threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
         blur = blur_factor(grey, W, pitch) if self.config.wide_levels > 0 else 1.0
-        points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from)
+        points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from, grass)
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).
         wide = WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
@@ -384,8 +385,7 @@ def _marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
 class FoundMarkings:
     """What :meth:`WeightFreeDetector.find_markings` finds in a frame before any camera is known.
 
-    unnamed: the frame's :class:`Detections` without named lines (marking points and map,
-        players, field).
+    unnamed: the frame's :class:`Detections` without named lines (marking points and map, players, field).
     points_work_px: (N, 2) sub-pixel centre-line points at the working size (what is named).
     work_size: (w, h) working size; scale: working / frame pixels; seconds: time it took.
     wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0, or

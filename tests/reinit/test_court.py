@@ -109,14 +109,14 @@ def test_a_frame_whose_markings_do_not_fix_a_camera_gets_none_and_says_so():
     assert "do not fix it" in result.reason
 
 
-def test_a_penalty_arc_and_its_line_seen_from_just_off_the_touchline_give_the_camera_they_fix_exactly():
-    """Frame 45 of ``bench placements --random --seed 3``: a camera 1.6 m off the far touchline, 46 m up, zoomed on a
-    penalty arc and the 16.5 m line. The arc's ellipse (a third of it in view) puts the hypothesis's focal point 1.7 m
-    inside the touchline; kept for the fit, it gives the camera (its twin: the far side). An arc and one line fix the
-    camera exactly (7 constraints, 7 unknowns): such a camera is returned only at ``exact_fit_confidence``."""
+def test_the_centre_circle_and_its_two_lines_seen_from_a_corner_give_the_camera_they_fix_exactly():
+    """Frame 99 of ``bench placements --random --seed 3``: a camera beyond a corner of the far side, 49 m up, a 12 deg
+    view of the centre circle and a line of each direction (the camera returned is the truth's twin: the main side is
+    kept). The markings it explains fix the camera exactly, with no constraint to spare: such a camera is returned
+    only at ``exact_fit_confidence``."""
     from broadtrack_graph.reinit.court_config import CourtConfig
 
-    truth, det = _random_placement(45)
+    truth, det = _random_placement(99)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert result.camera is not None, result.reason
     assert median_template_error_px(result.twin, truth) < 2.0
@@ -244,7 +244,7 @@ def test_a_blurred_frame_gets_its_camera_from_the_markings_found_on_the_reduced_
 
 @pytest.mark.parametrize("index, grid", [
     (386, True),  # `graphics`, behind a goal: two lines of each direction, the true camera at 0.66
-    (290, False),  # `clean`, a far-side camera 5 m up: a wrong camera laid on the centre circle and one line across
+    (137, False),  # `shadows`, 8 m up beyond a corner, an 8 deg view: a wrong camera laid on the markings
 ])
 def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_taken_at(index, grid):
     """Frames of ``bench placements --random --seed 3`` whose court camera is 0.6-0.7 confident: taken by the tracker

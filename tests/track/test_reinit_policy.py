@@ -468,9 +468,8 @@ def _a_new_shot_s_decision(image: np.ndarray, frame_index: int):
 def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frames(real_video_dir, tmp_path):
     """The FA Cup clip's first frame cut to its middle 574 rows and written as MPEG-4 video, as a screen recording
     is: a centre-circle view whose boards' lettering passes for markings. Its camera sees the centre spot 9.3 deg
-    below the horizon (12.4 deg for the main-camera guesses of the search). The court model places it (0.65, under
-    its bar); a still camera's next frames show the same view, so their agreeing court cameras are no check, and the
-    staged search's camera is taken once they have been waited for."""
+    below the horizon (12.4 deg for the main-camera guesses of the search). With a ridge point kept only where grass
+    lies on both sides of it (detect.ridge_sides), the court model's camera is confident enough at once."""
     import cv2
 
     capture = cv2.VideoCapture(str(real_video_dir / "facup-wembley-720p.mp4"))
@@ -486,7 +485,7 @@ def test_a_main_camera_seeing_the_centre_spot_low_is_found_at_its_first_frames(r
     decision = _a_new_shot_s_decision(image, 0)
     camera = decision.camera
     assert camera is not None and decision.confidence > 0.6 and decision.camera_id == "main", decision.reason
-    assert decision.reason.startswith("global search"), decision.reason
+    assert decision.reason.startswith("court model"), decision.reason
     # The camera this clip is tracked with (every frame passes the alignment check of `bench real`); one frame
     # leaves the distance along the line of sight loose (f scales with it), the image is what must agree.
     tracked = Camera(4045.0, 0.56, np.radians(-7.29), np.radians(81.87), np.radians(-0.12), (0.19, 74.87, -12.43),
