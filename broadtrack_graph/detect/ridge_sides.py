@@ -14,6 +14,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.point_cells import pixels_of
+
 
 def grass_beside(points_px: np.ndarray, normals: np.ndarray, candidates: np.ndarray, grass: np.ndarray,
                  margin_px: float, reach_px: float = 12.0) -> np.ndarray:
@@ -36,8 +38,7 @@ def grass_beside(points_px: np.ndarray, normals: np.ndarray, candidates: np.ndar
         return np.zeros(0, bool)
     h, w = grass.shape
     to_edge = cv2.distanceTransform((candidates > 0).astype(np.uint8), cv2.DIST_L2, 3)
-    col = np.clip(np.rint(points_px[:, 0]).astype(int), 0, w - 1)
-    row = np.clip(np.rint(points_px[:, 1]).astype(int), 0, h - 1)
+    col, row = pixels_of(points_px, (w, h)).T
     half_width = to_edge[row, col]
     unjudged = (half_width > reach_px) | (np.hypot(normals[:, 0], normals[:, 1]) < 0.5)
     both = np.ones(n, bool)
