@@ -39,7 +39,9 @@ paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
 the grass: no detector can find what is not in the image). ``paint_found_by_width``: per look, the true cameras'
 template samples (wide enough by their scale to be expected) by the width of their paint across the image
 (:data:`PAINT_WIDTH_BINS_PX`, working pixels) and the share of them the detector found
-(``reinit.confidence.found_by_paint_width``). ``misses_by_cause``: each counted frame a route neither finds nor
+(``reinit.confidence.found_by_paint_width``). ``smear_found_by_contrast``: the same on the frames the detector finds
+smeared, pooled, by the share of contrast the smear leaves each marking (:data:`SMEARED_CONTRAST_BINS`,
+``reinit.confidence.found_by_smeared_contrast``). ``misses_by_cause``: each counted frame a route neither finds nor
 twins, by the first of :data:`~.placement_misses.MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``,
 the share found or twin of the frames the route can reach (detected markings fix the truth, the truth written).
 Frame i of a seed is the same in every run (``--first K`` starts at frame K).
@@ -61,6 +63,8 @@ WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
 OUTCOMES = ("found", "near", "wrong", "none")
 PAINT_WIDTH_BINS_PX = (0.0, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0, float("inf"))
+SMEARED_CONTRAST_BINS = (0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, float("inf"))
+"""Bins of the share of contrast a frame's motion blur leaves a marking (``reinit.confidence.smeared_contrast``)."""
 """Bins of the painted width (working pixels) the detector's finds on the true cameras are counted in."""
 
 
@@ -152,7 +156,7 @@ def run(args) -> dict:
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.reinit.cheap import refine_guesses
-    from broadtrack_graph.reinit.confidence import found_by_paint_width
+    from broadtrack_graph.reinit.confidence import found_by_paint_width, found_by_smeared_contrast
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.reinit.scoring import ReinitResult
@@ -214,6 +218,11 @@ def run(args) -> dict:
                    "markings_visible": shown_markings.determinable,
                    "paint_found": {"samples": paint_samples.tolist(), "found": paint_found.tolist()},
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
+            if detections.motion_blur is not None:
+                smear_samples, smear_found = found_by_smeared_contrast(
+                    truth, detections.marking_mask, detections.motion_blur, np.array(SMEARED_CONTRAST_BINS), curves,
+                    field_mask=detections.field_mask, player_mask=detections.player_mask)
+                row["smear_found"] = {"samples": smear_samples.tolist(), "found": smear_found.tolist()}
             if args.renderer == "plain":  # its look drawn per frame: blur, noise, compression (synth.plain)
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
@@ -227,7 +236,8 @@ def run(args) -> dict:
                 else:
                     started = time.perf_counter()
                     result = court(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
-                                   curves=curves, field_mask=detections.field_mask, player_mask=detections.player_mask)
+                                   curves=curves, field_mask=detections.field_mask, player_mask=detections.player_mask,
+                                   motion_blur=detections.motion_blur)
                     seconds = time.perf_counter() - started
                     camera, reason = result.camera, result.reason
                     confidence = None if camera is None else confidence_of(camera)
@@ -333,7 +343,19 @@ def summarise(rows: list[dict], routes: list[str]) -> dict:
             "not_determinable_by_stand": {stand: sum(r["class"] == stand for r in apart) for stand in STANDS},
             "render_s": _seconds([row["render_s"] for row in rows]),
             "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route,
-            "paint_found_by_width": paint_found_by_width(rows)}
+            "paint_found_by_width": paint_found_by_width(rows),
+            "smear_found_by_contrast": smear_found_by_contrast(rows)}
+
+
+def smear_found_by_contrast(rows: list[dict]) -> list[dict]:
+    """The frames found smeared, pooled: each smeared-contrast bin's true-camera template samples and the share of
+    them found (rows with a ``smear_found`` entry)."""
+    counts = [row["smear_found"] for row in rows if "smear_found" in row]
+    if not counts:
+        return []
+    samples, found = np.sum([c["samples"] for c in counts], axis=0), np.sum([c["found"] for c in counts], axis=0)
+    return [{"contrast": f"{lo:g}-{hi:g}", "samples": int(n), "found_share": round(float(k) / n, 3) if n else None}
+            for lo, hi, n, k in zip(SMEARED_CONTRAST_BINS[:-1], SMEARED_CONTRAST_BINS[1:], samples, found)]
 
 
 def paint_found_by_width(rows: list[dict]) -> dict:

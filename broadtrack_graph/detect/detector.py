@@ -17,6 +17,7 @@ from typing import Protocol
 
 import numpy as np
 
+from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.types.observations import FlowMatches, FrameObservations, KeypointObservations
 
@@ -47,6 +48,8 @@ class Detections:
     player_boxes_px: (P, 4) [x0, y0, x1, y1] pixels.
     player_mask: bool map of players, or None.
     field_mask: bool map of the playing surface, or None.
+    motion_blur: the frame's straight motion blur (:class:`~broadtrack_graph.detect.motion_blur.MotionBlur`, its
+        length in frame pixels), or None (none found, or a detector that does not look).
     info: detector-specific diagnostics (timings, thresholds).
     """
 
@@ -59,6 +62,7 @@ class Detections:
     player_boxes_px: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     player_mask: np.ndarray | None = None
     field_mask: np.ndarray | None = None
+    motion_blur: MotionBlur | None = None
     info: dict = field(default_factory=dict)
 
     def full_size(self, mask: np.ndarray | None) -> np.ndarray | None:

@@ -332,7 +332,7 @@ class WeightFreeDetector:
             points, wide = self._wide_points(wide, points, blur), None
             points = points[white(small, points, self.config.faint_max_chroma_rise)]
         unnamed = Detections(
-            width_px=W, height_px=H,
+            width_px=W, height_px=H, motion_blur=motion and replace(motion, length_px=motion.length_px / scale),
             marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
             marking_mask=_marking_map(points, (work_w, work_h)),
             player_boxes_px=(feet / scale) if len(feet) else feet,

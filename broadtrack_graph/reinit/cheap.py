@@ -50,7 +50,7 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
         if not plausible_position(camera.position_m, curves.pitch):
             continue  # the gate every camera passes: a fit that slid under the grass or onto the pitch
         confidence = camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
-                                       player_mask=detections.player_mask)
+                                       player_mask=detections.player_mask, motion_blur=detections.motion_blur)
         if best is None or confidence > best.score.jaccard:
             best = ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"refined {label}")
     return best if best is not None else ReinitResult(None, None, "", "every refined guess stood under 1 m or on "

@@ -33,6 +33,12 @@ neither set counts: a net is a dense mesh of thin white lines that no ground mar
 and a camera behind or beside a goal sees much of it. Below ``threshold`` (0.5, BroadTrack) the
 tracker re-initialises and ignores flow from the previous camera.
 
+A frame smeared by the camera's motion (the detector's :class:`~broadtrack_graph.detect.motion_blur.MotionBlur`)
+leaves a marking that crosses the smear a share ``paint / smear`` of its contrast, where ``paint`` is its painted
+width and ``smear`` the blur's length across it (both in pixels): the template where that share is under
+``min_smeared_contrast`` is not expected either, and joins the template too thin to expect (counted as far as the map
+shows it). The lines along the smear stay sharp and are expected as on any frame.
+
 In a fast sweep the tracker also asks :func:`recall_across_motion`: the recall of the template that crosses the
 image's motion, the only part that checks a camera along it. No I/O.
 """
@@ -45,6 +51,7 @@ from dataclasses import dataclass, replace
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.detect.weightfree import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
@@ -70,6 +77,9 @@ class ConfidenceConfig:
     # the template thinner than that is expected in part when over this share of it is found anyway, in whole when
     # all of it is (the detector evidently sees lines that thin in this frame); 1: never
     thin_found_share: float = 0.5
+    # a marking across a motion blur left under this share of its contrast (its painted width over the blur's length
+    # across it) is not expected (module docstring; 0: every one is)
+    min_smeared_contrast: float = 0.075
     min_template_px: int = 150  # recall denominator floor (samples, about pixels of template)
     beta: float = 2.0  # F-beta weight of recall over precision
     field_margin_m: float = 10.0  # grass this far outside the lines still counts as explained (run-off, benches)
@@ -92,10 +102,11 @@ def _resized(mask: np.ndarray, w: int, h: int) -> np.ndarray:
 
 def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves | None = None,
                      config: ConfidenceConfig = ConfidenceConfig(), field_mask: np.ndarray | None = None,
-                     player_mask: np.ndarray | None = None) -> dict:
-    """Precision, recall, their F-beta and the sample counts (see module docstring)."""
+                     player_mask: np.ndarray | None = None, motion_blur: MotionBlur | None = None) -> dict:
+    """Precision, recall, their F-beta and the sample counts (see module docstring; ``motion_blur``: the frame's,
+    its length in pixels of the marking map's frame, or None)."""
     curves = curves or TemplateCurves()
-    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
+    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask, motion_blur)
     marks, uv, detectable, field, (w, h) = (compared.marks, compared.uv, compared.detectable, compared.field,
                                             compared.size)
     marking_pixels = int(np.count_nonzero(marks))
@@ -150,13 +161,7 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     uv, detectable = compared.uv, compared.detectable
     if len(uv) < 2:
         return 0.0, 0
-    # The image direction of each sample: towards its neighbours of the same class (samples are about 1 px apart).
-    same = compared.class_index[1:] == compared.class_index[:-1]
-    step = np.where(same[:, None], uv[1:] - uv[:-1], 0.0)
-    direction = np.zeros_like(uv)
-    direction[:-1] += step
-    direction[1:] += step
-    length = np.linalg.norm(direction, axis=1)
+    direction, length = _sample_directions(uv, compared.class_index)
     along = np.abs(direction @ (np.asarray(motion_px, float) / speed)) / np.maximum(length, 1e-9)
     crossing = detectable & (length > 0) & (along <= math.cos(math.radians(min_angle_deg)))
     count = int(np.count_nonzero(crossing))
@@ -175,14 +180,34 @@ def found_by_paint_width(camera: Camera, marking_mask: np.ndarray, edges_px: np.
     (on true cameras)."""
     compared = _compared(camera, marking_mask, curves, replace(config, min_paint_width_px=0.0), field_mask,
                          player_mask)
-    bins = np.digitize(compared.paint_px[compared.detectable], edges_px) - 1
-    inside = (bins >= 0) & (bins < len(edges_px) - 1)
+    return _found_by_bins(compared, compared.paint_px, edges_px, config)
+
+
+def found_by_smeared_contrast(camera: Camera, marking_mask: np.ndarray, motion_blur: MotionBlur, edges: np.ndarray,
+                              curves: TemplateCurves, config: ConfidenceConfig = ConfidenceConfig(),
+                              field_mask: np.ndarray | None = None, player_mask: np.ndarray | None = None
+                              ) -> tuple[np.ndarray, np.ndarray]:
+    """(B,) detectable template samples of ``camera`` (as on a sharp frame) whose share of contrast left by the
+    frame's motion blur (:func:`smeared_contrast`) falls in each bin ``[edges[b], edges[b + 1])``, and (B,) of them
+    within the tolerance of a marking of the map: what ``min_smeared_contrast`` is read from (on true cameras)."""
+    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
+    smear = replace(motion_blur, length_px=motion_blur.length_px * compared.size[0] / camera.width_px)
+    share = smeared_contrast(compared.uv, compared.class_index, compared.paint_px, smear)
+    return _found_by_bins(compared, share, edges, config)
+
+
+def _found_by_bins(compared: _Compared, values: np.ndarray, edges: np.ndarray, config: ConfidenceConfig
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(B,) the detectable samples of ``compared`` whose value (N,) falls in each bin of ``edges`` (B + 1,), and (B,)
+    of them found on its map."""
+    bins = np.digitize(values[compared.detectable], edges) - 1
+    inside = (bins >= 0) & (bins < len(edges) - 1)
     found = np.zeros(len(compared.uv), bool)
     if len(compared.uv):
         near, pixel = pixels_within(compared.uv, compared.size, config.tolerance_px)
         found = _found(compared.marks, near, pixel)
-    samples = np.bincount(bins[inside], minlength=len(edges_px) - 1)
-    hits = np.bincount(bins[inside], weights=found[compared.detectable][inside], minlength=len(edges_px) - 1)
+    samples = np.bincount(bins[inside], minlength=len(edges) - 1)
+    hits = np.bincount(bins[inside], weights=found[compared.detectable][inside], minlength=len(edges) - 1)
     return samples, hits.astype(int)
 
 
@@ -197,6 +222,29 @@ def _thin_markings_seen(found: np.ndarray, detectable: np.ndarray, config: Confi
         return 0.0, 0.0
     weight = (hit / total - t) / (1.0 - t)
     return weight * total, weight * hit
+
+
+def _sample_directions(uv: np.ndarray, class_index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """((N, 2) the image direction of each template sample (N, 2) pixels, towards its neighbours of the same class
+    (samples are about 1 px apart), not of unit length; (N,) its length, 0 for a sample with no such neighbour)."""
+    same = class_index[1:] == class_index[:-1]
+    step = np.where(same[:, None], uv[1:] - uv[:-1], 0.0)
+    direction = np.zeros_like(uv)
+    direction[:-1] += step
+    direction[1:] += step
+    return direction, np.linalg.norm(direction, axis=1)
+
+
+def smeared_contrast(uv: np.ndarray, class_index: np.ndarray, paint_px: np.ndarray, blur: MotionBlur) -> np.ndarray:
+    """(N,) the share of its contrast a motion blur leaves each template sample's marking: its painted width over the
+    blur's length across the marking's image direction, at most 1 (1 along the smear, and where the direction is
+    unknown). Pixels: uv, paint_px and the blur's length at one scale."""
+    direction, length = _sample_directions(uv, class_index)
+    angle = math.radians(blur.angle_deg)
+    across = blur.length_px * np.abs(direction[:, 0] * math.sin(angle) - direction[:, 1] * math.cos(angle)) \
+        / np.maximum(length, 1e-9)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(across > paint_px, paint_px / across, 1.0)
 
 
 def _found(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray:
@@ -221,7 +269,8 @@ class _Compared:
 
 
 def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
-              field_mask: np.ndarray | None, player_mask: np.ndarray | None) -> _Compared:
+              field_mask: np.ndarray | None, player_mask: np.ndarray | None,
+              motion_blur: MotionBlur | None = None) -> _Compared:
     """The two sets :func:`confidence_parts` compares: on the field, off the players, out of the goals."""
     H, W = marking_mask.shape
     w = config.work_width_px
@@ -240,6 +289,9 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
     detectable = (template.width_m_px >= config.min_line_width_px * enlarged) & (
         template.paint_width_px >= config.min_paint_width_px * enlarged)
     uv, class_index, paint = template.uv_px, template.class_index, template.paint_width_px
+    if motion_blur is not None and config.min_smeared_contrast > 0 and len(uv):
+        smear = replace(motion_blur, length_px=motion_blur.length_px * w / camera.width_px)
+        detectable &= smeared_contrast(uv, class_index, paint, smear) >= config.min_smeared_contrast
     field = None if field_mask is None else _resized(field_mask, w, h)
     players = None if player_mask is None else _resized(player_mask, w, h)
     if len(uv) and (field is not None or players is not None):
@@ -326,7 +378,7 @@ def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: floa
 
 def camera_confidence(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves | None = None,
                       config: ConfidenceConfig = ConfidenceConfig(), field_mask: np.ndarray | None = None,
-                      player_mask: np.ndarray | None = None) -> float:
+                      player_mask: np.ndarray | None = None, motion_blur: MotionBlur | None = None) -> float:
     """Agreement in [0, 1] of the detected marking map and the camera's projected template.
 
     Args:
@@ -334,9 +386,10 @@ def camera_confidence(camera: Camera, marking_mask: np.ndarray, curves: Template
         marking_mask: (H, W) bool map of detected markings (frame size or a reduced size of the same aspect).
         field_mask, player_mask: optional bool maps (any size of the same aspect); the template only
             counts where the field is visible and no player hides it.
+        motion_blur: the frame's motion blur (its length in pixels of the frame ``camera`` is at), or None.
 
     Returns:
         F-beta of precision and recall (module docstring); 0 when either set is empty.
     """
-    return confidence_parts(camera, marking_mask, curves, config, field_mask, player_mask)["confidence"]
+    return confidence_parts(camera, marking_mask, curves, config, field_mask, player_mask, motion_blur)["confidence"]
 

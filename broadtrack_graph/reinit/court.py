@@ -27,6 +27,7 @@ from dataclasses import replace
 import numpy as np
 
 from broadtrack_graph.detect.marking_structures import outline_in_image
+from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
@@ -57,7 +58,7 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, frame_size: tuple[int, int],
                       pitch: PitchTemplate | None = None, curves: TemplateCurves | None = None,
                       field_mask: np.ndarray | None = None, config: CourtConfig = CourtConfig(),
-                      player_mask: np.ndarray | None = None) -> ReinitResult:
+                      player_mask: np.ndarray | None = None, motion_blur: MotionBlur | None = None) -> ReinitResult:
     """A camera for a frame from its unlabelled marking map, with no guess of where the camera stands.
 
     Args:
@@ -67,6 +68,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         field_mask: optional bool map of the playing surface (for the confidence).
         player_mask: optional bool map of the players (any size of the frame's aspect ratio): a line's stretch
             they hide is not asked to be drawn (:func:`~.court_families.hidden_lengths_px`).
+        motion_blur: the frame's motion blur (length in frame pixels), or None: the confidence does not expect the
+            markings it smears out (:mod:`~broadtrack_graph.reinit.confidence`).
 
     Returns:
         ReinitResult: the camera at frame_size with its confidence (``score.jaccard``) and its twin
@@ -98,7 +101,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         for seen, confidence in known:
             if seen is camera:
                 return confidence
-        known.append((camera, camera_confidence(camera, marking_mask, curves, field_mask=field_mask)))
+        known.append((camera, camera_confidence(camera, marking_mask, curves, field_mask=field_mask,
+                                                motion_blur=motion_blur)))
         return known[-1][1]
 
     def walked(camera: Camera) -> Camera | None:  # an exact fit's depth (court_depth)
@@ -234,4 +238,5 @@ def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_to
 def court_reinit(detections, frame_size: tuple[int, int], curves: TemplateCurves) -> ReinitResult:
     """:func:`reinit_from_court` on a frame's detections (its marking map, marking points, field and player masks)."""
     return reinit_from_court(detections.marking_mask, detections.marking_points_px, frame_size, curves.pitch, curves,
-                             detections.field_mask, player_mask=detections.player_mask)
+                             detections.field_mask, player_mask=detections.player_mask,
+                             motion_blur=detections.motion_blur)

@@ -106,7 +106,7 @@ def frame_confidence(
         return 0.0
     if detections is not None and detections.marking_mask is not None and detections.marking_mask.any():
         return camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,
-                                 player_mask=detections.player_mask)
+                                 player_mask=detections.player_mask, motion_blur=detections.motion_blur)
     if observations.lines_px:
         score = score_labelled(camera, observations.lines_px, 5.0, sampling)
         return 0.5 * (score.jaccard + score.inlier_share)

@@ -51,11 +51,12 @@ the search place a camera from nothing, for a chain's start or a lost chain):
      guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
      chain ends and the next frame is placed from nothing.
 
-Camera ids: a shot keeps the id of its first camera; a camera found at a shot's start is identified by where it
-stands (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known
-camera's id when the frame, refined with the focal point at that camera's position, is explained within the margin
-(a tripod; another stadium's camera at a similar place is not), else a new id when it is confident; provisional
-until its chain is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
+Camera ids: a shot keeps the id of its first trusted camera; a camera found at a shot's start, or while its chain
+is not trusted yet (its id then is only a guess's), is identified by where it stands
+(:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known camera's id
+when the frame, refined with the focal point at that camera's position, is explained within the margin (a tripod;
+another stadium's camera at a similar place is not), else a new id when it is confident; provisional until its chain
+is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
 
 **One gate** for a chain's first camera (not a trusted chain's, whose frames are being written), whatever route
 gave it: on a marking map it is kept only when the markings it explains fix it
@@ -288,9 +289,13 @@ class ReinitPolicy:
                               candidate.label + why, held, held_confidence, new_camera and not continues)
 
     def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
-        """A found camera's id: the shot's, or by where it stands (a new id is provisional until trusted)."""
-        if self.chain.camera_id is not None:
-            return self.chain.camera_id  # a shot's camera does not change
+        """A found camera's id: the trusted chain's, or by where it stands (a new id is provisional until trusted).
+
+        A shot's camera does not change, but an untrusted chain's id is no more than a guess (a known camera's last
+        camera refined on the frame and taken for want of a better one): a camera found then is named by where it
+        stands, so a camera the guessed tripod does not hold gets its own id instead of that tripod's."""
+        if self.chain.camera_id is not None and self.chain.trusted:
+            return self.chain.camera_id
         camera = result.camera
         if confidence >= self.config.confidence_threshold:
             return self.registry.identify(camera.position_m, camera.R_cw[2], fits=lambda camera_id: self._fits_known(

@@ -74,14 +74,15 @@ def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path,
     calls = []
 
     def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None,
-                 player_mask=None):
+                 player_mask=None, motion_blur=None):
         calls.append((marking_mask.dtype, marking_points_px.shape[1], frame_size, isinstance(pitch, PitchTemplate),
-                      player_mask.dtype))
+                      player_mask.dtype, motion_blur is None or motion_blur.length_px > 0))
         return ReinitResult(truths[len(calls) - 1], None, "stand-in", reason="the true camera")
 
     monkeypatch.setattr(random_placements, "_court_route", lambda: (stand_in, None))
     report = run_bench(tmp_path, "--routes", "court")
-    assert calls == [(np.dtype(bool), 2, (WIDTH, HEIGHT), True, np.dtype(bool))] * 2  # the players' mask too
+    # the players' mask too, and the frame's motion blur when the detector found one
+    assert calls == [(np.dtype(bool), 2, (WIDTH, HEIGHT), True, np.dtype(bool), True)] * 2
     for row in report["frames_by_index"]:
         court = row["routes"]["court"]
         assert court["error_px"] == 0.0 and court["confidence"] == row["truth_confidence"]
@@ -203,7 +204,7 @@ def test_the_plain_renderer_draws_the_same_cameras_and_its_paint_shows(tmp_path,
     truths = []
 
     def stand_in(marking_mask, marking_points_px, frame_size, pitch=None, curves=None, field_mask=None,
-                 player_mask=None):
+                 player_mask=None, motion_blur=None):
         return ReinitResult(None, None, "stand-in", reason="no camera")
 
     monkeypatch.setattr(random_placements, "_court_route", lambda: (stand_in, None))

@@ -6,11 +6,20 @@ import cv2
 import numpy as np
 import pytest
 
+from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
-from broadtrack_graph.reinit.confidence import (ConfidenceConfig, confidence_parts, field_coverage,
-                                                 found_by_paint_width, inside_field_edge, recall_across_motion)
+from broadtrack_graph.reinit.confidence import (
+    ConfidenceConfig,
+    camera_confidence,
+    confidence_parts,
+    field_coverage,
+    found_by_paint_width,
+    inside_field_edge,
+    recall_across_motion,
+    smeared_contrast,
+)
 
 W, H = 960, 540
 PITCH = PitchTemplate()
@@ -171,3 +180,53 @@ def test_the_far_lines_across_a_low_cameras_view_are_not_expected():
     samples, found = found_by_paint_width(low, marks, np.array([0.0, 0.15, np.inf]), CURVES, field_mask=grass)
     assert samples[0] > 100 and found[0] < 0.5 * samples[0]
     assert samples[1] > 1000 and found[1] == samples[1]
+
+
+def _smear(length_px: float, angle_deg: float) -> MotionBlur:
+    return MotionBlur(length_px, angle_deg, -0.4, 0.3)
+
+
+def test_a_smear_leaves_a_marking_across_it_its_painted_width_over_the_smear_across_it():
+    # One line along x, one along y and one at 45 deg, 2 px of paint each, under a 20 px smear along x: the line along
+    # it keeps its contrast, the line across it 2 / 20, the diagonal one 2 / (20 sin 45 deg); a lone sample (no
+    # neighbour of its class: no direction) is kept whole.
+    t = np.arange(50.0)
+    uv = np.concatenate([np.column_stack([t, 0 * t]), np.column_stack([0 * t, t]), np.column_stack([t, t]),
+                         [[300.0, 300.0]]])
+    classes = np.repeat([0, 1, 2, 3], [50, 50, 50, 1])
+    share = smeared_contrast(uv, classes, np.full(len(uv), 2.0), _smear(20.0, 0.0))
+    assert np.allclose(share[:50], 1.0)
+    assert np.allclose(share[50:100], 0.1)
+    assert np.allclose(share[100:150], 2.0 / (20.0 * np.sin(np.radians(45.0))))
+    assert share[150] == 1.0
+    # A smear no longer than the paint is wide leaves it whole; the angle is a direction (0 and 180 deg alike).
+    assert np.allclose(smeared_contrast(uv, classes, np.full(len(uv), 2.0), _smear(1.5, 90.0)), 1.0)
+    assert np.allclose(share, smeared_contrast(uv, classes, np.full(len(uv), 2.0), _smear(20.0, 180.0)))
+
+
+def test_the_markings_a_smear_wipes_out_are_not_expected_and_the_ones_along_it_still_are():
+    # The true camera's map with the markings across a sideways smear gone (as a fast pan leaves it): judged as on a
+    # sharp frame, its recall falls; told the frame's smear, only the markings along it are expected and it is as
+    # confident as on the whole map. A camera off the truth across the smear is not helped: the lines along the smear
+    # place it.
+    camera = TRUTH
+    full, grass = _maps(camera)
+    template = project_template(camera, CURVES, W, H, 1.0, paint_widths=True)
+    smear = _smear(60.0, 0.0)
+    wiped = smeared_contrast(template.uv_px, template.class_index, template.paint_width_px, smear) < 0.075
+    gone = np.zeros((H, W), np.uint8)
+    gone[np.round(template.uv_px[wiped, 1]).astype(int), np.round(template.uv_px[wiped, 0]).astype(int)] = 1
+    marks = full & ~(cv2.dilate(gone, np.ones((7, 7), np.uint8)) > 0)
+    assert wiped.sum() > 200 and marks.sum() > 0.3 * full.sum()
+    sharp = camera_confidence(camera, marks, CURVES, field_mask=grass)
+    told = camera_confidence(camera, marks, CURVES, field_mask=grass, motion_blur=smear)
+    whole = camera_confidence(camera, full, CURVES, field_mask=grass)
+    assert sharp < 0.75 and told > 0.9 and told == pytest.approx(whole, abs=0.05)
+    assert camera_confidence(camera, marks, CURVES, ConfidenceConfig(min_smeared_contrast=0.0), field_mask=grass,
+                             motion_blur=smear) == pytest.approx(sharp)
+    # The blur's length is in the camera's frame pixels: the same smear in a 1920 px frame is twice as long.
+    big = camera.rescaled(2 * W, 2 * H)
+    assert camera_confidence(big, marks, CURVES, field_mask=grass, motion_blur=_smear(120.0, 0.0)) == \
+        pytest.approx(told, abs=0.01)
+    off = camera.replace(tilt_rad=camera.tilt_rad + 15.0 / camera.focal_px)
+    assert camera_confidence(off, marks, CURVES, field_mask=grass, motion_blur=smear) < 0.5

