@@ -63,9 +63,9 @@ WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
 OUTCOMES = ("found", "near", "wrong", "none")
 PAINT_WIDTH_BINS_PX = (0.0, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0, float("inf"))
+"""Bins of the painted width (working pixels) the detector's finds on the true cameras are counted in."""
 SMEARED_CONTRAST_BINS = (0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, float("inf"))
 """Bins of the share of contrast a frame's motion blur leaves a marking (``reinit.confidence.smeared_contrast``)."""
-"""Bins of the painted width (working pixels) the detector's finds on the true cameras are counted in."""
 
 
 def add_arguments(parser) -> None:
