@@ -351,25 +351,23 @@ def smear_found_by_contrast(rows: list[dict]) -> list[dict]:
     """The frames found smeared, pooled: each smeared-contrast bin's true-camera template samples and the share of
     them found (rows with a ``smear_found`` entry)."""
     counts = [row["smear_found"] for row in rows if "smear_found" in row]
-    if not counts:
-        return []
-    samples, found = np.sum([c["samples"] for c in counts], axis=0), np.sum([c["found"] for c in counts], axis=0)
-    return [{"contrast": f"{lo:g}-{hi:g}", "samples": int(n), "found_share": round(float(k) / n, 3) if n else None}
-            for lo, hi, n, k in zip(SMEARED_CONTRAST_BINS[:-1], SMEARED_CONTRAST_BINS[1:], samples, found)]
+    return _found_shares(counts, SMEARED_CONTRAST_BINS, "contrast") if counts else []
 
 
 def paint_found_by_width(rows: list[dict]) -> dict:
     """Per look: each painted-width bin's true-camera template samples and the share of them found (rows with a
     ``paint_found`` entry)."""
-    out = {}
-    for look in sorted({row["look"] for row in rows if "paint_found" in row}):
-        counts = [row["paint_found"] for row in rows if row["look"] == look and "paint_found" in row]
-        samples = np.sum([c["samples"] for c in counts], axis=0)
-        found = np.sum([c["found"] for c in counts], axis=0)
-        out[look] = [{"paint_px": f"{lo:g}-{hi:g}", "samples": int(n),
-                      "found_share": round(float(k) / n, 3) if n else None}
-                     for lo, hi, n, k in zip(PAINT_WIDTH_BINS_PX[:-1], PAINT_WIDTH_BINS_PX[1:], samples, found)]
-    return out
+    return {look: _found_shares([row["paint_found"] for row in rows if row["look"] == look and "paint_found" in row],
+                                PAINT_WIDTH_BINS_PX, "paint_px")
+            for look in sorted({row["look"] for row in rows if "paint_found" in row})}
+
+
+def _found_shares(counts: list[dict], bins, key: str) -> list[dict]:
+    """Per bin of ``bins`` (named ``key``): the samples of the rows' ``counts`` ({"samples", "found"}, one list
+    each) pooled, and the share of them found."""
+    samples, found = np.sum([c["samples"] for c in counts], axis=0), np.sum([c["found"] for c in counts], axis=0)
+    return [{key: f"{lo:g}-{hi:g}", "samples": int(n), "found_share": round(float(k) / n, 3) if n else None}
+            for lo, hi, n, k in zip(bins[:-1], bins[1:], samples, found)]
 
 
 def summary_table(report: dict) -> str:
