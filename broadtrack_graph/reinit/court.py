@@ -40,7 +40,7 @@ from broadtrack_graph.reinit.court_circle import (
 from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
 from broadtrack_graph.reinit.court_families import hidden_lengths_px, line_families, normalised_lines
-from broadtrack_graph.reinit.court_fit import fitted_camera, judged, main_side
+from broadtrack_graph.reinit.court_fit import fitted_hypotheses, judged, kept_camera, main_side
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
     concatenate,
@@ -85,12 +85,15 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     lines = structures.lines
     hidden = hidden_lengths_px(lines, player_mask, W)
     hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config, hidden)
+    ends = [len(costs)]  # where each source's hypotheses end: the straight markings', each later tier's, the refits'
     tiers = _later_tiers(structures, (W, H), pitch, config, hidden)
     # Each later tier joins while nothing explains the map well yet (circles_below_score) ...
     while tiers and not (len(costs) and -costs.min() >= config.circles_below_score):
         hypotheses, costs = _joined(hypotheses, costs, tiers.pop(0)(), structures, (W, H), config)
+        ends.append(len(costs))
     hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
                                 structures, (W, H), config)
+    ends.append(len(costs))
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             "straight, no circle with them)")
@@ -110,19 +113,35 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                                                    config.exact_fit_depth_factors, confidence_of)
         return None if other is None else main_side(other, config.twin_tie_m)
 
-    result = judged(fitted_camera(hypotheses, costs, np.arange(len(costs)), structures, points_px, (W, H), curves,
-                                  confidence_of, config), marking_mask, pitch, config, confidence_of, walked)
-    # ... and the tiers left join when the best camera so far is not one to return: their hypotheses alone are
-    # fitted then (the rejected ones would be chosen again).
-    left = [tier() for tier in tiers] if result.camera is None else []
-    if any(len(part) for part in left):
+    def fitted(among: np.ndarray) -> list:
+        return fitted_hypotheses(hypotheses, costs, among, structures, points_px, (W, H), curves, confidence_of, config)
+
+    def kept_and_judged(fits: list) -> ReinitResult:
+        return judged(kept_camera(fits, pitch, config), marking_mask, pitch, config, confidence_of, walked)
+
+    fits = fitted(np.arange(len(costs)))
+    result = kept_and_judged(fits)
+    if result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score:
+        # No camera, or none of the fits explains the map well: the tiers left join and their best are fitted, and
+        # so are the best of each source none of whose hypotheses was fitted (at most unfitted_sources, the best
+        # scoring first). One reading of the markings can score a little better on the map than the right reading of
+        # another (an arc's ellipse taken as the centre circle beside a touchline, against the same arc with its
+        # 16.5 m line across it) and take every fit. One fit is kept of them all, else of the new ones alone (the
+        # rejected ones would be chosen again).
+        starts = [0] + ends[:-1]
+        unfitted = sorted((costs[a:b].min(), a, b) for a, b in zip(starts, ends)
+                          if b > a and np.isfinite(costs[a:b]).any() and not any(a <= fit.index < b for fit in fits))
+        more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))]
         first = len(costs)
-        for part in left:
-            hypotheses, costs = _joined(hypotheses, costs, part, structures, (W, H), config)
-        later = judged(fitted_camera(hypotheses, costs, np.arange(first, len(costs)), structures, points_px,
-                                     (W, H), curves, confidence_of, config), marking_mask, pitch, config,
-                       confidence_of, walked)
-        result = later if later.camera is not None else result
+        for tier in tiers:
+            hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
+        if len(costs) > first:
+            more += fitted(np.arange(first, len(costs)))
+        for candidates in ([fits + more, more] if more else []):
+            later = kept_and_judged(candidates)
+            if later.camera is not None:
+                result = later
+                break
     return replace(result, tried=len(hypotheses))
 
 

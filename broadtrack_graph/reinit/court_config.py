@@ -36,6 +36,12 @@ class CourtConfig:
     max_hypotheses: int = 20_000  # plausible hypotheses scored at most: the splits of the lines past it are not tried
     refine_top_k: int = 3  # the best distinct hypotheses fitted
     refine_cost_share: float = 0.6  # ... after the first, only those scoring this share of its score
+    fit_tie_cost: float = 0.005  # ... and after a fit scoring search.accept_fit_score, only those whose map cost is
+    #                              within this of its hypothesis's: hypotheses one map explains alike (the members of
+    #                              a circle-and-line family, whose images of both are the same) are all fitted
+    unfitted_sources: int = 2  # with no camera returned, or no fit scoring search.accept_fit_score: the best
+    #                            hypotheses of at most this many sources (the straight markings, each later tier, the
+    #                            refits) none of which was fitted, fitted too
     confidence_margin: float = 0.1  # a fit this much more confident than the best scoring one replaces it (the
     #                                 margin a new camera needs to replace a chain's: TrackingConfig.reinit_switch_margin)
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one

@@ -1,10 +1,11 @@
 """The court model's last steps: the best distinct hypotheses fitted on the marking map, one fit kept, then judged.
 
-:func:`fitted_camera` fits the best distinct few hypotheses (the label-and-fit rounds of
+:func:`fitted_hypotheses` fits the best distinct few hypotheses (the label-and-fit rounds of
 :func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point free, each started from the camera that
-draws its homography's template, :func:`camera_through`) and keeps the best scoring fit on the map, or the most
-confident one when it is more confident by ``confidence_margin``. :func:`judged` returns it with its confidence when
-it stands where a broadcast camera can, and the markings it explains fix it with a constraint to spare
+draws its homography's template, :func:`camera_through`); :func:`kept_camera` keeps the best scoring fit on the map
+(of those standing where a broadcast camera can, when any does), or the most confident one when it is more confident
+by ``confidence_margin``. :func:`judged` returns it with its confidence when it stands where a broadcast camera can,
+and the markings it explains fix it with a constraint to spare
 (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`); fixed exactly (a circle and a line), only at
 ``exact_fit_confidence``, else after a refit along its line of sight (:mod:`.court_depth`) that reaches it.
 
@@ -38,21 +39,23 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
 
 @dataclass(frozen=True)
-class _Fit:
-    """One fitted hypothesis: its score on the map (-cost: higher is better), its confidence and the camera."""
+class Fit:
+    """One fitted hypothesis: its index, its score on the map (-cost: higher is better), its confidence and the
+    camera."""
 
+    index: int
     score: float
     confidence: float
     camera: Camera
 
 
-def fitted_camera(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size, curves: TemplateCurves,
-            confidence_of, config: CourtConfig) -> Camera | None:
-    """The best camera fitted from the best distinct few of the hypotheses ``among`` (indices), or None: the best
-    scoring on the map, unless another fit is more confident (``confidence_of``) by ``confidence_margin``, then the
-    most confident. The map's score ranks fits a few pixels apart well, wrong fits poorly: a wrong camera laid over
-    the map's clutter (the boards, the stands' rows) can score above the right one, which the confidence, reading
-    the template's own markings in the map, rates far below it."""
+def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size,
+                      curves: TemplateCurves, confidence_of, config: CourtConfig) -> list[Fit]:
+    """The best distinct few of the hypotheses ``among`` (indices) fitted on the map, best map cost first. After the
+    first, only those scoring ``refine_cost_share`` of its map score; after a fit scoring ``accept_fit_score``, only
+    those the map scores alike (within ``fit_tie_cost``): a good fit is not beaten by a hypothesis the map scores
+    worse, but the members of a circle-and-line family, whose images of both are the same, score alike and fit
+    apart."""
     W, H = frame_size
     search = config.search
     H_px = pixel_homographies(hypotheses, (W, H))
@@ -65,19 +68,33 @@ def fitted_camera(hypotheses, costs, among: np.ndarray, structures, points_px, f
     order_costs = costs[among] + 1e-6 * twin_side
     chosen = [int(among[k]) for k in best_distinct(np.where(twin_side, pans + math.pi, pans), tilts, focal_px,
                                                     order_costs, config.refine_top_k, config.distinct_per_width * W, W)]
-    if not chosen:
-        return None
     points = fit_points(points_px, search)
-    fits: list[_Fit] = []
+    fits: list[Fit] = []
+    good_cost = None  # the map cost of the first hypothesis whose fit scores accept_fit_score
     for k in chosen:
         if costs[k] > config.refine_cost_share * costs[chosen[0]]:
+            break
+        if good_cost is not None and costs[k] > good_cost + config.fit_tie_cost:
             break
         start = camera_through(H_px[k], hypotheses.sign[k], hypothesis_camera(hypotheses, k, W, H), curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
-        fits.append(_Fit(score, confidence_of(camera), camera))
-        if score >= search.accept_fit_score:
-            break  # a fit this good is not beaten by a worse-scoring hypothesis
+        fits.append(Fit(k, score, confidence_of(camera), camera))
+        if score >= search.accept_fit_score and good_cost is None:
+            good_cost = costs[k]
+    return fits
+
+
+def kept_camera(fits: list[Fit], pitch: PitchTemplate, config: CourtConfig) -> Camera | None:
+    """The camera of one of the fits, or None for none: the best scoring on the map, unless another fit is more
+    confident by ``confidence_margin``, then the most confident; of those standing where a broadcast camera can when
+    any does. The map's score ranks fits a few pixels apart well, wrong fits poorly: a wrong camera laid over the
+    map's clutter (the boards, the stands' rows) can score above the right one, which the confidence, reading the
+    template's own markings in the map, rates far below it. A circle and a line fix a camera exactly, and fits from
+    nearby starts can lay the same image from different depths along the line of sight."""
+    if not fits:
+        return None
+    fits = [fit for fit in fits if plausible_position(fit.camera.position_m, pitch)] or fits
     best, confident = max(fits, key=lambda fit: fit.score), max(fits, key=lambda fit: fit.confidence)
     kept = confident if confident.confidence >= best.confidence + config.confidence_margin else best
     return main_side(kept.camera, config.twin_tie_m)

@@ -1,4 +1,4 @@
-"""The court model's last steps: the twin rule and the judging of a fitted camera."""
+"""The court model's last steps: the twin rule, the fit kept and the judging of a fitted camera."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_config import CourtConfig
-from broadtrack_graph.reinit.court_fit import judged, main_side, twin_camera
+from broadtrack_graph.reinit.court_fit import Fit, judged, kept_camera, main_side, twin_camera
 
 PITCH = PitchTemplate()
 W, H = 960, 540
@@ -66,3 +66,24 @@ def test_a_camera_on_the_pitch_or_fixed_by_nothing_is_not_returned():
     result = judged(camera, np.zeros((H, W), bool), PITCH, CourtConfig(), lambda c: 1.0)
     assert result.camera is None and "do not fix it" in result.reason
     assert judged(None, np.zeros((H, W), bool), PITCH, CourtConfig(), lambda c: 1.0).camera is None
+
+
+def test_the_best_scoring_fit_is_kept_unless_another_is_more_confident_by_the_margin():
+    config = CourtConfig()
+    a = _aimed((0.0, 60.0, -20.0), (10.0, 0.0, 0.0), 30.0)
+    b = _aimed((0.0, 62.0, -21.0), (10.0, 0.0, 0.0), 30.0)
+    assert kept_camera([Fit(0, 0.8, 0.80, a), Fit(1, 0.7, 0.85, b)], PITCH, config) is a
+    assert kept_camera([Fit(0, 0.8, 0.80, a), Fit(1, 0.7, 0.80 + config.confidence_margin, b)], PITCH, config) is b
+    assert kept_camera([], PITCH, config) is None
+
+
+def test_a_fit_standing_on_the_playing_area_is_not_kept_over_one_standing_where_a_camera_can():
+    # Fits laying the same image from different depths along the line of sight (a circle and a line fix a camera
+    # exactly): the one scoring best stands 36 m above the pitch.
+    config = CourtConfig()
+    off = _aimed((0.0, 60.0, -20.0), (10.0, 0.0, 0.0), 30.0)
+    over = _aimed((5.0, 25.0, -36.0), (10.0, 0.0, 0.0), 30.0)
+    assert kept_camera([Fit(0, 0.74, 0.95, over), Fit(1, 0.72, 0.95, off)], PITCH, config) is off
+    # ... and when every fit stands there, the best is kept (and judged: not returned)
+    assert kept_camera([Fit(0, 0.74, 0.95, over)], PITCH, config) is over
+    assert judged(over, np.zeros((H, W), bool), PITCH, config, lambda camera: 0.95).camera is None
