@@ -137,7 +137,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
             hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
         if len(costs) > first:
             more += fitted(np.arange(first, len(costs)))
-        for candidates in ([fits + more, more] if more else []):
+        for candidates in ([fits + more, more] if fits else [more]) if more else []:  # each list judged once
             later = kept_and_judged(candidates)
             if later.camera is not None:
                 result = later
