@@ -5,7 +5,8 @@
 directions by vanishing point, and forms every camera that puts two lines of each direction on two
 pitch lines of that direction (:mod:`.court_lines`: one homography each, decomposed with the
 principal point at the image centre and gated on plausibility; when none explains the map well, also three lines
-of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`). All hypotheses are
+of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the partial
+ellipses fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All hypotheses are
 scored at once
 on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
 found in the map and the map explained by the template), the best ``refit_top`` are solved again on every straight
@@ -165,7 +166,8 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
                  hidden_px: np.ndarray | None = None) -> list:
     """The hypotheses tried after the straight markings', in order, each a call (an empty set when its markings are
     missing): three lines of one direction and one across (a zoomed goal mouth), a circle with the
-    line across it, then the centre circle with a touchline (more hypotheses, and looser: tried last)."""
+    line across it, the centre circle with a touchline (more hypotheses, and looser), then a circle with the line
+    across it again on the partial ellipses fitted again on the centre points."""
     lines = structures.lines
 
     def pencil():
@@ -173,15 +175,18 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
             return concatenate([])
         return pencil_hypotheses(lines, frame_size, pitch, config.pencil, config.lines, hidden_px)
 
-    def circles(across: bool):
+    def circles(across: bool, refitted: bool = False):
         if not lines:
             return concatenate([])
         # An arc's piece fitted alone and an ellipse fitted through it and another piece are two estimates of one
-        # circle's image, a few per cent apart on a short arc: both are tried.
-        ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
+        # circle's image, a few per cent apart on a short arc: both are tried. The partial ones fitted again on the
+        # markings' centre points are a third, a source of their own (tried last: one of them scoring best on the
+        # map does not take the others' place).
+        ellipses = structures.refitted_ellipses() if refitted else (
+            structures.ellipses() + structures.border_ellipses() + structures.arcs())
         return _circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)
 
-    return [pencil, lambda: circles(True), lambda: circles(False)]
+    return [pencil, lambda: circles(True), lambda: circles(False), lambda: circles(True, refitted=True)]
 
 
 def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig):

@@ -39,7 +39,7 @@ class CourtConfig:
     fit_tie_cost: float = 0.005  # ... and after a fit scoring search.accept_fit_score, only those whose map cost is
     #                              within this of its hypothesis's: hypotheses one map explains alike (the members of
     #                              a circle-and-line family, whose images of both are the same) are all fitted
-    unfitted_sources: int = 2  # with no camera returned, or no fit scoring search.accept_fit_score: the best
+    unfitted_sources: int = 3  # with no camera returned, or no fit scoring search.accept_fit_score: the best
     #                            hypotheses of at most this many sources (the straight markings, each later tier, the
     #                            refits) none of which was fitted, fitted too
     confidence_margin: float = 0.1  # a fit this much more confident than the best scoring one replaces it (the

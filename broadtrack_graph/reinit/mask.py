@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from broadtrack_graph.detect.ellipse_refit import refitted_ellipse, same_ellipse
 from broadtrack_graph.detect.marking_arcs import marking_arcs
 from broadtrack_graph.detect.marking_structures import marking_ellipses_both, marking_lines
 from broadtrack_graph.geometry.camera import Camera
@@ -194,7 +195,7 @@ class MapStructures:
     def __init__(self, marking_mask: np.ndarray, points_px: np.ndarray, frame_size: tuple[int, int],
                  pitch: PitchTemplate, config: MaskSearchConfig):
         W = frame_size[0]
-        self._mask, self._W, self._config = marking_mask, W, config
+        self._mask, self._W, self._config, self._points = marking_mask, W, config, points_px
         self.scorer = MapScorer(marking_mask, points_px, frame_size, pitch, config)
         self.fine_scorer = MapScorer(marking_mask, points_px, frame_size, pitch,
                                      replace(config, score_template_step_m=config.fit_template_step_m,
@@ -203,6 +204,7 @@ class MapStructures:
         self._ellipses: list | None = None
         self._border: list | None = None
         self._arcs: list | None = None
+        self._refitted: list | None = None
 
     def ellipses(self) -> list:
         if self._ellipses is None:  # with the border ones: one fit of the pieces gives both
@@ -219,6 +221,17 @@ class MapStructures:
     def border_ellipses(self) -> list:
         self.ellipses()
         return self._border
+
+    def refitted_ellipses(self) -> list:
+        """The border ellipses and arcs (part of their outline in the map) fitted again on the markings' centre points
+        near them, where that moves them (:func:`~broadtrack_graph.detect.ellipse_refit.refitted_ellipse`)."""
+        if self._refitted is None:
+            self._refitted = []
+            for ellipse in self.border_ellipses() + self.arcs():
+                refit = refitted_ellipse(ellipse, self._points, self._W, self.lines)
+                if refit is not None and not any(same_ellipse(refit, kept, self._W) for kept in self._refitted):
+                    self._refitted.append(refit)  # fits from nearby ellipses end on the same one
+        return self._refitted
 
 
 _LAST_STRUCTURES: list = []  # [(key, pitch, MapStructures)] of the last frame searched

@@ -1,0 +1,97 @@
+"""A marking ellipse fitted again on the centre points (detect/ellipse_refit.py): a penalty arc seen from behind its
+goal, whose ellipse fitted to the map's pixels is several pixels off, comes back to the circle's image."""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+import pytest
+
+from broadtrack_graph.detect.ellipse_refit import refitted_ellipse, same_ellipse
+from broadtrack_graph.detect.marking_arcs import marking_arcs
+from broadtrack_graph.detect.marking_structures import ImageEllipse, MarkingStructureConfig, marking_lines
+from broadtrack_graph.detect.template_raster import template_mask
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.template import TemplateCurves
+
+W, H = 960, 540
+PITCH = PitchTemplate()
+CURVES = TemplateCurves(PITCH, line_step_m=0.5, circle_step_m=0.05)
+STRUCTURES = MarkingStructureConfig(max_lines=24, candidate_lines=48, ellipse_cut_line_px=160.0)
+SEEN = ("Circle left", "Big rect. left main")  # the penalty arc and its 16.5 m line across it
+
+
+def _behind_the_left_goal(pan_deg: float, focal_px: float) -> Camera:
+    """A camera 35 m up, 22 m behind the left goal line, looking at the penalty arc (part of it out of view)."""
+    return Camera.from_degrees(focal_px, 0.0, pan_deg, 52.0, 0.0, (-74.5, 0.0, -35.0), W, H)
+
+
+def _true_ellipse(camera: Camera) -> ImageEllipse:
+    """The image of the left penalty arc's whole circle."""
+    d = PITCH.dimensions
+    angle = np.linspace(0.0, 2.0 * math.pi, 720, endpoint=False)
+    circle = np.column_stack([-(d.length_m / 2 - d.penalty_mark_distance_m) + d.centre_circle_radius_m * np.cos(angle),
+                              d.centre_circle_radius_m * np.sin(angle), np.zeros_like(angle)])
+    uv, front = camera.project(circle)
+    (cx, cy), (d1, d2), angle_deg = cv2.fitEllipse(uv[front].astype(np.float32))
+    theta = math.radians(angle_deg) + (0.0 if d1 >= d2 else math.pi / 2)
+    return ImageEllipse(np.array([cx, cy]), (max(d1, d2) / 2, min(d1, d2) / 2), theta % math.pi, 0.0)
+
+
+def _centre_points(camera: Camera, noise_px: float = 0.3, names=SEEN) -> np.ndarray:
+    """(N, 2) the centre points of the markings in view (the arc's and the line's), with a little noise."""
+    uv, front = camera.project(np.vstack([CURVES.samples_w[name] for name in names]))
+    shown = front & camera.in_image(uv)
+    return uv[shown] + np.random.default_rng(1).normal(0.0, noise_px, (int(shown.sum()), 2))
+
+
+@pytest.mark.parametrize("pan_deg, focal_px", [(88.0, 1300.0), (92.0, 2000.0), (84.0, 1300.0)])
+def test_a_penalty_arc_comes_back_to_its_circles_image(pan_deg, focal_px):
+    camera = _behind_the_left_goal(pan_deg, focal_px)
+    mask = template_mask(camera, CURVES, W, H, classes=SEEN)
+    lines = marking_lines(mask, W, STRUCTURES)
+    arcs = marking_arcs(mask, W, lines, STRUCTURES)
+    assert len(arcs) == 1
+    truth = _true_ellipse(camera)
+    fitted_error = np.linalg.norm(arcs[0].centre_px - truth.centre_px)
+    assert fitted_error > 5.0  # the map's pixels, fitted alone, leave the ellipse several pixels off
+    refit = refitted_ellipse(arcs[0], _centre_points(camera), W, lines)
+    assert refit is not None
+    assert np.linalg.norm(refit.centre_px - truth.centre_px) < min(2.5, fitted_error / 3)
+    assert np.allclose(refit.semi_axes_px, truth.semi_axes_px, atol=2.5)
+    assert refit.support_px == arcs[0].support_px
+
+
+def test_an_ellipse_already_on_its_points_or_without_points_is_not_refitted():
+    camera = _behind_the_left_goal(88.0, 1300.0)
+    truth = _true_ellipse(camera)
+    points = _centre_points(camera, noise_px=0.0, names=("Circle left",))
+    assert refitted_ellipse(truth, points, W) is None  # no new estimate
+    assert refitted_ellipse(truth, points[:5], W) is None  # too few points near it
+    far = ImageEllipse(truth.centre_px + [0.0, 200.0], truth.semi_axes_px, truth.angle_rad, 0.0)
+    assert refitted_ellipse(far, points, W) is None
+
+
+@pytest.mark.parametrize("pan_deg, focal_px", [(88.0, 1300.0), (92.0, 2000.0)])
+def test_the_line_across_the_arc_is_left_out(pan_deg, focal_px):
+    # Without the map's straight markings, the 16.5 m line's points where it meets the arc are taken as the arc's
+    # and pull the fit.
+    camera = _behind_the_left_goal(pan_deg, focal_px)
+    mask = template_mask(camera, CURVES, W, H, classes=SEEN)
+    lines = marking_lines(mask, W, STRUCTURES)
+    arc = marking_arcs(mask, W, lines, STRUCTURES)[0]
+    truth = _true_ellipse(camera)
+    points = _centre_points(camera)
+    error = {name: np.linalg.norm(refitted_ellipse(arc, points, W, given).centre_px - truth.centre_px)
+             for name, given in (("lines left out", lines), ("lines kept", ()))}
+    assert error["lines left out"] < 2.5
+    assert error["lines kept"] > error["lines left out"] + 1.0
+
+
+def test_same_ellipse_reads_the_whole_outline():
+    e = ImageEllipse(np.array([400.0, 300.0]), (200.0, 80.0), 0.1, 0.0)
+    assert same_ellipse(e, ImageEllipse(e.centre_px + [0.3, 0.0], e.semi_axes_px, e.angle_rad, 0.0), W)
+    assert not same_ellipse(e, ImageEllipse(e.centre_px, (203.0, 80.0), e.angle_rad, 0.0), W)
