@@ -80,12 +80,9 @@ def _fitted(start: ImageEllipse, points: np.ndarray, iterations: int, scale_px: 
     if not np.all((params[2:4] > 0.0) & (params[2:4] < log_max)):
         return None
 
-    def distances(v: np.ndarray) -> np.ndarray:  # signed first-order distances (negative inside)
+    def distances(v: np.ndarray) -> np.ndarray:
         a, b = np.exp(np.clip(v[2:4], 0.0, log_max))
-        c, s = math.cos(v[4]), math.sin(v[4])
-        x = (points[:, 0] - v[0]) * c + (points[:, 1] - v[1]) * s
-        y = -(points[:, 0] - v[0]) * s + (points[:, 1] - v[1]) * c
-        return ((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a**2, y / b**2), 1e-12)
+        return ImageEllipse(v[:2], (a, b), v[4], 0.0).signed_distances_px(points)
 
     def cost(r: np.ndarray) -> float:
         return float(np.sum(np.sqrt(1.0 + (r / scale_px) ** 2) - 1.0))
@@ -150,8 +147,4 @@ def _near_lines(points: np.ndarray, lines: list[ImageLine], clearance_px: float)
 def same_ellipse(a: ImageEllipse, b: ImageEllipse, frame_width_px: int, config: RefitConfig = RefitConfig(),
                  samples: int = 64) -> bool:
     """Whether b lies within ``min_change_px`` of a's whole outline (a's outline sampled, first-order distances)."""
-    t = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
-    c, s = math.cos(a.angle_rad), math.sin(a.angle_rad)
-    x, y = a.semi_axes_px[0] * np.cos(t), a.semi_axes_px[1] * np.sin(t)
-    outline = np.column_stack([a.centre_px[0] + c * x - s * y, a.centre_px[1] + s * x + c * y])
-    return float(b.distances_px(outline).max()) < config.min_change_px * frame_width_px / 960.0
+    return float(b.distances_px(a.outline_px(samples)).max()) < config.min_change_px * frame_width_px / 960.0

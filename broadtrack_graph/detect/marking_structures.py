@@ -203,11 +203,22 @@ class ImageEllipse:
 
     def distances_px(self, points_px: np.ndarray) -> np.ndarray:
         """(N,) approximate distances (first order) of frame-pixel points (N, 2) to the ellipse."""
+        return np.abs(self.signed_distances_px(points_px))
+
+    def signed_distances_px(self, points_px: np.ndarray) -> np.ndarray:
+        """(N,) :meth:`distances_px` signed: negative inside the ellipse."""
         c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
         d = np.asarray(points_px, float) - self.centre_px
         x, y = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
         a, b = self.semi_axes_px
-        return np.abs((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a**2, y / b**2), 1e-12)
+        return ((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a**2, y / b**2), 1e-12)
+
+    def outline_px(self, samples: int = 64) -> np.ndarray:
+        """(samples, 2) points of the outline, evenly spaced in the parametric angle, frame pixels."""
+        t = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+        c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
+        x, y = self.semi_axes_px[0] * np.cos(t), self.semi_axes_px[1] * np.sin(t)
+        return np.column_stack([self.centre_px[0] + c * x - s * y, self.centre_px[1] + s * x + c * y])
 
 
 def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig(),
