@@ -2,7 +2,9 @@
 
 :func:`fitted_hypotheses` fits the best distinct few hypotheses (the label-and-fit rounds of
 :func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point free, each started from the camera that
-draws its homography's template, :func:`camera_through`); :func:`kept_camera` keeps the best scoring fit on the map
+draws its homography's template, :func:`camera_through`; a fit whose focal point slid onto the playing area fitted
+again from its starts moved back along their lines of sight, :func:`off_the_pitch`, the focal point held there);
+:func:`kept_camera` keeps the best scoring fit on the map
 (of those standing where a broadcast camera can, when any does), or the most confident one when it is more confident
 by ``confidence_margin``. :func:`judged` returns it with its confidence when it stands where a broadcast camera can,
 and the markings it explains fix it with a constraint to spare
@@ -30,6 +32,7 @@ from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.court_config import CourtConfig
+from broadtrack_graph.reinit.court_depth import along_line_of_sight
 from broadtrack_graph.reinit.court_lines import pixel_homographies
 from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.reinit.linefit import LineFitConfig, fit_camera_to_lines
@@ -76,13 +79,27 @@ def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_p
             break
         if good_cost is not None and costs[k] > good_cost + config.fit_tie_cost:
             break
-        start = camera_through(H_px[k], hypotheses.sign[k], hypothesis_camera(hypotheses, k, W, H), curves)
+        decomposed = hypothesis_camera(hypotheses, k, W, H)
+        start = camera_through(H_px[k], hypotheses.sign[k], decomposed, curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
+        if not plausible_position(camera.position_m, curves.pitch):
+            camera = _held_off_the_pitch(camera, (start, decomposed), points, curves, structures, search)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
         fits.append(Fit(k, score, confidence_of(camera), camera))
         if score >= search.accept_fit_score and good_cost is None:
             good_cost = costs[k]
     return fits
+
+
+def _held_off_the_pitch(camera: Camera, starts, points, curves: TemplateCurves, structures, search) -> Camera:
+    """A fit whose focal point slid to where no broadcast camera stands (a narrow view draws about the same image from
+    anywhere along its line of sight) fitted again from each of its ``starts`` moved back along its line of sight to
+    the nearest place one can (:func:`off_the_pitch`), the focal point held there; the best on the map of those, or
+    ``camera`` when no start can be moved."""
+    moved = [m for m in {id(s): off_the_pitch(s, curves.pitch) for s in starts}.values() if m is not None]
+    held = [refine_on_map(m, points, m.position_m, curves, search, search.schedule, hold_position=True) for m in moved]
+    return min(held, key=lambda c: structures.fine_scorer.camera_cost(c, search.fit_hit_px, search.fit_point_px),
+               default=camera)
 
 
 def kept_camera(fits: list[Fit], pitch: PitchTemplate, config: CourtConfig) -> Camera | None:
@@ -158,6 +175,27 @@ def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: Templat
         return start
     config = LineFitConfig(cauchy_scale_px=0.05 * W, polish_power=0.0, iterations=20, sigma_k1=1e-3)
     return fit_camera_to_lines(start, lines, curves, config, fixed=(1,)).camera
+
+
+def off_the_pitch(camera: Camera, pitch: PitchTemplate, margin_m: float = 0.5) -> Camera | None:
+    """``camera`` itself where a broadcast camera can stand (:func:`~broadtrack_graph.reinit.frame.plausible_position`),
+    else moved back along its line of sight to the nearest such place (``margin_m`` past the pitch's edge), its focal
+    length scaled with its distance to the ground point it looks at (:func:`~.court_depth.along_line_of_sight`: that
+    point's surroundings drawn about the same size); None when its optical axis misses the ground ahead."""
+    if plausible_position(camera.position_m, pitch):
+        return camera
+    axis, position = camera.optical_axis_w, np.asarray(camera.position_m, float)
+    if axis[2] <= 1e-6 or position[2] >= 0:
+        return None
+    look_at = position + (-position[2] / axis[2]) * axis
+    away = position - look_at
+    half = np.array([pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2]) + margin_m
+    factors = [(sign * half[i] - look_at[i]) / away[i] for i in (0, 1) for sign in (-1.0, 1.0) if abs(away[i]) > 1e-9]
+    factors = [k for k in factors if k > 1.0]
+    if not factors:
+        return None
+    moved = along_line_of_sight(camera, [min(factors)])[0]
+    return moved if plausible_position(moved.position_m, pitch) else None
 
 
 def twin_camera(camera: Camera) -> Camera:

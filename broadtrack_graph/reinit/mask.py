@@ -261,8 +261,9 @@ def fit_points(marking_points_px: np.ndarray, config: MaskSearchConfig) -> np.nd
 
 
 def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: TemplateCurves,
-                   config: MaskSearchConfig, schedule: RefineSchedule) -> Camera:
-    """Label-and-fit rounds with a shrinking gate and a robust scale tied to it (:class:`RefineSchedule`)."""
+                   config: MaskSearchConfig, schedule: RefineSchedule, hold_position: bool = False) -> Camera:
+    """Label-and-fit rounds with a shrinking gate and a robust scale tied to it (:class:`RefineSchedule`);
+    ``hold_position``: the focal point held where ``camera`` has it (f, k1 and the angles fitted)."""
     W = camera.width_px
     base = LineFitConfig(polish_power=0.0, iterations=schedule.iterations, sigma_position_m=config.position_sigma_m,
                          sigma_k1=config.sigma_k1)
@@ -276,6 +277,8 @@ def refine_on_map(camera: Camera, points_px: np.ndarray, position_w, curves: Tem
         fixed = () if round_index >= min(schedule.k1_free_from_round, len(gates) - 1) else (1,)
         if len(lines) < config.min_classes_free_position:
             fixed = (1, 5, 6, 7)  # one or two markings (a circle alone): the focal point and k1 are not observable
+        elif hold_position:
+            fixed = fixed + (5, 6, 7)
         round_config = replace(base, cauchy_scale_px=scale * W)
         if round_index < len(gates) - 1:
             round_config = replace(round_config, min_relative_decrease=schedule.early_round_min_relative_decrease)

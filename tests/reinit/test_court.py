@@ -181,8 +181,8 @@ def test_a_fitted_camera_standing_on_the_pitch_is_not_returned(monkeypatch):
 
     truth = _aimed((0.0, 55.0, -15.0), (38.0, 0.0, 0.0), 30.0)
     det = _detect(truth)
-    monkeypatch.setattr(court_fit, "refine_on_map", lambda start, *args: start.replace(
-        position_m=np.array([10.0, 20.0, -15.0])))  # a fit that walked onto the pitch
+    monkeypatch.setattr(court_fit, "refine_on_map", lambda start, *args, **kwargs: start.replace(
+        position_m=np.array([10.0, 20.0, -15.0])))  # a fit that walked onto the pitch, held there too
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (W, H), PITCH, CURVES, det.field_mask)
     assert result.camera is None and "not a broadcast camera's" in result.reason
 
@@ -338,4 +338,17 @@ def test_a_penalty_arc_cut_by_the_frames_edge_gives_the_camera_from_its_ellipse_
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
                                det.field_mask, motion_blur=det.motion_blur)
     assert _found_or_twin_px(result, truth) < 3.0, result.reason
+    assert result.score.jaccard > 0.9
+
+
+def test_a_narrow_view_whose_fit_slides_onto_the_pitch_is_fitted_again_from_just_past_its_edge(one_opencv_thread):
+    """Plain frame 444: a penalty arc with its 16.5 m line at 17 deg from 20 m up, 1.7 m past the far touchline. The
+    circle-and-line hypothesis draws the template 0.4 px from the truth's twin, but the view is nearly affine and the
+    fit keeps the image while sliding 35 m along its line of sight onto the playing area (2 px off, standing where
+    no broadcast camera can). Moved back along the line of sight to just past the touchline and fitted with the focal
+    point held there, it is the camera."""
+    truth, det = _plain_placement(444)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
+                               det.field_mask, motion_blur=det.motion_blur)
+    assert _found_or_twin_px(result, truth) < 1.5, result.reason
     assert result.score.jaccard > 0.9

@@ -5,11 +5,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_config import CourtConfig
-from broadtrack_graph.reinit.court_fit import Fit, judged, kept_camera, main_side, twin_camera
+from broadtrack_graph.reinit.court_fit import Fit, judged, kept_camera, main_side, off_the_pitch, twin_camera
+from broadtrack_graph.reinit.frame import plausible_position
 
 PITCH = PitchTemplate()
 W, H = 960, 540
@@ -87,3 +89,31 @@ def test_a_fit_standing_on_the_playing_area_is_not_kept_over_one_standing_where_
     # ... and when every fit stands there, the best is kept (and judged: not returned)
     assert kept_camera([Fit(0, 0.74, 0.95, over)], PITCH, config) is over
     assert judged(over, np.zeros((H, W), bool), PITCH, config, lambda camera: 0.95).camera is None
+
+
+def test_a_camera_on_the_pitch_is_moved_back_along_its_line_of_sight_to_just_past_the_pitchs_edge():
+    """A narrow view from 12 m up over the playing area (where a fit of a nearly affine view can slide): moved back
+    along its optical axis until it stands 0.5 m past the nearest edge it crosses, the ground point it looks at still
+    at the image centre and its surroundings drawn about the same size."""
+    camera = _aimed((-20.0, 25.0, -12.0), (-30.0, -10.0, 0.0), 15.0)
+    assert not plausible_position(camera.position_m, PITCH)
+    moved = off_the_pitch(camera, PITCH)
+    assert plausible_position(moved.position_m, PITCH)
+    half_width = PITCH.dimensions.width_m / 2
+    assert abs(moved.position_m[1]) == pytest.approx(half_width + 0.5, abs=1e-6)  # it leaves by the touchline
+    assert abs(moved.position_m[0]) < PITCH.dimensions.length_m / 2
+    look_at = np.array([-30.0, -10.0, 0.0])
+    np.testing.assert_allclose(moved.project(look_at[None])[0][0], [W / 2, H / 2], atol=1e-6)
+    step = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # a metre either way of it: about as many pixels as before
+    size = [np.linalg.norm(c.project(look_at + step)[0] - c.project(look_at[None])[0], axis=1) for c in (camera, moved)]
+    np.testing.assert_allclose(size[1], size[0], rtol=0.05)
+    assert moved.focal_px > camera.focal_px
+    standing = _aimed((0.0, 50.0, -15.0), (0.0, 0.0, 0.0), 40.0)
+    assert off_the_pitch(standing, PITCH) is standing  # already where a camera can stand
+
+
+def test_a_camera_under_the_grass_or_looking_above_the_horizon_is_not_moved():
+    under = _aimed((0.0, 10.0, 3.0), (0.0, 0.0, 0.0), 20.0)
+    assert off_the_pitch(under, PITCH) is None
+    upward = Camera(1000.0, 0.0, 0.0, math.radians(100.0), 0.0, np.array([0.0, 10.0, -10.0]), W, H)
+    assert off_the_pitch(upward, PITCH) is None
