@@ -18,7 +18,9 @@ the measure does not change with the frame resolution:
   finds there; a camera whose thin lines fall on grass is not helped by them);
 * precision P: share of detected marking pixels within ``tolerance_px`` of the template (all of it: a marking
   found on a line too thin to expect, far off, is still explained by it), players (the mask takes their legs:
-  light socks and skin are ridges as markings are) left out.
+  light socks and skin are ridges as markings are) and the map's pieces shorter than ``min_piece_length_px`` left
+  out (grass texture at a grazing angle leaves specks a few pixels long that no camera explains; a painted line,
+  even broken, leaves longer pieces: :func:`~.frame_maps.long_pieces`).
 
 confidence = F-beta(P, R) with beta = 2 (recall weighted: grass texture and clutter
 leave specks that no camera explains), scaled down when the camera leaves the playing
@@ -57,6 +59,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pixel_neighbours import pixels_within
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
+from broadtrack_graph.reinit.frame_maps import inside_field_edge, long_pieces
 
 DEFAULT_THRESHOLD = 0.5
 
@@ -81,6 +84,9 @@ class ConfidenceConfig:
     # across it) is not expected (module docstring; 0: every one is)
     min_smeared_contrast: float = 0.075
     min_template_px: int = 150  # recall denominator floor (samples, about pixels of template)
+    # the precision reads only the marking map's pieces at least this long (working pixels; frame_maps.long_pieces):
+    # specks of grass texture are no camera's markings (0: every piece)
+    min_piece_length_px: float = 12.0
     beta: float = 2.0  # F-beta weight of recall over precision
     field_margin_m: float = 10.0  # grass this far outside the lines still counts as explained (run-off, benches)
     min_field_coverage: float = 0.7  # below this share of explained grass the score is scaled by share / this
@@ -121,7 +127,8 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
         # A marking found where the template has a line too thin to expect is still explained by it.
         explained = np.zeros(h * w, bool)
         explained[pixel[near]] = True
-        precision = float(np.count_nonzero(explained & marks.ravel()) / marking_pixels)
+        counted = compared.pieces.ravel()
+        precision = float(np.count_nonzero(explained & counted) / max(1, np.count_nonzero(counted)))
     b2 = config.beta**2
     score = (1 + b2) * precision * recall / (b2 * precision + recall) if precision + recall > 0 else 0.0
     coverage = 1.0
@@ -260,6 +267,7 @@ class _Compared:
     map (or None), (w, h)."""
 
     marks: np.ndarray
+    pieces: np.ndarray
     uv: np.ndarray
     detectable: np.ndarray
     class_index: np.ndarray
@@ -281,6 +289,7 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
         # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
         marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
                            interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
+    whole = marks  # the map before the field, players and goals are taken out of it
     template = project_template(camera, curves, w, h, config.template_spacing_px, paint_widths=True)
     # Detectable: at least min_line_width_px wide at the working width and painted at least min_paint_width_px wide
     # across the line's image, both as wide in the frame itself (upsampling a 640 px frame to the working width does
@@ -315,37 +324,8 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
             outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
             uv, detectable, class_index, paint = uv[outside], detectable[outside], class_index[outside], paint[outside]
         marks = marks & ~goals
-    return _Compared(marks, uv, detectable, class_index, paint, field, (w, h))
-
-
-_LAST_INSIDE_EDGE: list = []  # [(field map, margin, the map inside its edge band)]: the last one asked
-
-
-def inside_field_edge(field: np.ndarray, margin_px: int) -> np.ndarray:
-    """The field map without the band ``margin_px`` wide along its outer edge, as the weight-free detector's
-    ridges are kept (its outline filled: players' holes do not widen the band; the image border is not an edge).
-
-    Args:
-        field: (h, w) bool field map.
-        margin_px: the band's width (pixels of the map; a disc's reach); 0: the map as it is.
-
-    Returns:
-        (h, w) bool, read only. The same array while the same map (the same array) is asked again: a frame's
-        cameras are all compared with one map.
-    """
-    if margin_px <= 0:
-        return field
-    last = _LAST_INSIDE_EDGE[0] if _LAST_INSIDE_EDGE else None
-    if last is not None and last[0] is field and last[1] == margin_px:
-        return last[2]
-    outline = np.zeros(field.shape, np.uint8)
-    contours, _ = cv2.findContours(field.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-    cv2.drawContours(outline, contours, -1, 1, thickness=cv2.FILLED)
-    disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin_px + 1, 2 * margin_px + 1))
-    inside = field & (cv2.erode(outline, disc) > 0)
-    inside.setflags(write=False)
-    _LAST_INSIDE_EDGE[:] = [(field, margin_px, inside)]  # the map is held: its id is not reused while cached
-    return inside
+    return _Compared(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index, paint,
+                     field, (w, h))
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:
