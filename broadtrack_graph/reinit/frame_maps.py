@@ -11,6 +11,19 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+
+def _remembered(slot: list, source: np.ndarray, setting: float, make) -> np.ndarray:
+    """``make()`` (a map, made read only), or the one ``slot`` holds when it was made from this very ``source`` array
+    at this ``setting``. The slot holds the source too: its id is not reused while it is remembered."""
+    last = slot[0] if slot else None
+    if last is not None and last[0] is source and last[1] == setting:
+        return last[2]
+    made = make()
+    made.setflags(write=False)
+    slot[:] = [(source, setting, made)]
+    return made
+
+
 _LAST_INSIDE_EDGE: list = []  # [(field map, margin, the map inside its edge band)]: the last one asked
 
 
@@ -28,17 +41,15 @@ def inside_field_edge(field: np.ndarray, margin_px: int) -> np.ndarray:
     """
     if margin_px <= 0:
         return field
-    last = _LAST_INSIDE_EDGE[0] if _LAST_INSIDE_EDGE else None
-    if last is not None and last[0] is field and last[1] == margin_px:
-        return last[2]
+    return _remembered(_LAST_INSIDE_EDGE, field, margin_px, lambda: _inside_edge(field, margin_px))
+
+
+def _inside_edge(field: np.ndarray, margin_px: int) -> np.ndarray:
     outline = np.zeros(field.shape, np.uint8)
     contours, _ = cv2.findContours(field.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
     cv2.drawContours(outline, contours, -1, 1, thickness=cv2.FILLED)
     disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin_px + 1, 2 * margin_px + 1))
-    inside = field & (cv2.erode(outline, disc) > 0)
-    inside.setflags(write=False)
-    _LAST_INSIDE_EDGE[:] = [(field, margin_px, inside)]  # the map is held: its id is not reused while cached
-    return inside
+    return field & (cv2.erode(outline, disc) > 0)
 
 
 _LAST_LONG_PIECES: list = []  # [(marking map, length, its long pieces)]: the last one asked
@@ -59,9 +70,10 @@ def long_pieces(marks: np.ndarray, min_length_px: float) -> np.ndarray:
     """
     if min_length_px <= 0:
         return marks
-    last = _LAST_LONG_PIECES[0] if _LAST_LONG_PIECES else None
-    if last is not None and last[0] is marks and last[1] == min_length_px:
-        return last[2]
+    return _remembered(_LAST_LONG_PIECES, marks, min_length_px, lambda: _long_pieces(marks, min_length_px))
+
+
+def _long_pieces(marks: np.ndarray, min_length_px: float) -> np.ndarray:
     # The pieces' extents from their pixels alone (the map is sparse: OpenCV's statistics would visit every pixel).
     grid = np.ascontiguousarray(marks, dtype=np.uint8)
     _, labels = cv2.connectedComponents(grid, connectivity=8)
@@ -75,6 +87,4 @@ def long_pieces(marks: np.ndarray, min_length_px: float) -> np.ndarray:
         extent = np.maximum(*(np.maximum.reduceat(v, starts) - np.minimum.reduceat(v, starts) + 1
                               for v in (rows, cols)))
         pieces[rows, cols] = np.repeat(extent >= min_length_px, np.diff(np.append(starts, len(owner))))
-    pieces.setflags(write=False)
-    _LAST_LONG_PIECES[:] = [(marks, min_length_px, pieces)]  # the map is held: its id is not reused while cached
     return pieces
