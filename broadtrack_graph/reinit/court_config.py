@@ -16,9 +16,9 @@ from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 class CourtConfig:
     """Settings of :func:`reinit_from_court` (pixels at the frame size unless stated)."""
 
-    # the hypotheses of the straight markings (and their gates); 8 second directions to each first: a banner's or a
-    # board's two edges meet in a point that outvotes the pitch's own second direction
-    lines: CourtLineConfig = CourtLineConfig(second_candidates=8)
+    # the hypotheses of the straight markings (and their gates); 16 splits of the lines: a banner's or a board's
+    # edges make splits of their own that can take more of the lines' support than the pitch's
+    lines: CourtLineConfig = CourtLineConfig(max_splits=16)
     # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
     circle: CourtCircleConfig = CourtCircleConfig()
     # three lines of one direction and one across (tried with the circles)

@@ -4,9 +4,9 @@ The pitch's straight markings run in two directions (parallel to the touchlines 
 image the lines of each meet at a vanishing point. A line is solid when the map draws it along most of its extent
 where no player stands on it (:func:`hidden_lengths_px`). Every intersection of two solid image lines is a candidate,
 unless it lies inside either line's extent (painted lines crossing there are not parallel on the grass: a corner),
-voted for by the support of the lines pointing at it (:func:`vanishing_votes`); the likeliest pairs of distinct
-candidates that a focal length in range can make orthogonal split the lines into two families
-(:func:`line_families`), from which :mod:`broadtrack_graph.reinit.court_lines` forms its homographies.
+voted for by the support of the lines pointing at it (:func:`vanishing_votes`); the pairs of candidates that take
+the most of the lines' support, and that a focal length in range can make orthogonal, split the lines into two
+families (:func:`line_families`), from which :mod:`broadtrack_graph.reinit.court_lines` forms its homographies.
 
 Image coordinates are normalised as in :mod:`broadtrack_graph.reinit.court_lines`: ``x_n = (u - W / 2) / s``,
 ``y_n = (v - H / 2) / s`` with ``s = W / 2``.
@@ -40,8 +40,10 @@ class CourtLineConfig:
     # Two vanishing points both this near the image (|w| of the unit homogeneous point: within about 1 / w half
     # widths of the centre) must fit a focal length in range (within a factor 2: a far one is poorly placed)
     near_vanishing_w: float = 0.15
-    vanishing_candidates: int = 4  # the best distinct vanishing points taken as the first direction ...
-    second_candidates: int = 4  # ... each with this many best distinct ones among the lines it leaves
+    # The pairs of candidate vanishing points are ranked by the support of the lines either takes (the split that
+    # explains the most of the straight markings first); the best max_splits distinct pairs are kept ...
+    max_splits: int = 16
+    vanishing_pool: int = 64  # ... of the pairs among this many best voted distinct candidates (bounded time)
     focal_range_per_width: tuple[float, float] = (0.45, 16.0)  # f / W accepted (fields of view about 126 to 3.6 deg)
     max_axis_mismatch: float = 0.3  # |K^-1 h1| / |K^-1 h2| - 1 and the cosine between them, at most
     height_range_m: tuple[float, float] = (2.0, 150.0)  # focal point above the grass
@@ -195,14 +197,18 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
                   ) -> list[LineFamilies]:
     """Ways of splitting the image lines into the pitch's two directions, likeliest first.
 
-    Every intersection of two lines is a candidate vanishing point, voted for by the support (map
-    pixels) of the lines pointing at it. Each of the ``vanishing_candidates`` best distinct points
-    (their line sets overlapping by at most half) is a first direction, paired with the
-    ``second_candidates`` best distinct points of the lines it leaves; a pair is kept when the two
-    directions can be orthogonal for some focal length in range (two finite vanishing points v1, v2 of orthogonal
-    directions satisfy ``v1 . v2 = -f^2`` about the image centre). Each family's vanishing point is the
-    least-squares meeting point of its lines. A goal net's strands or a board's edges make vanishing
-    points of their own: the pairs of the map's few best points are all kept, and the map decides.
+    Every intersection of two lines is a candidate vanishing point, voted for by the support (map pixels) of the
+    lines pointing at it; the ``vanishing_pool`` best voted candidates with distinct line sets are paired. A pair
+    splits the lines: the better voted point's lines are the first family, the other point's lines left the second
+    (at least two each). The pairs are ranked by the support of the lines the split takes, and the best
+    ``max_splits`` are kept that differ from every split kept before (either family sharing at most half its
+    lines with its counterpart's) and whose two directions can be orthogonal for some focal length in range (two
+    finite vanishing points v1, v2 of orthogonal directions satisfy ``v1 . v2 = -f^2`` about the image centre).
+    Ranked on the split, not on each point: every point on the longest line outvotes any point of two shorter
+    lines, so points ranked alone pair the longest line with each of the next longest, whatever their direction,
+    and a short line of the longest one's direction is left out. Each family's vanishing point is the
+    least-squares meeting point of its lines. A goal net's strands or a board's edges make vanishing points of
+    their own: the best splits are all kept, and the map decides.
     Lines drawn along less than ``min_line_coverage`` of their extent where no player hides it (``hidden_px``,
     :func:`vanishing_votes`; a Hough line through scattered specks) and lines of a hatch
     (:func:`~broadtrack_graph.detect.marking_structures.hatched`: a goal net's strands) join no family.
@@ -210,24 +216,41 @@ def line_families(lines: list[ImageLine], frame_size: tuple[int, int],
     votes = vanishing_votes(lines, frame_size, config, hidden_px)
     if votes is None or len(votes.lines_n) < 4:
         return []
-    lines_n, s, centre, support, i, j, meets = (votes.lines_n, votes.scale_px, votes.centre_px, votes.support_px,
-                                                votes.i, votes.j, votes.meets)
-    L = len(lines_n)
+    lines_n, s, centre, support, meets = votes.lines_n, votes.scale_px, votes.centre_px, votes.support_px, votes.meets
+    order = np.argsort(-(meets @ support), kind="stable")
+    order = order[meets[order].sum(axis=1) >= 2]
+    _, first_of_set = np.unique(meets[order], axis=0, return_index=True)
+    pool = meets[order[np.sort(first_of_set)][:config.vanishing_pool]]  # (Q, L), best voted first
+    a, b = np.triu_indices(len(pool), 1)
+    second = pool[b] & ~pool[a]  # the lines the better voted point leaves to the other
+    two = second.sum(axis=1) >= 2
+    splits = np.stack([pool[a[two]], second[two]], axis=1)  # (S, 2, L): the first family's lines, the second's
+    if not len(splits):
+        return []
+    _, first_of_split = np.unique(np.packbits(splits.reshape(len(splits), -1), axis=1), axis=0, return_index=True)
+    splits = splits[np.sort(first_of_split)]  # each split once
+    splits = splits[np.argsort(-(splits.any(axis=1) @ support), kind="stable")]
+    sizes = splits.sum(axis=2)  # (S, 2)
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)
-    out = []
-    for first in distinct_sets(meets, meets @ support, config.vanishing_candidates):
-        rest = ~first  # the second direction among the lines the first leaves
-        second_votes = np.where(rest[i] & rest[j], (meets & rest[None, :]) @ support, -1.0)
-        for second in distinct_sets(meets & rest[None, :], second_votes, config.second_candidates):
-            vanishing = np.stack([np.linalg.svd(lines_n[first])[2][-1], np.linalg.svd(lines_n[second])[2][-1]])
-            w1, w2 = vanishing[:, 2]
-            if min(abs(w1), abs(w2)) > config.near_vanishing_w:  # both near the image: the orthogonality gives f
-                f2 = -(vanishing[0, :2] @ vanishing[1, :2]) / (w1 * w2)
-                if not (f_lo / 2) ** 2 <= f2 <= (2 * f_hi) ** 2:
-                    continue
-            family = np.full(L, -1)
-            family[first], family[second] = 0, 1
-            out.append(LineFamilies(lines_n, family, vanishing, s, centre))
+    out: list[LineFamilies] = []
+    kept = np.zeros((config.max_splits, 2, len(lines_n)), int)
+    kept_sizes = np.ones((config.max_splits, 2))
+    for sets, size in zip(splits, sizes):
+        shared = np.einsum("kfl,fl->kf", kept[:len(out)], sets)
+        if np.any(np.all(shared > 0.5 * np.minimum(kept_sizes[:len(out)], size), axis=1)):
+            continue  # both families as a split's kept before, but for a line or so
+        vanishing = np.stack([np.linalg.svd(lines_n[members])[2][-1] for members in sets])
+        w1, w2 = vanishing[:, 2]
+        if min(abs(w1), abs(w2)) > config.near_vanishing_w:  # both near the image: the orthogonality gives f
+            f2 = -(vanishing[0, :2] @ vanishing[1, :2]) / (w1 * w2)
+            if not (f_lo / 2) ** 2 <= f2 <= (2 * f_hi) ** 2:
+                continue
+        family = np.full(len(lines_n), -1)
+        family[sets[0]], family[sets[1]] = 0, 1
+        kept[len(out)], kept_sizes[len(out)] = sets, size
+        out.append(LineFamilies(lines_n, family, vanishing, s, centre))
+        if len(out) >= config.max_splits:
+            break
     return out
 
 

@@ -26,8 +26,8 @@ def test_too_few_lines_give_no_split():
 
 def test_lines_crossing_on_the_grass_do_not_make_a_vanishing_point():
     """A wide main-camera view: the near touchline, long and strongly supported, crosses the halfway line and the
-    16.5 m line in the image. Those crossings are corners, not vanishing points: with them voted for as candidates,
-    the long touchline's crossings outvote the two true directions and crowd them out of the candidates."""
+    16.5 m line in the image. Those crossings are corners, not vanishing points: they are no candidates (each would
+    make a split of lines that cross on the grass), and the true split is found."""
     from dataclasses import replace
 
     from broadtrack_graph.geometry.camera import Camera
@@ -53,7 +53,6 @@ def test_lines_crossing_on_the_grass_do_not_make_a_vanishing_point():
     corners = vanishing_votes(lines, (W, H))
     assert not any({int(a), int(b)} in ({0, 2}, {0, 3}) for a, b in zip(corners.i, corners.j))
     assert split_found(CourtLineConfig())
-    assert not split_found(CourtLineConfig(crossing_inside_share=0.5))  # no meeting point inside an extent's middle
 
 
 def test_the_stretch_of_a_line_the_players_hide_is_measured_on_their_mask():
@@ -89,3 +88,37 @@ def test_a_line_broken_by_players_still_joins_its_direction():
     lines[0] = replace(lines[0], support_px=0.2 * length)
     hidden[0] = 0.9 * length
     assert not vanishing_votes(lines, (W, H), hidden_px=hidden).solid[0]
+
+
+def test_a_short_line_of_the_longest_lines_direction_joins_it():
+    """A main-camera view of a penalty area far off: the near touchline long and strongly supported, the 16.5 m and
+    goal area lines across, the penalty area's side a short piece along, and two lines of a graphic (not in either
+    direction) supported better than the side. Ranked point by point, every meeting point of the touchline outvotes
+    the others and the side is never paired with it; ranked on the split, the true one is among the best."""
+    from dataclasses import replace
+
+    from broadtrack_graph.geometry.camera import Camera
+    from broadtrack_graph.reinit.court_families import CourtLineConfig
+
+    camera = Camera.from_degrees(900.0, 0.0, 26.0, 68.5, 0.0, (1.4, 59.4, -16.7), W, H)
+    segments = [
+        ((-5.0, 34.0, 0.0), (40.0, 34.0, 0.0)),  # near touchline (x direction)
+        ((36.0, -20.16, 0.0), (36.0, 15.0, 0.0)),  # 16.5 m line (y)
+        ((47.0, -9.16, 0.0), (47.0, 9.16, 0.0)),  # goal area line (y)
+        ((36.5, 20.16, 0.0), (44.0, 20.16, 0.0)),  # the penalty area's side, a short piece (x)
+        ((10.0, -20.0, 0.0), (25.0, -5.0, 0.0)),  # a graphic's lines, laid on the grass at 45 deg ...
+        ((8.0, -26.0, 0.0), (14.0, -12.0, 0.0)),  # ... at 67 deg ...
+        ((-2.0, 10.0, 0.0), (6.0, -4.0, 0.0)),  # ... and at -60 deg
+    ]
+    lines = image_lines(camera, segments)
+    for k, support in enumerate([460.0, 290.0, 150.0, 75.0, 110.0, 100.0, 90.0]):
+        lines[k] = replace(lines[k], support_px=support)
+    truth = [0, 1, 1, 0, -1, -1, -1]
+
+    def ranks(splits):
+        return [k for k, s in enumerate(splits) if np.array_equal(s.family, truth)
+                or np.array_equal(np.where(s.family >= 0, 1 - s.family, -1), truth)]
+
+    found = ranks(line_families(lines, (W, H), CourtLineConfig()))  # (ranked point by point: not among 32)
+    assert len(found) == 1 and found[0] < 8
+    assert ranks(line_families(lines, (W, H), CourtLineConfig(max_splits=40))) == found  # no duplicate of it
