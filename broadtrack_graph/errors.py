@@ -16,3 +16,7 @@ class InputError(ValueError):
         self.path = None if path is None else Path(path)
         self.problem = " ".join(str(problem).split())  # keep it on one line
         super().__init__(self.problem if path is None else f"{path}: {self.problem}")
+
+    def __reduce__(self):
+        # Rebuilt from (path, problem), not from the message (an error raised in another process is re-raised here).
+        return type(self), (self.path, self.problem)

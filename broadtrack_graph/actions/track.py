@@ -143,7 +143,7 @@ def _track(frames_path, detections_path, start, end, out_dir, context: RunContex
         context = replace(context, detector=make_detector(detector, context.pitch), run_info=run_info,
                           **_player_observers(players, source.width_px, source.height_px, out_dir))
         return run_frames(frames_from_source(source), source.width_px, source.height_px, out_dir, context,
-                          len(source))
+                          len(source), source)
 
 
 def _player_observers(players, width_px: int, height_px: int, out_dir) -> dict:

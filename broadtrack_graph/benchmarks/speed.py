@@ -5,10 +5,11 @@ there) and tracked from its JPEG frames with the weight-free detector by
 :func:`~broadtrack_graph.actions.track.track_input`, in each requested mode. The run's
 ``summary.json`` carries the seconds spent per stage (``timings_s``: detect_s, flow_s,
 solve_s, confidence_s, reinit_s, write_s in the tracking thread; markings_ahead_s, the
-camera-free half of detection done ahead in the thread that decodes the frames); the suite adds the wall time and process CPU
-time of the whole call (which include reading and decoding the frames, and for batch
-mode the first pass and the refinement), and per stage the milliseconds per frame, the
-share of the wall time and the stage's own frames per second.
+camera-free half of detection done ahead where the frames are decoded: a process of its own for a clip of 100
+frames or more, :mod:`broadtrack_graph.track.ahead`); the suite adds the wall time and the CPU time of the whole
+call, that process's included (which include reading and decoding the frames, and for batch mode the first pass
+and the refinement), and per stage the milliseconds per frame, the share of the wall time and the stage's own
+frames per second.
 
 OpenCV runs with ``--threads`` threads (default 1); GTSAM has no TBB here and runs on one
 thread. On a shared machine the wall time includes waiting for a core: compare it
@@ -24,6 +25,7 @@ from pathlib import Path
 import cv2
 
 from broadtrack_graph.benchmarks.options import add_reinit_model, tracker_options
+from broadtrack_graph.io.process_prefetch import cpu_seconds
 from broadtrack_graph.track.config import TrackingConfig
 
 HELP = "fps of the whole tracking pipeline and of each stage (detect, flow, solve, confidence, reinit, write)"
@@ -32,7 +34,7 @@ log = logging.getLogger(__name__)
 
 STAGES = ("detect_s", "flow_s", "solve_s", "confidence_s", "reinit_s", "write_s")
 AHEAD_STAGES = ("markings_ahead_s",)
-"""Stages run in the thread that decodes the frames, overlapping STAGES (not part of their sum)."""
+"""Stages run where the frames are decoded, overlapping STAGES (not part of their sum)."""
 
 
 def add_arguments(parser) -> None:
@@ -124,5 +126,5 @@ def run(args) -> dict:
 
 
 def _cpu_s() -> float:
-    """CPU seconds of this process, all its threads (the tracker runs in one process)."""
-    return time.process_time()
+    """CPU seconds of this process, all its threads, and of the process that prepared the frames once it ended."""
+    return cpu_seconds()

@@ -15,6 +15,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Callable
 
+from broadtrack_graph.io.process_prefetch import cpu_seconds
 from broadtrack_graph.io.run_folder import CAMERA_DIR, CAMERA_DIR_960, TRACK_FILE, RunFolder
 from broadtrack_graph.io.track_record import record_to_json
 from broadtrack_graph.types.status import FrameStatus
@@ -69,7 +70,7 @@ class TrackWriter:
             logger.info("%s: removed %d camera files of an earlier run", self.out_dir, removed)
         self._track = open(self.folder.track_path, "w", encoding="utf-8")
         self._started_wall = time.time()
-        self._started_cpu = time.process_time()  # the process's CPU time (every thread) at the start
+        self._started_cpu = cpu_seconds()  # the process's CPU time (every thread, ended children) at the start
         self._started_utc = datetime.now(timezone.utc).isoformat(timespec="seconds")
         self._status_counts = {status.value: 0 for status in FrameStatus}
         self._frames = 0
@@ -128,7 +129,7 @@ class TrackWriter:
     def summary(self, complete: bool, extra: dict | None = None) -> dict:
         """The summary.json object for the frames written so far."""
         elapsed = time.time() - self._started_wall
-        cpu = time.process_time() - self._started_cpu
+        cpu = cpu_seconds() - self._started_cpu
         with_camera = sum(self._status_counts[s] for s in FrameStatus if s.has_camera)
         return {
             "complete": bool(complete),

@@ -108,7 +108,7 @@ class TrackingRun:
                                      self.graph_config, config.confidence_threshold, config.recover_max_frames,
                                      lambda camera_id: self.online_tripod.by_camera(self.solver).get(camera_id))
         # Seconds per stage in this thread; markings_ahead_s: the camera-free half of detection done ahead,
-        # in the thread that decodes the frames (overlapping the stages here; see track.feed.run_loop).
+        # where the frames are decoded (overlapping the stages here; see track.ahead).
         self.timings = {"backfill_s": 0.0, "detect_s": 0.0, "flow_s": 0.0, "solve_s": 0.0, "confidence_s": 0.0, "reinit_s": 0.0,
                         "write_s": 0.0, "markings_ahead_s": 0.0}
         self.observer = FrameObserver(detector, config, self.W, self.H, self.pitch, context.mask_paths or {},

@@ -4,7 +4,7 @@ The detector names the markings with the predicted camera (the markings found ah
 thread that decodes the frames, when the detector offers it); the static graphics mask is taken
 out; optical flow links the frame to the previous one while the previous camera is trusted
 (:func:`~broadtrack_graph.detect.flow.grid_flow`: back-projected through that camera, kept only on
-the field and off the players; tracked ahead in the decoding thread when the markings are found
+the field and off the players; tracked ahead where the frames are decoded when the markings are found
 there, :func:`~broadtrack_graph.detect.flow.flow_candidates`, and only checked against the previous
 camera here). A detections file's frames bring their observations; flow is added when their images
 come too. No I/O beyond a detections file's mask images.

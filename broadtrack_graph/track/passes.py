@@ -25,6 +25,8 @@ import time
 from dataclasses import asdict, replace
 from pathlib import Path
 
+import cv2
+
 from broadtrack_graph.detect.graphics import GraphicsConfig
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
@@ -37,6 +39,7 @@ from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.shots.segmenter import ShotConfig
+from broadtrack_graph.track.ahead import FramesInProcess, FramesRecipe, feed_in_process
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.feed import run_loop
@@ -59,7 +62,7 @@ _WRITER_KEYS = ("complete", "started_utc", "updated_utc", "width_px", "height_px
 
 
 def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, context: RunContext = RunContext(),
-               total: int | None = None) -> RunResult:
+               total: int | None = None, source=None) -> RunResult:
     """Track an iterable of :class:`FrameInput` in the configured mode and write the run folder.
 
     In batch mode this is the paper's two-pass offline workflow: an online first pass (written to
@@ -78,7 +81,9 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, conte
 
     With a detector (image input), the shot step runs on the frames as they are decoded
     (:class:`~broadtrack_graph.track.shot_stream.ShotStream`): ``shots.json`` is written to the run
-    folder, and a clip with no shot of the main camera says so in one line (summary ``note``).
+    folder, and a clip with no shot of the main camera says so in one line (summary ``note``). ``source``: the open
+    frame source the frames come from, when a process of its own may open it again and prepare them
+    (:func:`~broadtrack_graph.track.ahead.feed_in_process`); None: they are prepared in a thread.
     """
     config = context.config
     out_dir = Path(out_dir)
@@ -87,7 +92,11 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, conte
     given: dict[int, FrameObservations] = {}  # the observations a detections file brought (for the recovery)
     frames = _capturing(frames, given) if recover else frames
     stream = None
-    if context.detector is not None and (config.detect_shots or config.mask_graphics):
+    recipe = FramesRecipe.of(source) if source is not None else None
+    if feed_in_process(recipe, context.detector, total):
+        # The shot step and the camera-free steps in a process of their own, which opens the input again.
+        stream = frames = FramesInProcess(recipe, context.detector, config, cv2.getNumThreads())
+    elif context.detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
         stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,
                             GraphicsConfig() if config.mask_graphics else None,
@@ -135,13 +144,13 @@ def _observe(writer: TrackWriter, record_observer: RecordObserver | None) -> Tra
     return writer
 
 
-def _shots_summary(stream: ShotStream | None, out_dir: Path, camera_ids: dict[int, str]) -> dict:
+def _shots_summary(stream: ShotStream | FramesInProcess | None, out_dir: Path, camera_ids: dict[int, str]) -> dict:
     """Write shots.json (when shots were detected) with each shot's camera, and the summary fields about them.
 
     camera_ids: shot index -> the camera id the tracker found for it. A pitch shot's kind becomes
     ``main`` (the main camera), ``other-camera`` (another pitch camera) or ``pitch`` (no camera placed).
     """
-    if stream is None or stream.segmenter is None:
+    if stream is None or not stream.detects_shots:
         return {}
     shots = [place_shot(shot, camera_ids.get(k)) for k, shot in enumerate(stream.shots)]
     write_shots(out_dir / SHOTS_FILE, shots)

@@ -1,7 +1,7 @@
 """Annotate the loop's frames with their shot (cut, view, camera id) and the static graphics mask.
 
-Runs where the frames are decoded (the prefetch thread of :func:`~broadtrack_graph.track.feed.run_loop`
-iterates it), one frame at a time in order, so it adds no latency: both the shot step and
+Runs where the frames are decoded (a thread or a process of their own: :mod:`broadtrack_graph.track.ahead`),
+one frame at a time in order, so it adds no latency: both the shot step and
 the graphics mask look only at the current and past frames.
 """
 
@@ -61,6 +61,11 @@ class ShotStream:
             elif self.segmenter is not None:
                 self.segmenter.update(frame.frame_index, None)
             yield frame
+
+    @property
+    def detects_shots(self) -> bool:
+        """Whether shots are looked for (shot settings given)."""
+        return self.segmenter is not None
 
     @property
     def shots(self) -> list:

@@ -71,20 +71,38 @@ def test_markings_found_ahead_in_the_decoding_thread_change_no_camera(clip, tmp_
 
 
 def test_flow_tracked_ahead_in_the_decoding_thread_changes_no_camera(clip, tmp_path, monkeypatch):
-    from broadtrack_graph.track import feed, observe
+    from broadtrack_graph.track import ahead, observe
 
     used = []
     monkeypatch.setattr(observe, "on_pitch", lambda *args: used.append(1) or on_pitch(*args))
-    monkeypatch.setattr(feed, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
+    monkeypatch.setattr(ahead, "FLOW_AHEAD_MIN_LEAD", -FRAMES)  # always ahead
     track_input(clip, tmp_path / "ahead", TrackingConfig(mode="online"), progress=False)
     ahead_uses = len(used)
     assert ahead_uses >= FRAMES - 2  # every frame with a previous camera but the first
-    monkeypatch.setattr(feed, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
+    monkeypatch.setattr(ahead, "FLOW_AHEAD_MIN_LEAD", 10 * FRAMES)  # never: the loop tracks it
     track_input(clip, tmp_path / "loop", TrackingConfig(mode="online"), progress=False)
     assert len(used) == ahead_uses
     files = sorted((tmp_path / "ahead" / "cameras").glob("*.json"))
     assert len(files) == FRAMES
     assert all(f.read_bytes() == (tmp_path / "loop" / "cameras" / f.name).read_bytes() for f in files)
+
+
+def test_frames_prepared_in_a_process_of_their_own_change_no_camera(clip, tmp_path, monkeypatch):
+    from broadtrack_graph.io.prefetch import PREFETCH_ENV
+    from broadtrack_graph.track import ahead, passes
+
+    monkeypatch.setattr(ahead, "PROCESS_MIN_FRAMES", 1)  # the clip is short: a process all the same
+    fed = []
+    monkeypatch.setattr(passes, "FramesInProcess", lambda *args: fed.append(1) or ahead.FramesInProcess(*args))
+    in_process = track_input(clip, tmp_path / "process", TrackingConfig(mode="online"), progress=False)
+    monkeypatch.setenv(PREFETCH_ENV, "thread")
+    track_input(clip, tmp_path / "thread", TrackingConfig(mode="online"), progress=False)
+    assert fed == [1]  # the first run only
+    assert in_process.summary["timings_s"]["markings_ahead_s"] > 0  # found ahead, in the other process
+    files = sorted((tmp_path / "process" / "cameras").glob("*.json"))
+    assert len(files) == FRAMES
+    assert all(f.read_bytes() == (tmp_path / "thread" / "cameras" / f.name).read_bytes() for f in files)
+    assert (tmp_path / "process" / "shots.json").read_bytes() == (tmp_path / "thread" / "shots.json").read_bytes()
 
 
 def test_fixed_lag_outputs_every_frame_in_order(clip, tmp_path):
