@@ -33,7 +33,7 @@ log = logging.getLogger(__name__)
 Producer = Callable[[Callable[[], int]], Iterator]
 """Called in the child with ``taken`` (the number of items the consumer has taken so far); returns the items."""
 
-SLOT_BYTES = 32 * 1024 * 1024
+SLOT_BYTES = 16 * 1024 * 1024
 """The size of a shared-memory slot (bytes). An item whose arrays do not fit goes through the queue, pickled whole
 (slower, but the same item)."""
 

@@ -47,6 +47,15 @@ PROCESS_DEPTH = 4
 """Frames the preparing process may hold ready (shared-memory slots of
 :class:`~broadtrack_graph.io.process_prefetch.ProcessPrefetch`)."""
 
+MAPS_BYTES = 8 * 1024 * 1024
+"""Room in a slot beside the frame's image for what is found ahead: the detector's maps at its working width (960 px
+whatever the frame's size), the flow's grey image, the graphics mask (about 5 MB in all)."""
+
+
+def slot_bytes(width_px: int, height_px: int) -> int:
+    """The size of a shared-memory slot for a frame of this size (bytes): its BGR image and :data:`MAPS_BYTES`."""
+    return 3 * int(width_px) * int(height_px) + MAPS_BYTES
+
 
 class FramesAhead:
     """The camera-free steps of each frame, in order (see the module docstring); call it on every frame.
@@ -124,12 +133,13 @@ class FramesRecipe:
         return cls(str(source.path), int(source.start), int(source.end), float(source.fps))
 
 
-def feed_in_process(recipe: FramesRecipe | None, detector, total: int | None) -> bool:
+def feed_in_process(recipe: FramesRecipe | None, detector, total: int | None, frame_size: tuple[int, int]) -> bool:
     """Whether a run prepares its frames in a process of its own rather than a thread.
 
     Yes for an input that can be reopened (``recipe``), with a detector that finds its markings ahead and can be
     sent to another process, of at least :data:`PROCESS_MIN_FRAMES` frames, on a machine of two cores or more, in a
-    process that is not itself a worker of a pool (a pool fills the cores already), unless the environment variable
+    process that is not itself a worker of a pool (a pool fills the cores already), with room for twice the slots of
+    frames of ``frame_size`` (w, h) in the shared memory (a container's is often small), unless the environment variable
     :data:`~broadtrack_graph.io.prefetch.PREFETCH_ENV` says "thread" or "0" (no background work: ``track-many``
     fills every core with workers).
     """
@@ -147,7 +157,16 @@ def feed_in_process(recipe: FramesRecipe | None, detector, total: int | None) ->
         pickle.dumps(detector)
     except Exception:  # e.g. a detector holding model sessions: a thread prepares its frames
         return False
-    return True
+    return shared_memory_free() >= 2 * PROCESS_DEPTH * slot_bytes(*frame_size)
+
+
+def shared_memory_free(path: str = "/dev/shm") -> int:
+    """Bytes free in the shared memory's file system (0 when it cannot be read: no process then)."""
+    try:
+        stats = os.statvfs(path)
+    except OSError:
+        return 0
+    return stats.f_bavail * stats.f_frsize
 
 
 class FramesInProcess:
@@ -159,10 +178,12 @@ class FramesInProcess:
 
     prepared_ahead = True  # run_loop takes the frames as they come
 
-    def __init__(self, recipe: FramesRecipe, detector, config: TrackingConfig, opencv_threads: int) -> None:
+    def __init__(self, recipe: FramesRecipe, detector, config: TrackingConfig, opencv_threads: int,
+                 frame_size: tuple[int, int]) -> None:
         self.detects_shots = config.detect_shots
         producer = functools.partial(_prepared_frames, recipe, detector, config, opencv_threads)
-        self._feed = ProcessPrefetch(producer, depth=PROCESS_DEPTH, name="broadtrack-frames")
+        self._feed = ProcessPrefetch(producer, depth=PROCESS_DEPTH, slot_bytes=slot_bytes(*frame_size),
+                                     name="broadtrack-frames")
 
     def __iter__(self) -> Iterator[FrameInput]:
         return iter(self._feed)

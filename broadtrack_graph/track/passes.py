@@ -93,9 +93,9 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, conte
     frames = _capturing(frames, given) if recover else frames
     stream = None
     recipe = FramesRecipe.of(source) if source is not None else None
-    if feed_in_process(recipe, context.detector, total):
+    if feed_in_process(recipe, context.detector, total, (width_px, height_px)):
         # The shot step and the camera-free steps in a process of their own, which opens the input again.
-        stream = frames = FramesInProcess(recipe, context.detector, config, cv2.getNumThreads())
+        stream = frames = FramesInProcess(recipe, context.detector, config, cv2.getNumThreads(), (width_px, height_px))
     elif context.detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
         stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,

@@ -1,0 +1,84 @@
+"""Frames prepared ahead of the tracking (track/ahead.py): where they are prepared, and the same frames either way."""
+
+import numpy as np
+import pytest
+
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.io.frames import open_frames
+from broadtrack_graph.io.prefetch import PREFETCH_ENV
+from broadtrack_graph.synth.writer import write_synthetic_clip
+from broadtrack_graph.track import ahead
+from broadtrack_graph.track.ahead import FramesAhead, FramesInProcess, FramesRecipe, feed_in_process, slot_bytes
+from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.inputs import frames_from_source
+from broadtrack_graph.track.shot_stream import ShotStream
+
+FRAMES = 8
+SIZE = (1280, 720)
+
+
+@pytest.fixture(scope="module")
+def clip(tmp_path_factory):
+    out = tmp_path_factory.mktemp("ahead") / "clip"
+    write_synthetic_clip(out, preset="main", frame_count=FRAMES, width_px=SIZE[0], height_px=SIZE[1], seed=4,
+                         write_masks=False, progress=False)
+    return out
+
+
+@pytest.fixture
+def recipe(clip):
+    with open_frames(clip) as source:
+        return FramesRecipe.of(source)
+
+
+def test_a_long_input_read_from_a_file_is_prepared_in_a_process(recipe, monkeypatch):
+    monkeypatch.delenv(PREFETCH_ENV, raising=False)
+    detector = WeightFreeDetector()
+    monkeypatch.setattr(ahead, "PROCESS_MIN_FRAMES", FRAMES)
+    monkeypatch.setattr(ahead.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(ahead, "shared_memory_free", lambda: 10 ** 10)
+    assert feed_in_process(recipe, detector, FRAMES, SIZE)
+    assert not feed_in_process(recipe, detector, FRAMES - 1, SIZE)  # too short to pay for the process's start
+    assert not feed_in_process(None, detector, FRAMES, SIZE)  # frames in memory: nothing to open again
+    assert not feed_in_process(recipe, None, FRAMES, SIZE)  # a detections file's frames
+    assert not feed_in_process(recipe, object(), FRAMES, SIZE)  # a detector that finds nothing ahead
+    monkeypatch.setattr(ahead.os, "cpu_count", lambda: 1)
+    assert not feed_in_process(recipe, detector, FRAMES, SIZE)  # one core: nothing to overlap
+    monkeypatch.setattr(ahead.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(ahead, "shared_memory_free", lambda: 2 * ahead.PROCESS_DEPTH * slot_bytes(*SIZE) - 1)
+    assert not feed_in_process(recipe, detector, FRAMES, SIZE)  # a container's small shared memory
+    monkeypatch.setattr(ahead, "shared_memory_free", lambda: 10 ** 10)
+    for value in ("thread", "0"):
+        monkeypatch.setenv(PREFETCH_ENV, value)
+        assert not feed_in_process(recipe, detector, FRAMES, SIZE)
+
+
+def test_the_process_prepares_the_frames_a_thread_would(recipe):
+    config, detector = TrackingConfig(), WeightFreeDetector()
+    in_process = FramesInProcess(recipe, detector, config, 1, SIZE)
+    got = list(in_process)
+    with open_frames(recipe.path) as source:
+        here = FramesAhead(config, detector.find_markings, lambda: 0)  # never ahead: no flow ahead
+        stream = ShotStream(frames_from_source(source), reduce=detector.area_working_image)
+        expected = [here(frame) for frame in stream]
+    assert [f.frame_index for f in got] == list(range(FRAMES))
+    for a, b in zip(got, expected):
+        assert np.array_equal(a.image, b.image)
+        assert np.array_equal(a.flow_frame.grey, b.flow_frame.grey)
+        assert np.array_equal(a.markings.points_work_px, b.markings.points_work_px)
+        assert np.array_equal(a.markings.unnamed.marking_mask, b.markings.unnamed.marking_mask)
+        assert np.array_equal(a.graphics_mask, b.graphics_mask) and a.shot == b.shot
+        assert a.working_bgr is None and a.repeats_previous == b.repeats_previous
+    assert in_process.detects_shots and in_process.shots == stream.shots
+
+
+def test_the_flow_is_tracked_ahead_only_while_that_side_is_far_enough_ahead(recipe):
+    config, detector = TrackingConfig(), WeightFreeDetector()
+    taken = [0]
+    prepare = FramesAhead(config, detector.find_markings, lambda: taken[0])
+    with open_frames(recipe.path) as source:
+        frames = list(ShotStream(frames_from_source(source), reduce=detector.area_working_image))
+    made = [prepare(frame) for frame in frames[:4]]  # the loop has taken none: 0, 1, 2, 3 frames ahead
+    assert [f.flow_ahead is not None for f in made] == [False, False, True, True]  # the first has no previous frame
+    taken[0] = 4
+    assert prepare(frames[4]).flow_ahead is None  # caught up: the loop tracks it
