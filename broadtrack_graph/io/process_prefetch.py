@@ -9,8 +9,11 @@ copies the arrays out of the slot (a few milliseconds for a 1920x1080 frame and 
 rebuilds the item. The slots bound how far the child runs ahead.
 
 The child is started with ``spawn`` (a fork would copy the parent's threads and open video readers into a process
-that cannot run them), so the producer must be picklable: a module-level function, or a ``functools.partial`` of one,
-called in the child with a function that says how many items the consumer has taken so far. Whatever the producer's
+that cannot run them), so the producer must be picklable: a function of an importable module (not the script run as
+``__main__``), or a ``functools.partial`` of one, called in the child with a function that says how many items the
+consumer has taken so far. The child does not run the consumer's main script again (``spawn`` would, as
+``__mp_main__``: a script that tracks a clip at its top level, with no ``if __name__ == "__main__"`` guard, would
+track it again in the child). Whatever the producer's
 generator returns is :attr:`ProcessPrefetch.result` once the iteration ends. The child's log records are emitted
 by the consumer's loggers; an exception in the child is raised in the consumer; a child that dies without one is
 reported in one line. The child ignores Ctrl-C (the consumer handles it and stops the child) and stops by itself
@@ -19,11 +22,14 @@ when the consumer's process is gone.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import pickle
 import queue
 import signal
+import sys
+import types
 from multiprocessing import get_context
 from multiprocessing.shared_memory import SharedMemory
 from typing import Callable, Iterator
@@ -77,7 +83,8 @@ class ProcessPrefetch:
         child = context.Process(target=_child_main, name=self.name, daemon=True,
                                 args=(self.producer, [s.name for s in slots], messages, free, taken, os.getpid(),
                                       logging.getLogger().getEffectiveLevel()))
-        child.start()
+        with _main_script_hidden():
+            child.start()
         try:
             while True:
                 kind, payload = _next_message(messages, child, self.name)
@@ -109,6 +116,19 @@ class ProcessPrefetch:
                 shared.unlink()
             messages.close()
             free.close()
+
+
+@contextlib.contextmanager
+def _main_script_hidden():
+    """While a child is started: the main module replaced by an empty one, so that the child is not told to run the
+    consumer's main script again (what ``spawn`` sends it is read from ``sys.modules["__main__"]``)."""
+    main = sys.modules.get("__main__")
+    sys.modules["__main__"] = types.ModuleType("__main__")
+    try:
+        yield
+    finally:
+        if main is not None:
+            sys.modules["__main__"] = main
 
 
 def _next_message(messages, child, name: str):

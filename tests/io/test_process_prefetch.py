@@ -93,3 +93,22 @@ def test_stopping_early_stops_the_child_and_frees_the_shared_memory():
         if item["index"] == 2:
             break
     assert shared_segments() <= before
+
+
+def test_the_child_does_not_run_the_consumers_main_script_again(tmp_path):
+    import subprocess
+    import sys
+
+    (tmp_path / "helper_producer.py").write_text("def three(taken):\n    yield from (1, 2, 3)\n")
+    marker = tmp_path / "ran.txt"
+    script = tmp_path / "unguarded.py"
+    script.write_text(
+        "import helper_producer\n"
+        "from broadtrack_graph.io.process_prefetch import ProcessPrefetch\n"
+        f"with open({str(marker)!r}, 'a') as f:\n"
+        "    f.write('ran\\n')\n"  # top level, no __main__ guard: what a quick script does
+        "print(list(ProcessPrefetch(helper_producer.three)))\n")
+    done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[1, 2, 3]"
+    assert marker.read_text() == "ran\n"  # once: in the consumer only
