@@ -27,8 +27,10 @@ import logging
 import os
 import pickle
 import queue
+import resource
 import signal
 import sys
+import time
 import types
 from multiprocessing import get_context
 from multiprocessing.shared_memory import SharedMemory
@@ -50,8 +52,8 @@ _POLL_S = 0.5
 def cpu_seconds() -> float:
     """CPU seconds of this process (every thread) and of its child processes that have ended and been waited for
     (a :class:`ProcessPrefetch` child is, once its iteration ends): what a run cost the machine."""
-    times = os.times()
-    return times.user + times.system + times.children_user + times.children_system
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
 
 
 class ProcessPrefetch:

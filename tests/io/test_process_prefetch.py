@@ -4,13 +4,14 @@ its errors and log lines, and nothing left behind when the consumer stops early.
 import functools
 import logging
 import os
+import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from broadtrack_graph.errors import InputError
-from broadtrack_graph.io.process_prefetch import ProcessPrefetch
+from broadtrack_graph.io.process_prefetch import ProcessPrefetch, cpu_seconds
 
 SHM_DIR = Path("/dev/shm")
 
@@ -32,6 +33,13 @@ def failing(taken):
 
 def logging_producer(taken):
     logging.getLogger("broadtrack_graph.tests.child").warning("from the child: %d frames", 3)
+    yield 1
+
+
+def busy(seconds: float, taken):
+    started = time.process_time()
+    while time.process_time() - started < seconds:
+        sum(range(1000))
     yield 1
 
 
@@ -104,7 +112,7 @@ def test_the_child_does_not_run_the_consumers_main_script_again(tmp_path):
     script = tmp_path / "unguarded.py"
     script.write_text(
         "import helper_producer\n"
-        "from broadtrack_graph.io.process_prefetch import ProcessPrefetch\n"
+        "from broadtrack_graph.io.process_prefetch import ProcessPrefetch, cpu_seconds\n"
         f"with open({str(marker)!r}, 'a') as f:\n"
         "    f.write('ran\\n')\n"  # top level, no __main__ guard: what a quick script does
         "print(list(ProcessPrefetch(helper_producer.three)))\n")
@@ -112,3 +120,9 @@ def test_the_child_does_not_run_the_consumers_main_script_again(tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[1, 2, 3]"
     assert marker.read_text() == "ran\n"  # once: in the consumer only
+
+
+def test_the_cpu_of_a_run_includes_the_childs_once_it_ended():
+    before, own = cpu_seconds(), time.process_time()
+    assert list(ProcessPrefetch(functools.partial(busy, 0.3))) == [1]
+    assert cpu_seconds() - before >= 0.3 + (time.process_time() - own)
