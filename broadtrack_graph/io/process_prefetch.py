@@ -92,9 +92,8 @@ class ProcessPrefetch:
                 kind, payload = _next_message(messages, child, self.name)
                 if kind == "item":
                     header, slot, spans = payload
-                    view = slots[slot].buf
-                    buffers = [bytearray(view[start:stop]) for start, stop in spans]  # copied: the slot is free
-                    del view
+                    # Copied out (no view of the slot outlives this line): the slot is free again.
+                    buffers = [bytearray(slots[slot].buf[start:stop]) for start, stop in spans]
                     free.put(slot)
                     item = pickle.loads(header, buffers=buffers)
                 elif kind == "whole":
@@ -186,12 +185,11 @@ def _child_main(producer: Producer, slot_names: list[str], messages, free, taken
                 messages.put(("whole", pickle.dumps(item, protocol=5)))
                 continue
             slot = _free_slot(free, parent_pid)
-            view, spans, start = slots[slot].buf, [], 0
+            spans, start = [], 0
             for raw in raws:
-                view[start:start + raw.nbytes] = raw
+                slots[slot].buf[start:start + raw.nbytes] = raw
                 spans.append((start, start + raw.nbytes))
                 start += raw.nbytes
-            del view
             messages.put(("item", (header, slot, spans)))
     except BaseException as exc:  # handed to the consumer
         messages.put(("error", _picklable(exc)))
