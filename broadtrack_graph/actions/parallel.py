@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import functools
 import os
-import pickle
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor
+
+from broadtrack_graph.io.process_prefetch import picklable_exception
 
 POOL_CHUNK_ITEMS = 4
 """Items a pool worker takes at a time (fewer round trips; the order of results is unaffected)."""
@@ -93,11 +94,7 @@ def _guarded(function: Callable, item) -> tuple[bool, object]:
     try:
         return True, function(item)
     except Exception as exc:  # noqa: BLE001 -- handed to the caller as a JobError naming the item
-        try:
-            pickle.dumps(exc)
-        except Exception:  # noqa: BLE001 -- an exception that cannot cross processes
-            exc = RuntimeError(f"{type(exc).__name__}: {exc}")
-        return False, exc
+        return False, picklable_exception(exc)  # one that cannot cross processes: a RuntimeError with its text
 
 
 class SerialEngine:

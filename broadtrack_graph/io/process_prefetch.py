@@ -36,8 +36,6 @@ from multiprocessing import get_context
 from multiprocessing.shared_memory import SharedMemory
 from typing import Callable, Iterator
 
-log = logging.getLogger(__name__)
-
 Producer = Callable[[Callable[[], int]], Iterator]
 """Called in the child with ``taken`` (the number of items the consumer has taken so far); returns the items."""
 
@@ -192,7 +190,7 @@ def _child_main(producer: Producer, slot_names: list[str], messages, free, taken
                 start += raw.nbytes
             messages.put(("item", (header, slot, spans)))
     except BaseException as exc:  # handed to the consumer
-        messages.put(("error", _picklable(exc)))
+        messages.put(("error", picklable_exception(exc)))
     finally:
         for shared in slots:
             shared.close()
@@ -210,8 +208,9 @@ def _free_slot(free, parent_pid: int) -> int:
                 raise SystemExit(0)
 
 
-def _picklable(exc: BaseException) -> BaseException:
-    """The exception itself when it survives pickling, else a RuntimeError with its text."""
+def picklable_exception(exc: BaseException) -> BaseException:
+    """The exception itself when it survives pickling (out and back in), else a RuntimeError with its type and text:
+    what a worker process hands its caller."""
     try:
         pickle.loads(pickle.dumps(exc))
         return exc

@@ -19,18 +19,18 @@ from __future__ import annotations
 import functools
 import multiprocessing
 import os
+import pickle
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
 import cv2
 
 from broadtrack_graph.detect.flow import flow_candidates, flow_keep_mask, prepare
-from broadtrack_graph.detect.graphics import GraphicsConfig, mask_graphics
+from broadtrack_graph.detect.graphics import mask_graphics
 from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.prefetch import PREFETCH_ENV
 from broadtrack_graph.io.process_prefetch import ProcessPrefetch
 from broadtrack_graph.shots.repeats import repeat_grey, repeats
-from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
 from broadtrack_graph.track.shot_stream import ShotStream
@@ -151,8 +151,6 @@ def feed_in_process(recipe: FramesRecipe | None, detector, total: int | None, fr
         return False
     if total is None or total < PROCESS_MIN_FRAMES:
         return False
-    import pickle
-
     try:
         pickle.dumps(detector)
     except Exception:  # e.g. a detector holding model sessions: a thread prepares its frames
@@ -198,9 +196,7 @@ def _prepared_frames(recipe: FramesRecipe, detector, config: TrackingConfig, ope
     """In the preparing process: the recipe's frames, shot and prepared; returns the shots found."""
     cv2.setNumThreads(opencv_threads)
     with open_frames(recipe.path, recipe.start, recipe.end, recipe.fps) as source:
-        stream = ShotStream(frames_from_source(source), ShotConfig() if config.detect_shots else None,
-                            GraphicsConfig() if config.mask_graphics else None,
-                            getattr(detector, "area_working_image", None))
+        stream = ShotStream.for_run(frames_from_source(source), config.detect_shots, config.mask_graphics, detector)
         ahead = FramesAhead(config, getattr(detector, "find_markings", None), taken)
         for frame in stream:
             yield ahead(frame)

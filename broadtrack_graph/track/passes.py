@@ -27,7 +27,6 @@ from pathlib import Path
 
 import cv2
 
-from broadtrack_graph.detect.graphics import GraphicsConfig
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
@@ -38,7 +37,6 @@ from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.frame import frame_confidence
-from broadtrack_graph.shots.segmenter import ShotConfig
 from broadtrack_graph.track.ahead import FramesInProcess, FramesRecipe, feed_in_process
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig
@@ -98,9 +96,7 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, conte
         stream = frames = FramesInProcess(recipe, context.detector, config, cv2.getNumThreads(), (width_px, height_px))
     elif context.detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
-        stream = ShotStream(frames, ShotConfig() if config.detect_shots else None,
-                            GraphicsConfig() if config.mask_graphics else None,
-                            getattr(context.detector, "area_working_image", None))
+        stream = ShotStream.for_run(frames, config.detect_shots, config.mask_graphics, context.detector)
         frames = stream
     if config.mode != "batch":  # fixed-lag keeps no observations of its own (a long run would grow without bound)
         run = TrackingRun(width_px, height_px, out_dir, replace(context, backfill=recover))

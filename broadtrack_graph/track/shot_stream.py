@@ -62,6 +62,14 @@ class ShotStream:
                 self.segmenter.update(frame.frame_index, None)
             yield frame
 
+    @classmethod
+    def for_run(cls, frames: Iterable[FrameInput], detect_shots: bool, mask_graphics: bool,
+                detector=None) -> "ShotStream":
+        """A run's stream: shots and the graphics mask as its options say (default settings), the working image
+        made with the detector's ``area_working_image`` when it has one."""
+        return cls(frames, ShotConfig() if detect_shots else None, GraphicsConfig() if mask_graphics else None,
+                   getattr(detector, "area_working_image", None))
+
     @property
     def detects_shots(self) -> bool:
         """Whether shots are looked for (shot settings given)."""
