@@ -39,7 +39,10 @@ paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
 the grass: no detector can find what is not in the image). ``paint_found_by_width``: per look, the true cameras'
 template samples (wide enough by their scale to be expected) by the width of their paint across the image
 (:data:`PAINT_WIDTH_BINS_PX`, working pixels) and the share of them the detector found
-(``reinit.confidence.found_by_paint_width``). ``smear_found_by_contrast``: the same on the frames the detector finds
+(``reinit.confidence.found_by_paint_width``). ``found_by_tophat_contrast``: the same by the contrast of each
+sample's paint on the detector's top-hat (:data:`~.placement_found.TOPHAT_CONTRAST_BINS`, grey levels; the ridges
+are thresholded at ``tophat_threshold`` or the grass texture's level, :mod:`.placement_found`).
+``smear_found_by_contrast``: the same on the frames the detector finds
 smeared, pooled, by the share of contrast the smear leaves each marking (:data:`SMEARED_CONTRAST_BINS`,
 ``reinit.confidence.found_by_smeared_contrast``). ``misses_by_cause``: each counted frame a route neither finds nor
 twins, by the first of :data:`~.placement_misses.MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``,
@@ -55,6 +58,15 @@ import time
 
 import numpy as np
 
+from broadtrack_graph.benchmarks.placement_found import (
+    PAINT_WIDTH_BINS_PX,
+    SMEARED_CONTRAST_BINS,
+    TOPHAT_CONTRAST_BINS,
+    found_by_tophat_contrast,
+    marking_contrast,
+    paint_found_by_width,
+    smear_found_by_contrast,
+)
 from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
 from broadtrack_graph.benchmarks.placement_misses import MISS_CAUSES, miss_cause, truth_written
 
@@ -62,10 +74,6 @@ ROUTES = ("tracker", "search", "court")
 WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
 OUTCOMES = ("found", "near", "wrong", "none")
-PAINT_WIDTH_BINS_PX = (0.0, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0, float("inf"))
-"""Bins of the painted width (working pixels) the detector's finds on the true cameras are counted in."""
-SMEARED_CONTRAST_BINS = (0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, float("inf"))
-"""Bins of the share of contrast a frame's motion blur leaves a marking (``reinit.confidence.smeared_contrast``)."""
 
 
 def add_arguments(parser) -> None:
@@ -156,7 +164,7 @@ def run(args) -> dict:
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.reinit.cheap import refine_guesses
-    from broadtrack_graph.reinit.confidence import found_by_paint_width, found_by_smeared_contrast
+    from broadtrack_graph.reinit.confidence import found_by_map_value, found_by_paint_width, found_by_smeared_contrast
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.reinit.scoring import ReinitResult
@@ -207,6 +215,9 @@ def run(args) -> dict:
             paint_samples, paint_found = found_by_paint_width(
                 truth, detections.marking_mask, np.array(PAINT_WIDTH_BINS_PX), curves, field_mask=detections.field_mask,
                 player_mask=detections.player_mask)
+            contrast_samples, contrast_found = found_by_map_value(
+                truth, detections.marking_mask, marking_contrast(detector, image), np.array(TOPHAT_CONTRAST_BINS),
+                curves, field_mask=detections.field_mask, player_mask=detections.player_mask)
             shown_markings = determinability(truth, pitch, explained_by=visible_paint(frame)) if seen.determinable \
                 else seen
             row = {"frame": index, "camera": _camera_info(drawn), "look": frame["look_name"], "class": drawn.stand,
@@ -217,6 +228,7 @@ def run(args) -> dict:
                    "markings_detected": found_markings.determinable,
                    "markings_visible": shown_markings.determinable,
                    "paint_found": {"samples": paint_samples.tolist(), "found": paint_found.tolist()},
+                   "contrast_found": {"samples": contrast_samples.tolist(), "found": contrast_found.tolist()},
                    "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
             if detections.motion_blur is not None:
                 smear_samples, smear_found = found_by_smeared_contrast(
@@ -344,30 +356,8 @@ def summarise(rows: list[dict], routes: list[str]) -> dict:
             "render_s": _seconds([row["render_s"] for row in rows]),
             "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route,
             "paint_found_by_width": paint_found_by_width(rows),
+            "found_by_tophat_contrast": found_by_tophat_contrast(rows),
             "smear_found_by_contrast": smear_found_by_contrast(rows)}
-
-
-def smear_found_by_contrast(rows: list[dict]) -> list[dict]:
-    """The frames found smeared, pooled: each smeared-contrast bin's true-camera template samples and the share of
-    them found (rows with a ``smear_found`` entry)."""
-    counts = [row["smear_found"] for row in rows if "smear_found" in row]
-    return _found_shares(counts, SMEARED_CONTRAST_BINS, "contrast") if counts else []
-
-
-def paint_found_by_width(rows: list[dict]) -> dict:
-    """Per look: each painted-width bin's true-camera template samples and the share of them found (rows with a
-    ``paint_found`` entry)."""
-    return {look: _found_shares([row["paint_found"] for row in rows if row["look"] == look and "paint_found" in row],
-                                PAINT_WIDTH_BINS_PX, "paint_px")
-            for look in sorted({row["look"] for row in rows if "paint_found" in row})}
-
-
-def _found_shares(counts: list[dict], bins, key: str) -> list[dict]:
-    """Per bin of ``bins`` (named ``key``): the samples of the rows' ``counts`` ({"samples", "found"}, one list
-    each) pooled, and the share of them found."""
-    samples, found = np.sum([c["samples"] for c in counts], axis=0), np.sum([c["found"] for c in counts], axis=0)
-    return [{key: f"{lo:g}-{hi:g}", "samples": int(n), "found_share": round(float(k) / n, 3) if n else None}
-            for lo, hi, n, k in zip(bins[:-1], bins[1:], samples, found)]
 
 
 def summary_table(report: dict) -> str:

@@ -14,7 +14,8 @@ mapped back to the frame's pixels. Pipeline:
    (found at half the working width); each box then runs on down its legs to the feet
    (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`); the player mask returned takes the legs
    too (:func:`~broadtrack_graph.detect.player_feet.with_legs`), but ridges are dropped on the bodies only (a
-   marking running under a player's feet, down the image, would be taken for a leg);
+   marking running under a player's feet, down the image, would be taken for a leg); the legs are found when the
+   detections are first read (:class:`~broadtrack_graph.detect.found_markings.FoundMarkings`);
 3. marking ridges: white top-hat of the marking channel (:func:`~broadtrack_graph.detect.ridges.marking_channel`: by
    default the grey level), thresholded at a fixed level or, for
    frames not reduced 2x or more to the working width (they keep pixel noise and fine grass
@@ -58,13 +59,13 @@ from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.class_points import consistent_classes
-from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
+from broadtrack_graph.detect.found_markings import BodiesToFeet, FoundMarkings, marking_map
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
 from broadtrack_graph.detect.ridges import WideInputs, marking_channel, marking_ridges, white, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.registration import named_off_the_pitch
-from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
+from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import ImageTemplate, TemplateCurves, project_template
@@ -308,7 +309,6 @@ class WeightFreeDetector:
         work_h, work_w = grey.shape
         grass, field = self.field_and_grass(small)
         boxes, player_mask = self.players(grass, field)
-        feet = boxes_to_the_feet(boxes, grey, grass, self.config.feet_contrast, self.config.feet_max_share)
         # Markings lie on grass: keep only field pixels with grass close by (drops boards, stands).
         # The outer edge of the field against boards and stands is a bright step, not a marking: keep
         # ridges a margin inside the filled outline (which has no holes at lines or players; the
@@ -334,11 +334,13 @@ class WeightFreeDetector:
         unnamed = Detections(
             width_px=W, height_px=H, motion_blur=motion and replace(motion, length_px=motion.length_px / scale),
             marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
-            marking_mask=_marking_map(points, (work_w, work_h)),
-            player_boxes_px=(feet / scale) if len(feet) else feet,
-            player_mask=with_legs(player_mask, boxes, feet, self.config.player_margin_px) > 0, field_mask=field > 0,
+            marking_mask=marking_map(points, (work_w, work_h)),
+            player_boxes_px=(boxes / scale) if len(boxes) else boxes, player_mask=player_mask > 0, field_mask=field > 0,
         )
-        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide)
+        # The legs below the bodies are found when the detections are first read (detect.found_markings).
+        bodies = BodiesToFeet(boxes, player_mask, grey, grass, self.config.feet_contrast, self.config.feet_max_share,
+                              self.config.player_margin_px)
+        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide, bodies)
 
     def name(self, found: FoundMarkings, predicted: PredictedCamera | None = None) -> Detections:
         """The frame's detections: ``found`` with its points named by the predicted camera (none without one).
@@ -354,7 +356,7 @@ class WeightFreeDetector:
             if found.wide is not None and len(template.width_m_px) and \
                     template.width_m_px.max() >= self.config.wide_from_px:
                 points = self._wide_points(found.wide, points)
-                unnamed = replace(unnamed, marking_mask=_marking_map(points, found.work_size),
+                unnamed = replace(unnamed, marking_mask=marking_map(points, found.work_size),
                                   marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px),
                                                                      found.scale))
             lines = self.name_points(points, predicted, found.scale, found.work_size, template)
@@ -370,31 +372,3 @@ class WeightFreeDetector:
     def detect(self, image_bgr: np.ndarray, predicted: PredictedCamera | None = None) -> Detections:
         """Detect field markings in one (H, W, 3) uint8 BGR frame (see module docstring)."""
         return self.name(self.find_markings(image_bgr), predicted)
-
-
-def _marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
-    """The marking map: the centre-line points (working pixels), one pixel wide at the working size (w, h)."""
-    w, h = size
-    marks = np.zeros((h, w), dtype=bool)
-    pixels = pixels_of(points, size)
-    marks[pixels[:, 1], pixels[:, 0]] = True
-    return marks
-
-
-@dataclass(frozen=True)
-class FoundMarkings:
-    """What :meth:`WeightFreeDetector.find_markings` finds in a frame before any camera is known.
-
-    unnamed: the frame's :class:`Detections` without named lines (marking points and map, players, field).
-    points_work_px: (N, 2) sub-pixel centre-line points at the working size (what is named).
-    work_size: (w, h) working size; scale: working / frame pixels; seconds: time it took.
-    wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0, or
-        a blurred frame's, already found).
-    """
-
-    unnamed: Detections
-    points_work_px: np.ndarray
-    work_size: tuple[int, int]
-    scale: float
-    seconds: float
-    wide: WideInputs | None = None

@@ -203,6 +203,28 @@ def found_by_smeared_contrast(camera: Camera, marking_mask: np.ndarray, motion_b
     return _found_by_bins(compared, share, edges, config)
 
 
+def found_by_map_value(camera: Camera, marking_mask: np.ndarray, value_map: np.ndarray, edges: np.ndarray,
+                       curves: TemplateCurves, config: ConfidenceConfig = ConfidenceConfig(),
+                       field_mask: np.ndarray | None = None, player_mask: np.ndarray | None = None
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """(B,) detectable template samples of ``camera`` whose value on ``value_map`` (its largest within a pixel of the
+    sample: a sample lies on its marking within about a pixel) falls in each bin ``[edges[b], edges[b + 1])``, and (B,)
+    of them within the tolerance of a marking of the map: how often the detector finds a marking by a property of the
+    image along it (the top-hat contrast of its paint, on true cameras).
+
+    Args:
+        value_map: (h, w) float or integer map, any size of the frame's aspect ratio (read at the working size).
+    """
+    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
+    w, h = compared.size
+    values = cv2.resize(np.asarray(value_map, np.float32), (w, h), interpolation=cv2.INTER_NEAREST) \
+        if value_map.shape[:2] != (h, w) else np.asarray(value_map, np.float32)
+    values = cv2.dilate(values, np.ones((3, 3), np.uint8))
+    col = np.clip(np.round(compared.uv[:, 0]).astype(int), 0, w - 1)
+    row = np.clip(np.round(compared.uv[:, 1]).astype(int), 0, h - 1)
+    return _found_by_bins(compared, values[row, col], edges, config)
+
+
 def _found_by_bins(compared: _Compared, values: np.ndarray, edges: np.ndarray, config: ConfidenceConfig
                    ) -> tuple[np.ndarray, np.ndarray]:
     """(B,) the detectable samples of ``compared`` whose value (N,) falls in each bin of ``edges`` (B + 1,), and (B,)

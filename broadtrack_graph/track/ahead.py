@@ -3,7 +3,8 @@
 Each image frame gets, in order, where it is decoded: its shot and the static graphics mask
 (:class:`~broadtrack_graph.track.shot_stream.ShotStream`), whether it repeats the previous frame's image
 (:mod:`broadtrack_graph.shots.repeats`), the flow pyramid, the camera-free half of the weight-free detector
-(``find_markings``: grass, field, players, the marking map), and while this side is far enough ahead of the loop,
+(``find_markings``: grass, field, players, the marking map; the players' legs are left to the side that first
+reads them, :mod:`~broadtrack_graph.detect.found_markings`), and while this side is far enough ahead of the loop,
 the optical flow from the previous frame (:class:`FramesAhead`). The result is the same as doing it all in the
 tracking loop.
 
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 from typing import Callable, Iterator
 
 import cv2
+import numpy as np
 
 from broadtrack_graph.detect.flow import flow_candidates, flow_keep_mask, prepare
 from broadtrack_graph.detect.graphics import mask_graphics
@@ -71,7 +73,8 @@ class FramesAhead:
         self.find_markings = find_markings
         self.taken = taken
         self.made = 0  # frames prepared so far
-        self.previous: tuple = (None, None)  # the last frame prepared: its flow frame and keep mask (or Nones)
+        # the last frame prepared: its flow frame and (its markings found, its graphics mask), or Nones
+        self.previous: tuple = (None, None)
         self.last_grey = None  # the last image's grey for the repeat test (None: no image, or no test)
 
     def __call__(self, frame: FrameInput) -> FrameInput:
@@ -92,24 +95,34 @@ class FramesAhead:
         if config.use_flow and frame.flow_frame is None:
             frame.flow_frame = prepare(frame.image, config.flow, grey, frame.working_bgr)  # the repeat test's grey
         other_view = frame.shot is not None and frame.shot.is_other_view
-        keep = None
+        found = None
         if self.find_markings is not None and frame.observations is None and frame.markings is None \
                 and not other_view:
             try:
-                frame.markings = self.find_markings(frame.image, frame.working_bgr)  # ShotStream's working image
-                keep = flow_keep_mask(mask_graphics(frame.markings.unnamed, frame.graphics_mask))
+                found = frame.markings = self.find_markings(frame.image, frame.working_bgr)  # ShotStream's image
             except ValueError:
                 pass  # a bad image: the loop's own detection reports it on this frame
         frame.working_bgr = None  # used: not kept in the queue of frames ready
         lead = self.made - 1 - self.taken()  # frames ready before this one: how far ahead this side is
-        if frame.flow_frame is not None and self.previous[0] is not None and keep is not None and \
+        if frame.flow_frame is not None and self.previous[0] is not None and found is not None and \
                 lead >= FLOW_AHEAD_MIN_LEAD:
             # The flow from the previous frame short of the previous camera's pitch check (the loop's, when it knows
             # that camera): the loop's own matches (detect.flow.flow_candidates), computed here when there is time.
             frame.flow_ahead = flow_candidates(self.previous[0], frame.flow_frame, frame.image.shape[1],
-                                               frame.image.shape[0], self.previous[1], config.flow)
-        self.previous = (frame.flow_frame, keep) if keep is not None else (None, None)
+                                               frame.image.shape[0], _keep_mask(*self.previous[1]), config.flow)
+        if found is not None and lead + 1 >= FLOW_AHEAD_MIN_LEAD:
+            # Far enough ahead to track the next frame's flow here too: its keep mask needs this frame's players'
+            # legs, found now (then sent with it). Behind, the tracking side finds them (detect.found_markings).
+            found.find_legs()
+        # The previous frame's keep mask is made only when a flow ahead needs it.
+        self.previous = (frame.flow_frame, (found, frame.graphics_mask)) if found is not None else (None, None)
         return frame
+
+
+def _keep_mask(found, graphics_mask) -> np.ndarray | None:
+    """Where a frame's flow may start (:func:`~broadtrack_graph.detect.flow.flow_keep_mask`) from its markings found
+    ahead, off its graphics."""
+    return flow_keep_mask(mask_graphics(found.unnamed, graphics_mask))
 
 
 @dataclass(frozen=True)

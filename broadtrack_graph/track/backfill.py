@@ -3,7 +3,7 @@
 In the offline modes a shot's frames before its first lock (nothing found yet, or a chain not
 confident yet) and after the track is lost need not stay empty: the frame next to them has a
 camera. A frame that ends without a camera keeps its markings as the weight-free detector
-found them (:class:`~broadtrack_graph.detect.weightfree.FoundMarkings`, masks bit-packed: about
+found them (:class:`~broadtrack_graph.detect.found_markings.FoundMarkings`, masks bit-packed: about
 0.2 MB at the working size). When the next frame with a camera is final, the gap is walked
 backwards from it: each frame's points are named with the camera of its neighbour, the camera
 is refined on them (:func:`~broadtrack_graph.graph.single_frame.refine_single_frame`, that camera's
@@ -58,7 +58,7 @@ class PackedMarkings:
 
     @classmethod
     def pack(cls, found) -> "PackedMarkings":
-        """From a :class:`~broadtrack_graph.detect.weightfree.FoundMarkings`."""
+        """From a :class:`~broadtrack_graph.detect.found_markings.FoundMarkings`."""
         d = found.unnamed
         masks = {name: (np.packbits(m.astype(bool)), m.shape) for name, m in
                  (("marking_mask", d.marking_mask), ("field_mask", d.field_mask), ("player_mask", d.player_mask))
@@ -68,7 +68,7 @@ class PackedMarkings:
 
     def found(self):
         """Back to a FoundMarkings the detector can name."""
-        from broadtrack_graph.detect.weightfree import FoundMarkings
+        from broadtrack_graph.detect.found_markings import FoundMarkings
 
         masks = {name: np.unpackbits(bits, count=int(np.prod(shape))).reshape(shape).astype(bool)
                  for name, (bits, shape) in self.masks.items()}

@@ -34,7 +34,7 @@ class FrameInput:
     flow_frame: object | None = None  # prepared for optical flow (frontend.flow.prepare), when done ahead
     shot: object | None = None  # shots.segmenter.FrameShot: cut, view kind and camera id, when shots are detected
     graphics_mask: np.ndarray | None = None  # (h, w) bool static broadcast graphics at any size, or None
-    markings: object | None = None  # detect.weightfree.FoundMarkings: the camera-free half of detection, done ahead
+    markings: object | None = None  # detect.found_markings.FoundMarkings: the camera-free half of detection, done ahead
     flow_ahead: object | None = None  # detect.flow.FlowCandidates from the previous frame, done ahead (no camera yet)
     repeats_previous: bool = False  # the image is the previous frame's again (shots.repeats), found ahead
     working_bgr: np.ndarray | None = None  # the detector's colour working image when it is an area reduction of the

@@ -107,14 +107,16 @@ class FrameObserver:
         return observations, detections
 
     def _flow_ahead_applies(self, ahead) -> bool:
-        """The flow found ahead starts from this loop's previous frame, with its keep mask, at the run's size."""
-        if ahead is None or ahead.prev_frame is not self._prev_grey or (ahead.width_px, ahead.height_px) != (
-                self.W, self.H):
+        """The flow found ahead starts from this loop's previous frame's image, with its keep mask, at the run's size.
+        The image is compared by value: a process of its own sends each frame's copy apart, so the flow's copy of the
+        previous image is never the very object the loop holds (a thread's is)."""
+        if ahead is None or self._prev_grey is None or (ahead.width_px, ahead.height_px) != (self.W, self.H):
+            return False
+        if not _equal_maps(ahead.prev_frame.grey, self._prev_grey.grey):
             return False
         if ahead.keep_mask is None or self._prev_keep_mask is None:
             return ahead.keep_mask is None and self._prev_keep_mask is None
-        return ahead.keep_mask.shape == self._prev_keep_mask.shape and np.array_equal(ahead.keep_mask,
-                                                                                        self._prev_keep_mask)
+        return _equal_maps(ahead.keep_mask, self._prev_keep_mask)
 
     def named_by(self, frame: FrameInput, observations: FrameObservations, detections: Detections | None,
                  camera: Camera) -> tuple[FrameObservations, Detections | None]:
@@ -134,3 +136,8 @@ class FrameObserver:
             points = len(detections.marking_points_px) + sum(len(p) for p in detections.lines_px.values())
             return grass < self.config.min_grass_share or points < self.config.min_marking_points
         return observations.is_empty or (observations.line_point_count < 4 and not observations.keypoints)
+
+
+def _equal_maps(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two images or masks are the same (the same object, or equal in shape and every value)."""
+    return a is b or (a.shape == b.shape and np.array_equal(a, b))

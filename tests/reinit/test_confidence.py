@@ -15,6 +15,7 @@ from broadtrack_graph.reinit.confidence import (
     camera_confidence,
     confidence_parts,
     field_coverage,
+    found_by_map_value,
     found_by_paint_width,
     recall_across_motion,
     smeared_contrast,
@@ -191,6 +192,17 @@ def test_the_far_lines_across_a_low_cameras_view_are_not_expected():
     samples, found = found_by_paint_width(low, marks, np.array([0.0, 0.15, np.inf]), CURVES, field_mask=grass)
     assert samples[0] > 100 and found[0] < 0.5 * samples[0]
     assert samples[1] > 1000 and found[1] == samples[1]
+    # The same samples by a map's value along them: its left half 5, its right half 30 (any map size of the aspect).
+    values = np.full((H // 2, W // 2), 5, np.uint8)
+    values[:, W // 4:] = 30
+    edges = np.array([0.0, 10.0, np.inf])
+    by_value, found_by_value = found_by_map_value(low, marks, values, edges, CURVES, field_mask=grass)
+    by_width, found_by_width = found_by_paint_width(low, marks, np.array([0.15, np.inf]), CURVES, field_mask=grass)
+    expected = template.uv_px[(template.paint_width_px >= 0.15) & (template.uv_px[:, 0] < W / 2 - 4)]
+    assert by_value.sum() == by_width.sum()  # every expected sample (paint 0.15 px wide), in one bin or the other
+    assert by_value[0] > 100 and by_value[1] > 100
+    assert abs(by_value[0] - len(expected)) < 0.15 * len(expected)  # the left half's, about
+    assert found_by_value.sum() == found_by_width.sum()
 
 
 def _smear(length_px: float, angle_deg: float) -> MotionBlur:

@@ -82,3 +82,36 @@ def test_the_flow_is_tracked_ahead_only_while_that_side_is_far_enough_ahead(reci
     assert [f.flow_ahead is not None for f in made] == [False, False, True, True]  # the first has no previous frame
     taken[0] = 4
     assert prepare(frames[4]).flow_ahead is None  # caught up: the loop tracks it
+
+
+def test_the_flow_tracked_ahead_in_another_process_is_the_loops_own(clip, recipe):
+    # A process sends each frame's copy apart: the flow's copy of the previous image is not the object the loop
+    # holds, but the same image; the loop takes the flow found ahead, the very matches it would track itself.
+    import pickle
+
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.io.cameras import read_camera_file
+    from broadtrack_graph.track.observe import FrameObserver
+
+    config, detector = TrackingConfig(), WeightFreeDetector()
+    prepare = FramesAhead(config, detector.find_markings, lambda: -10)  # always far enough ahead
+    with open_frames(recipe.path) as source:
+        frames = [pickle.loads(pickle.dumps(prepare(frame)))
+                  for frame in ShotStream(frames_from_source(source), reduce=detector.area_working_image)]
+    assert all(f.flow_ahead is not None for f in frames[1:])
+    cameras = [read_camera_file(clip / "cameras" / f"camera_{i + 1:06d}.json") for i in range(FRAMES)]
+    timings = {"detect_s": 0.0, "flow_s": 0.0, "markings_ahead_s": 0.0}
+    loop = FrameObserver(detector, config, *SIZE, PitchTemplate(), {}, timings)
+    own = FrameObserver(detector, config, *SIZE, PitchTemplate(), {}, dict(timings))
+    for i, frame in enumerate(frames):
+        previous = cameras[i - 1] if i else None
+        if i:
+            assert frame.flow_ahead.prev_frame is not frames[i - 1].flow_frame  # a copy of its own
+            assert loop._flow_ahead_applies(frame.flow_ahead)
+        observations, _ = loop.observe(frame, None, previous)
+        frame.flow_ahead = None  # the loop tracks the flow itself
+        tracked, _ = own.observe(frame, None, previous)
+        if i:
+            assert len(tracked.flow) > 50
+            assert np.array_equal(observations.flow.uv_prev_px, tracked.flow.uv_prev_px)
+            assert np.array_equal(observations.flow.uv_cur_px, tracked.flow.uv_cur_px)

@@ -1,0 +1,91 @@
+"""What the weight-free detector finds in a frame before any camera is known (:class:`FoundMarkings`), the players'
+legs left to find when first asked (:class:`BodiesToFeet`), and the marking map of its points. No I/O.
+
+The players are found as bodies (:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.players`); running
+each box on down its legs (:mod:`~broadtrack_graph.detect.player_feet`) is left until the frame's detections are first
+read (:attr:`FoundMarkings.unnamed`): the markings themselves are looked for off the bodies only, so the frame's
+camera-free half ends without them, and where frames are prepared in a process of their own the legs are found on the
+tracking side (the side with time to spare at 1080p) unless the preparing side needs them first (the flow it
+computes ahead starts off the players). Either way, the same numbers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import cached_property
+
+import numpy as np
+
+from broadtrack_graph.detect.detector import Detections
+from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
+from broadtrack_graph.detect.point_cells import pixels_of
+from broadtrack_graph.detect.ridges import WideInputs
+
+
+@dataclass(frozen=True)
+class BodiesToFeet:
+    """The players' bodies, their boxes still to run on down their legs, with what that needs.
+
+    boxes_work_px: (P, 4) [x0, y0, x1, y1] body boxes, working pixels; body_mask: (h, w) uint8 (0 / 255) of the
+    bodies; grey: (h, w) uint8 working grey image the markings were found in; grass: (h, w) uint8 grass mask;
+    contrast, max_share: :func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`'s; margin_px: the player
+    mask's margin (:func:`~broadtrack_graph.detect.player_feet.with_legs`).
+    """
+
+    boxes_work_px: np.ndarray
+    body_mask: np.ndarray
+    grey: np.ndarray
+    grass: np.ndarray
+    contrast: float
+    max_share: float
+    margin_px: int
+
+    def to_the_feet(self) -> tuple[np.ndarray, np.ndarray]:
+        """((P, 4) boxes down to the feet, working pixels; (h, w) bool player mask with the legs)."""
+        feet = boxes_to_the_feet(self.boxes_work_px, self.grey, self.grass, self.contrast, self.max_share)
+        return feet, with_legs(self.body_mask, self.boxes_work_px, feet, self.margin_px) > 0
+
+
+@dataclass(frozen=True)
+class FoundMarkings:
+    """What :meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.find_markings` finds in a frame before any
+    camera is known.
+
+    detections: the frame's :class:`Detections` without named lines (marking points and map, players, field); while
+        ``bodies`` is given, its players are the bodies' (read :attr:`unnamed`).
+    points_work_px: (N, 2) sub-pixel centre-line points at the working size (what is named).
+    work_size: (w, h) working size; scale: working / frame pixels; seconds: time it took.
+    wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0, or
+        a blurred frame's, already found).
+    bodies: the players' legs still to find (None: ``detections`` holds them).
+    """
+
+    detections: Detections
+    points_work_px: np.ndarray
+    work_size: tuple[int, int]
+    scale: float
+    seconds: float
+    wide: WideInputs | None = None
+    bodies: BodiesToFeet | None = None
+
+    @cached_property
+    def unnamed(self) -> Detections:
+        """The frame's detections without named lines, the players' boxes down to their feet and the player mask with
+        their legs (found on first reading, then kept: a pickled copy carries them)."""
+        if self.bodies is None:
+            return self.detections
+        feet, mask = self.bodies.to_the_feet()
+        return replace(self.detections, player_boxes_px=(feet / self.scale) if len(feet) else feet, player_mask=mask)
+
+    def find_legs(self) -> None:
+        """Find the players' legs now: :attr:`unnamed` holds them from here on, and so does a copy sent after."""
+        _ = self.unnamed
+
+
+def marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """The marking map: the centre-line points (working pixels), one pixel wide at the working size (w, h)."""
+    w, h = size
+    marks = np.zeros((h, w), dtype=bool)
+    pixels = pixels_of(points, size)
+    marks[pixels[:, 1], pixels[:, 0]] = True
+    return marks
