@@ -39,12 +39,12 @@ paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
 the grass: no detector can find what is not in the image). ``paint_found_by_width``: per look, the true cameras'
 template samples (wide enough by their scale to be expected) by the width of their paint across the image
 (:data:`PAINT_WIDTH_BINS_PX`, working pixels) and the share of them the detector found
-(``reinit.confidence.found_by_paint_width``). ``found_by_tophat_contrast``: the same by the contrast of each
+(``reinit.template_reach.found_by_paint_width``). ``found_by_tophat_contrast``: the same by the contrast of each
 sample's paint on the detector's top-hat (:data:`~.placement_found.TOPHAT_CONTRAST_BINS`, grey levels; the ridges
 are thresholded at ``tophat_threshold`` or the grass texture's level, :mod:`.placement_found`).
 ``smear_found_by_contrast``: the same on the frames the detector finds
 smeared, pooled, by the share of contrast the smear leaves each marking (:data:`SMEARED_CONTRAST_BINS`,
-``reinit.confidence.found_by_smeared_contrast``). ``misses_by_cause``: each counted frame a route neither finds nor
+``reinit.template_reach.found_by_smeared_contrast``). ``misses_by_cause``: each counted frame a route neither finds nor
 twins, by the first of :data:`~.placement_misses.MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``,
 the share found or twin of the frames the route can reach (detected markings fix the truth, the truth written).
 Frame i of a seed is the same in every run (``--first K`` starts at frame K).
@@ -159,15 +159,19 @@ def run(args) -> dict:
     import cv2
     from tqdm import tqdm
 
-    from broadtrack_graph.geometry.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.reinit.cheap import refine_guesses
-    from broadtrack_graph.reinit.confidence import found_by_map_value, found_by_paint_width, found_by_smeared_contrast
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.reinit.scoring import ReinitResult
+    from broadtrack_graph.reinit.template_reach import (
+        found_by_map_value,
+        found_by_paint_width,
+        found_by_smeared_contrast,
+    )
     from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.track.reinit_policy import ReinitPolicy, court_accept_at
     from broadtrack_graph.types.observations import FrameObservations

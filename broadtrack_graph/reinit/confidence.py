@@ -112,7 +112,7 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     """Precision, recall, their F-beta and the sample counts (see module docstring; ``motion_blur``: the frame's,
     its length in pixels of the marking map's frame, or None)."""
     curves = curves or TemplateCurves()
-    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask, motion_blur)
+    compared = compared_sets(camera, marking_mask, curves, config, field_mask, player_mask, motion_blur)
     marks, uv, detectable, field, (w, h) = (compared.marks, compared.uv, compared.detectable, compared.field,
                                             compared.size)
     marking_pixels = int(np.count_nonzero(marks))
@@ -120,7 +120,7 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     expected = int(np.count_nonzero(detectable))
     if len(uv) and marking_pixels:
         near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
-        found = _found(marks, near, pixel)
+        found = found_near(marks, near, pixel)
         thin_expected, thin_found = _thin_markings_seen(found, detectable, config)
         recall = float((np.count_nonzero(found & detectable) + thin_found) /
                        max(expected + thin_expected, config.min_template_px))
@@ -164,7 +164,7 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     speed = float(np.hypot(*motion_px))
     if speed <= 0:
         return 0.0, 0
-    compared = _compared(camera, marking_mask, curves or TemplateCurves(), config, field_mask, player_mask)
+    compared = compared_sets(camera, marking_mask, curves or TemplateCurves(), config, field_mask, player_mask)
     uv, detectable = compared.uv, compared.detectable
     if len(uv) < 2:
         return 0.0, 0
@@ -175,69 +175,7 @@ def recall_across_motion(camera: Camera, marking_mask: np.ndarray, motion_px: np
     if count == 0:
         return 0.0, 0
     near, pixel = pixels_within(uv[crossing], compared.size, config.tolerance_px)
-    return float(np.count_nonzero(_found(compared.marks, near, pixel)) / count), count
-
-
-def found_by_paint_width(camera: Camera, marking_mask: np.ndarray, edges_px: np.ndarray, curves: TemplateCurves,
-                         config: ConfidenceConfig = ConfidenceConfig(), field_mask: np.ndarray | None = None,
-                         player_mask: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(B,) template samples of ``camera`` wide enough by their scale (``min_line_width_px``) whose painted width
-    (working pixels) falls in each bin ``[edges_px[b], edges_px[b + 1])``, and (B,) of them within the tolerance of a
-    marking of the map: how often the detector finds paint of each width, what ``min_paint_width_px`` is read from
-    (on true cameras)."""
-    compared = _compared(camera, marking_mask, curves, replace(config, min_paint_width_px=0.0), field_mask,
-                         player_mask)
-    return _found_by_bins(compared, compared.paint_px, edges_px, config)
-
-
-def found_by_smeared_contrast(camera: Camera, marking_mask: np.ndarray, motion_blur: MotionBlur, edges: np.ndarray,
-                              curves: TemplateCurves, config: ConfidenceConfig = ConfidenceConfig(),
-                              field_mask: np.ndarray | None = None, player_mask: np.ndarray | None = None
-                              ) -> tuple[np.ndarray, np.ndarray]:
-    """(B,) detectable template samples of ``camera`` (as on a sharp frame) whose share of contrast left by the
-    frame's motion blur (:func:`smeared_contrast`) falls in each bin ``[edges[b], edges[b + 1])``, and (B,) of them
-    within the tolerance of a marking of the map: what ``min_smeared_contrast`` is read from (on true cameras)."""
-    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
-    smear = replace(motion_blur, length_px=motion_blur.length_px * compared.size[0] / camera.width_px)
-    share = smeared_contrast(compared.uv, compared.class_index, compared.paint_px, smear)
-    return _found_by_bins(compared, share, edges, config)
-
-
-def found_by_map_value(camera: Camera, marking_mask: np.ndarray, value_map: np.ndarray, edges: np.ndarray,
-                       curves: TemplateCurves, config: ConfidenceConfig = ConfidenceConfig(),
-                       field_mask: np.ndarray | None = None, player_mask: np.ndarray | None = None
-                       ) -> tuple[np.ndarray, np.ndarray]:
-    """(B,) detectable template samples of ``camera`` whose value on ``value_map`` (its largest within a pixel of the
-    sample: a sample lies on its marking within about a pixel) falls in each bin ``[edges[b], edges[b + 1])``, and (B,)
-    of them within the tolerance of a marking of the map: how often the detector finds a marking by a property of the
-    image along it (the top-hat contrast of its paint, on true cameras).
-
-    Args:
-        value_map: (h, w) float or integer map, any size of the frame's aspect ratio (read at the working size).
-    """
-    compared = _compared(camera, marking_mask, curves, config, field_mask, player_mask)
-    w, h = compared.size
-    values = cv2.resize(np.asarray(value_map, np.float32), (w, h), interpolation=cv2.INTER_NEAREST) \
-        if value_map.shape[:2] != (h, w) else np.asarray(value_map, np.float32)
-    values = cv2.dilate(values, np.ones((3, 3), np.uint8))
-    col = np.clip(np.round(compared.uv[:, 0]).astype(int), 0, w - 1)
-    row = np.clip(np.round(compared.uv[:, 1]).astype(int), 0, h - 1)
-    return _found_by_bins(compared, values[row, col], edges, config)
-
-
-def _found_by_bins(compared: _Compared, values: np.ndarray, edges: np.ndarray, config: ConfidenceConfig
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """(B,) the detectable samples of ``compared`` whose value (N,) falls in each bin of ``edges`` (B + 1,), and (B,)
-    of them found on its map."""
-    bins = np.digitize(values[compared.detectable], edges) - 1
-    inside = (bins >= 0) & (bins < len(edges) - 1)
-    found = np.zeros(len(compared.uv), bool)
-    if len(compared.uv):
-        near, pixel = pixels_within(compared.uv, compared.size, config.tolerance_px)
-        found = _found(compared.marks, near, pixel)
-    samples = np.bincount(bins[inside], minlength=len(edges) - 1)
-    hits = np.bincount(bins[inside], weights=found[compared.detectable][inside], minlength=len(edges) - 1)
-    return samples, hits.astype(int)
+    return float(np.count_nonzero(found_near(compared.marks, near, pixel)) / count), count
 
 
 def _thin_markings_seen(found: np.ndarray, detectable: np.ndarray, config: ConfidenceConfig) -> tuple[float, float]:
@@ -276,14 +214,14 @@ def smeared_contrast(uv: np.ndarray, class_index: np.ndarray, paint_px: np.ndarr
         return np.where(across > paint_px, paint_px / across, 1.0)
 
 
-def _found(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray:
+def found_near(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray:
     """(N,) whether each template sample has a marking pixel of ``marks`` (h, w) within the tolerance (``near`` and
     ``pixel`` of :func:`pixels_within`): what the recall counts."""
     return (marks.ravel()[np.where(near, pixel, 0)] & near).any(axis=1)
 
 
 @dataclass(frozen=True)
-class _Compared:
+class ComparedSets:
     """What a camera is compared with (module docstring), at the working size: the marking map (h, w) bool, the
     template samples kept (N, 2) with their detectable flags, classes and painted widths (working pixels), the field
     map (or None), (w, h)."""
@@ -298,19 +236,23 @@ class _Compared:
     size: tuple[int, int]
 
 
-def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
-              field_mask: np.ndarray | None, player_mask: np.ndarray | None,
-              motion_blur: MotionBlur | None = None) -> _Compared:
-    """The two sets :func:`confidence_parts` compares: on the field, off the players, out of the goals."""
+def _working_marks(marking_mask: np.ndarray, config: ConfidenceConfig) -> tuple[np.ndarray, tuple[int, int]]:
+    """The marking map at the working size (the map itself when it is already that: read only), and (w, h)."""
     H, W = marking_mask.shape
     w = config.work_width_px
     h = max(1, int(round(H * w / W)))
     if marking_mask.shape == (h, w):
-        marks = marking_mask.astype(bool, copy=False)  # read only
-    else:
-        # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
-        marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
-                           interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
+        return marking_mask.astype(bool, copy=False), (w, h)
+    # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
+    return cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
+                      interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0, (w, h)
+
+
+def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
+              field_mask: np.ndarray | None, player_mask: np.ndarray | None,
+              motion_blur: MotionBlur | None = None) -> ComparedSets:
+    """The two sets :func:`confidence_parts` compares: on the field, off the players, out of the goals."""
+    marks, (w, h) = _working_marks(marking_mask, config)
     whole = marks  # the map before the field, players and goals are taken out of it
     template = project_template(camera, curves, w, h, config.template_spacing_px, paint_widths=True)
     # Detectable: at least min_line_width_px wide at the working width and painted at least min_paint_width_px wide
@@ -346,7 +288,7 @@ def _compared(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, 
             outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
             uv, detectable, class_index, paint = uv[outside], detectable[outside], class_index[outside], paint[outside]
         marks = marks & ~goals
-    return _Compared(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index, paint,
+    return ComparedSets(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index, paint,
                      field, (w, h))
 
 

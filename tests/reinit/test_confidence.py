@@ -15,12 +15,11 @@ from broadtrack_graph.reinit.confidence import (
     camera_confidence,
     confidence_parts,
     field_coverage,
-    found_by_map_value,
-    found_by_paint_width,
     recall_across_motion,
     smeared_contrast,
 )
 from broadtrack_graph.reinit.frame_maps import inside_field_edge
+from broadtrack_graph.reinit.template_reach import found_by_map_value, found_by_paint_width
 
 W, H = 960, 540
 PITCH = PitchTemplate()
