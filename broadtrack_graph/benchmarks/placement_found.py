@@ -2,9 +2,9 @@
 ``bench placements --random`` (:mod:`.random_placements`). No I/O.
 
 Each frame's row holds, for one property, the true camera's template samples in each bin of it and how many of them
-the detector's marking map shows (``reinit.template_reach.found_by_paint_width`` and its kin); the report pools the rows:
-per bin, the samples and the share found. The bins say where the detector's reach ends: a painted width it no longer
-resolves, a smear that leaves too little contrast, paint too faint against the grass.
+the detector's marking map shows (``reinit.template_reach.found_by_paint_width`` and its kin); the report pools the
+rows: per bin, the samples and the share found. The bins say where the detector's reach ends: a painted width it no
+longer resolves, a smear that leaves too little contrast, paint too faint against the grass.
 """
 
 from __future__ import annotations

@@ -4,9 +4,9 @@ legs left to find when first asked (:class:`BodiesToFeet`), and the marking map 
 The players are found as bodies (:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.players`); running
 each box on down its legs (:mod:`~broadtrack_graph.detect.player_feet`) is left until the frame's detections are first
 read (:attr:`FoundMarkings.unnamed`): the markings themselves are looked for off the bodies only, so the frame's
-camera-free half ends without them, and where frames are prepared in a process of their own the legs are found on the
-tracking side (the side with time to spare at 1080p) unless the preparing side needs them first (the flow it
-computes ahead starts off the players). Either way, the same numbers.
+camera-free half ends without them. Where frames are prepared ahead, the preparing side finds the legs while it is far
+enough ahead to track the next frame's flow (that flow starts off the players); behind, the tracking side finds them
+(:class:`~broadtrack_graph.track.ahead.FramesAhead`). Either way, the same numbers.
 """
 
 from __future__ import annotations

@@ -236,23 +236,19 @@ class ComparedSets:
     size: tuple[int, int]
 
 
-def _working_marks(marking_mask: np.ndarray, config: ConfidenceConfig) -> tuple[np.ndarray, tuple[int, int]]:
-    """The marking map at the working size (the map itself when it is already that: read only), and (w, h)."""
+def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
+                  field_mask: np.ndarray | None, player_mask: np.ndarray | None,
+                  motion_blur: MotionBlur | None = None) -> ComparedSets:
+    """The two sets :func:`confidence_parts` compares: on the field, off the players, out of the goals."""
     H, W = marking_mask.shape
     w = config.work_width_px
     h = max(1, int(round(H * w / W)))
     if marking_mask.shape == (h, w):
-        return marking_mask.astype(bool, copy=False), (w, h)
-    # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
-    return cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
-                      interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0, (w, h)
-
-
-def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
-              field_mask: np.ndarray | None, player_mask: np.ndarray | None,
-              motion_blur: MotionBlur | None = None) -> ComparedSets:
-    """The two sets :func:`confidence_parts` compares: on the field, off the players, out of the goals."""
-    marks, (w, h) = _working_marks(marking_mask, config)
+        marks = marking_mask.astype(bool, copy=False)  # read only
+    else:
+        # Thin maps must not vanish when reduced: any marking pixel in a cell marks the cell.
+        marks = cv2.resize(marking_mask.astype(np.uint8) * 255, (w, h),
+                           interpolation=cv2.INTER_AREA if W > w else cv2.INTER_NEAREST) > 0
     whole = marks  # the map before the field, players and goals are taken out of it
     template = project_template(camera, curves, w, h, config.template_spacing_px, paint_widths=True)
     # Detectable: at least min_line_width_px wide at the working width and painted at least min_paint_width_px wide
@@ -288,8 +284,8 @@ def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurv
             outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
             uv, detectable, class_index, paint = uv[outside], detectable[outside], class_index[outside], paint[outside]
         marks = marks & ~goals
-    return ComparedSets(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index, paint,
-                     field, (w, h))
+    return ComparedSets(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index,
+                        paint, field, (w, h))
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:
