@@ -3,7 +3,8 @@
 :func:`fitted_hypotheses` fits the best distinct few hypotheses (the label-and-fit rounds of
 :func:`~broadtrack_graph.reinit.mask.refine_on_map`, k1 and the focal point free, each started from the camera that
 draws its homography's template, :func:`camera_through`; a fit whose focal point slid onto the playing area fitted
-again from its starts moved back along their lines of sight, :func:`off_the_pitch`, the focal point held there);
+again from its starts moved back along their lines of sight, :func:`off_the_pitch`, the focal point held there; one
+that slid out of the stadium is not a broadcast camera's, and is not kept when another fit is);
 :func:`kept_camera` keeps the best scoring fit on the map
 (of those standing where a broadcast camera can, when any does), or the most confident one when it is more confident
 by ``confidence_margin``. :func:`judged` returns it with its confidence when it stands where a broadcast camera can,
@@ -82,7 +83,7 @@ def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_p
         decomposed = hypothesis_camera(hypotheses, k, W, H)
         start = camera_through(H_px[k], hypotheses.sign[k], decomposed, curves)
         camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
-        if not plausible_position(camera.position_m, curves.pitch):
+        if not plausible_position(camera.position_m, curves.pitch, max_distance_m=math.inf):  # over the pitch
             camera = _held_off_the_pitch(camera, (start, decomposed), points, curves, structures, search)
         score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
         fits.append(Fit(k, score, confidence_of(camera), camera))
@@ -125,8 +126,8 @@ def judged(camera: Camera | None, marking_mask, pitch: PitchTemplate, config: Co
     if camera is None:
         return ReinitResult(None, None, "", "no hypothesis shows the template in the image")
     if not plausible_position(camera.position_m, pitch):
-        return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch "
-                                            "or under the grass)")
+        return ReinitResult(None, None, "", "the best camera's focal point is not a broadcast camera's (on the pitch, "
+                                            "under the grass or out of the stadium)")
     fixed = determinability(camera, pitch, explained_by=marking_mask)
     why = f"the markings the best camera explains do not fix it ({fixed.x_lines} and {fixed.y_lines} lines, " \
           f"{len(fixed.curves)} circles"

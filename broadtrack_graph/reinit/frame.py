@@ -34,7 +34,7 @@ def reinitialise(
     Tries, by what the frame carries: labelled keypoints (two-point method in RANSAC),
     labelled lines (homography or global search), and the unlabelled marking map
     (line-pair and circle hypotheses at the candidate positions, scored and fitted).
-    Cameras under 1 m or over the pitch are dropped; the best score is kept.
+    Cameras under 1 m, over the pitch or out of the stadium are dropped; the best score is kept.
     """
     W, H = observations.width_px, observations.height_px
     results = []
@@ -51,22 +51,33 @@ def reinitialise(
     good = [replace(r, camera=_wrapped(r.camera)) for r in results
             if r.camera is not None and plausible_position(r.camera.position_m, pitch)]
     if not good and any(r.camera is not None for r in results):
-        return ReinitResult(None, None, "", "every re-initialised camera was under 1 m or on the pitch")
+        return ReinitResult(None, None, "", "every re-initialised camera was under 1 m, on the pitch or out of the "
+                                            "stadium")
     if not good:
         reasons = "; ".join(r.reason for r in results if r.reason) or "nothing to re-initialise from"
         return ReinitResult(None, None, "", reasons)
     return max(good, key=lambda r: (r.score.jaccard if r.score else 0.0, r.score.inlier_share if r.score else 0.0))
 
 
-def plausible_position(position_w, pitch: PitchTemplate, min_height_m: float = 1.0) -> bool:
-    """A broadcast focal point or tripod: at least min_height_m above the grass and off the pitch.
+MAX_CAMERA_DISTANCE_M = 150.0
+"""A broadcast camera stands in its stadium: its focal point within this horizontal distance of the centre spot.
+Broadcast cameras stand within about 100 m of it (the top tier behind a goal of a large bowl); a camera fitted
+farther has slid back along a narrow view's line of sight, where the focal length and the distance trade almost
+freely and the image alone hardly tells them apart."""
+
+
+def plausible_position(position_w, pitch: PitchTemplate, min_height_m: float = 1.0,
+                       max_distance_m: float = MAX_CAMERA_DISTANCE_M) -> bool:
+    """A broadcast focal point or tripod: at least min_height_m above the grass, off the pitch and within
+    max_distance_m (horizontally) of the centre spot.
 
     Args:
         position_w: (3,) metres, pitch frame (z down).
     """
     x, y, z = (float(v) for v in position_w)
     half_length, half_width = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2
-    return z <= -min_height_m and not (abs(x) < half_length and abs(y) < half_width)
+    return z <= -min_height_m and not (abs(x) < half_length and abs(y) < half_width) and \
+        math.hypot(x, y) <= max_distance_m
 
 
 def _wrapped(camera: Camera) -> Camera:
@@ -99,7 +110,7 @@ def frame_confidence(
 
     By what the frame carries: the marking map (confidence.camera_confidence), else labelled lines
     (mean of the per-class Jaccard and the inlier share at 5 px), else keypoints (share within 10 px).
-    A camera whose focal point is not a broadcast camera's (under 1 m, or over the pitch:
+    A camera whose focal point is not a broadcast camera's (under 1 m, over the pitch or out of the stadium:
     :func:`plausible_position`) has confidence 0, however well it explains the markings.
     """
     if not plausible_position(camera.position_m, curves.pitch):

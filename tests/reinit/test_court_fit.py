@@ -79,6 +79,18 @@ def test_the_best_scoring_fit_is_kept_unless_another_is_more_confident_by_the_ma
     assert kept_camera([], PITCH, config) is None
 
 
+def test_a_fit_slid_out_of_the_stadium_is_neither_kept_over_one_within_it_nor_returned():
+    # A narrow view's fits from different depths along its line of sight: the one scoring best slid back to 190 m from
+    # the centre spot, where no broadcast camera stands (a tenth of a pixel better on the map, 1.6 px off the truth).
+    config = CourtConfig()
+    within = _aimed((-100.0, 10.0, -40.0), (-30.0, 0.0, 0.0), 12.0)
+    far = _aimed((-188.0, 24.0, -75.0), (-30.0, 0.0, 0.0), 6.5)
+    assert plausible_position(within.position_m, PITCH) and not plausible_position(far.position_m, PITCH)
+    assert kept_camera([Fit(0, 0.80, 0.70, far), Fit(1, 0.79, 0.95, within)], PITCH, config) is within
+    assert judged(far, np.zeros((H, W), bool), PITCH, config, lambda camera: 0.95).reason.endswith(
+        "out of the stadium)")
+
+
 def test_a_fit_standing_on_the_playing_area_is_not_kept_over_one_standing_where_a_camera_can():
     # Fits laying the same image from different depths along the line of sight (a circle and a line fix a camera
     # exactly): the one scoring best stands 36 m above the pitch.

@@ -36,3 +36,4 @@ def test_a_camera_over_the_pitch_has_no_confidence_however_well_it_fits():
     assert scores["good"] > 0.9 and scores["over"] == 0.0  # both fit their points exactly
     assert not plausible_position((0.0, 30.0, -12.0), PITCH) and not plausible_position((0.0, 55.0, -0.5), PITCH)
     assert plausible_position((0.0, 55.0, -12.0), PITCH) and plausible_position((-75.0, 0.0, -24.0), PITCH)
+    assert not plausible_position((-190.0, 0.0, -60.0), PITCH)  # out of the stadium: a fit slid along its sight line
