@@ -23,15 +23,18 @@ written on them.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
-from scipy.spatial import cKDTree
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.distortion import undistort_normalized
 from broadtrack_graph.geometry.pitch import LINE_CLASSES, OUTER_LINES, PitchDimensions
 from broadtrack_graph.geometry.template import ImageTemplate
+
+if TYPE_CHECKING:  # a type only: the process that prepares the frames imports this module, and no scipy
+    from scipy.spatial import cKDTree
 
 IS_OUTER_CLASS = np.isin(np.arange(len(LINE_CLASSES)), [LINE_CLASSES.index(name) for name in OUTER_LINES])
 """(classes,) bool: the class index is one of the pitch's outer lines."""

@@ -33,10 +33,10 @@ from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
-from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.point_cells import pixels_of
 from broadtrack_graph.detect.ridge_sides import grass_beside
+from broadtrack_graph.geometry.point_pairs import pairs_within
 
 
 def _reflect_101(index: np.ndarray, size: int) -> np.ndarray:
@@ -199,9 +199,8 @@ def _across(points: np.ndarray, cells: np.ndarray, centres: np.ndarray, centre_c
     close = np.flatnonzero(near[np.minimum(cells[:, 1], level_shape[0] - 1), np.minimum(cells[:, 0], level_shape[1] - 1)])
     if not len(close):
         return out
-    pairs = cKDTree(centres).sparse_distance_matrix(cKDTree(points[close], balanced_tree=False), reach,
-                                                    output_type="ndarray")
-    centre, point = pairs["i"], close[pairs["j"]]
+    centre, point = pairs_within(centres, points[close], reach)
+    point = close[point]
     offset = points[point] - centres[centre]
     across = np.abs(np.sum(offset * normals[centre], axis=1))
     along = np.abs(offset[:, 0] * normals[centre, 1] - offset[:, 1] * normals[centre, 0])

@@ -55,17 +55,16 @@ from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
-from scipy.spatial import cKDTree
 
-from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.class_points import consistent_classes
+from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.found_markings import BodiesToFeet, FoundMarkings, marking_map
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
+from broadtrack_graph.detect.playing_field import grass_and_field
+from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
+from broadtrack_graph.detect.registration import named_off_the_pitch
 from broadtrack_graph.detect.ridges import WideInputs, marking_channel, marking_ridges, white, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
-from broadtrack_graph.detect.playing_field import grass_and_field
-from broadtrack_graph.detect.registration import named_off_the_pitch
-from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import ImageTemplate, TemplateCurves, project_template
@@ -244,7 +243,11 @@ class WeightFreeDetector:
         if not len(template_uv) or not len(points_px):
             return {}
         gate = c.gate_px + c.gate_sigmas * predicted.uncertainty_px * scale
-        # Midpoint splits: built and queried faster than with the default median splits (docs/BENCHMARKS.md).
+        # Imported here, where it is used: the process that prepares the frames runs find_markings only and starts
+        # sooner without scipy (docs/ARCHITECTURE.md). Midpoint splits: built and queried faster than with the
+        # default median splits (docs/BENCHMARKS.md).
+        from scipy.spatial import cKDTree
+
         tree = cKDTree(template_uv, balanced_tree=False, compact_nodes=False)
         d, nearest = tree.query(points_px, distance_upper_bound=gate)
         if c.register_template:  # nothing painted lies beyond the pitch's outer lines (detect.registration)

@@ -19,8 +19,9 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.reinit.frame import frame_confidence
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for
+from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.result import std_fields
+from broadtrack_graph.track.solver_settings import graph_config_for
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.track_record import TrackRecord, carry_repeats
 

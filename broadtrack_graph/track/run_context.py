@@ -19,8 +19,9 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.io.track_writer import RecordWritten
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for, streaming_solver_for
+from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import FrameInput
+from broadtrack_graph.track.solver_settings import graph_config_for, streaming_solver_for
 from broadtrack_graph.types.observations import FrameObservations
 
 FrameDone = Callable[[FrameInput, FrameObservations | None, Detections | None], None]

@@ -1,5 +1,8 @@
 """Frames prepared ahead of the tracking (track/ahead.py): where they are prepared, and the same frames either way."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -115,3 +118,26 @@ def test_the_flow_tracked_ahead_in_another_process_is_the_loops_own(clip, recipe
             assert len(tracked.flow) > 50
             assert np.array_equal(observations.flow.uv_prev_px, tracked.flow.uv_prev_px)
             assert np.array_equal(observations.flow.uv_cur_px, tracked.flow.uv_cur_px)
+
+
+PREPARING_SIDE = """
+import sys
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.io.frames import open_frames
+from broadtrack_graph.track.ahead import FramesRecipe, _prepared_frames
+from broadtrack_graph.track.config import TrackingConfig
+with open_frames(sys.argv[1]) as source:
+    recipe = FramesRecipe.of(source)
+prepared = list(_prepared_frames(recipe, WeightFreeDetector(), TrackingConfig(), 1, lambda: 0))
+assert all(frame.markings is not None for frame in prepared), "markings not found"
+print(" ".join(sorted({name.split(".")[0] for name in sys.modules} & {"scipy", "gtsam", "onnxruntime"})))
+"""
+
+
+def test_the_preparing_side_starts_without_the_solver_or_scipy(clip):
+    """The preparing process imports what finding the markings needs, not GTSAM or scipy (each a fraction of a
+    second a run would wait for its first frame)."""
+    done = subprocess.run([sys.executable, "-c", PREPARING_SIDE, str(clip)], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == ""

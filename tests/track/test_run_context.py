@@ -9,8 +9,9 @@ import pytest
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
-from broadtrack_graph.track.config import TrackingConfig, graph_config_for, streaming_solver_for
+from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.run_context import RunContext
+from broadtrack_graph.track.solver_settings import graph_config_for, streaming_solver_for
 
 
 def test_the_defaults_are_the_product_s_collaborators():
