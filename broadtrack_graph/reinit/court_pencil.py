@@ -69,7 +69,10 @@ def pencil_hypotheses(lines: list[ImageLine], frame_size: tuple[int, int], pitch
     support = votes.support_px
     offsets = pitch_line_offsets(pitch)  # (y = c offsets, x = c offsets)
     homographies = []
-    for family in distinct_sets(votes.meets, votes.meets @ support, config.families):
+    # Only a meeting point of three lines or more can be the family's: a pair's (the commonest, a long line's with
+    # any other) would take a place of the few tried.
+    three = votes.meets.sum(axis=1) >= 3
+    for family in distinct_sets(votes.meets[three], votes.meets[three] @ support, config.families):
         members = np.nonzero(family)[0]
         members = members[np.argsort(-support[members])][:config.max_family_lines]
         others = np.nonzero(votes.solid & ~family)[0]

@@ -56,3 +56,26 @@ def test_the_line_across_is_found_among_stronger_arc_pieces():
               for piece in image_lines(truth, arc)]
     hypotheses = pencil_hypotheses(lines + pieces, (W, H), PITCH)
     assert np.linalg.norm(hypotheses.C_w - truth.position_m, axis=1).min() < 1e-6
+
+
+def _segment(a, b, support_px: float):
+    """The image line through pixels a and b, drawn on its middle 60 % (its ends clear of where it meets others)."""
+    from broadtrack_graph.detect.marking_structures import ImageLine
+
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    direction = (b - a) / np.linalg.norm(b - a)
+    normal = np.array([-direction[1], direction[0]])
+    centre, half = 0.5 * (a + b), 0.5 * np.linalg.norm(b - a)
+    return ImageLine(normal, float(-normal @ centre), centre, direction, (-0.6 * half, 0.6 * half), support_px)
+
+
+def test_the_family_of_three_is_found_among_stronger_pairs_of_lines():
+    # Three long strong lines that meet two by two (a triangle of board edges, say) give meeting points that
+    # outvote the goal mouth's three lines: only a point met by three lines or more can be the family's.
+    truth = Camera.from_degrees(1100.0, 0.0, -46.0, 63.0, 0.8, (75.0, 30.0, -22.0), W, H)
+    lines = image_lines(truth, GOAL_MOUTH)
+    strong = 10.0 * max(line.support_px for line in lines)
+    corners = [(60.0, 40.0), (1200.0, 60.0), (640.0, 700.0)]
+    triangle = [_segment(corners[k], corners[(k + 1) % 3], strong) for k in range(3)]
+    hypotheses = pencil_hypotheses(lines + triangle, (W, H), PITCH)
+    assert len(hypotheses) and np.linalg.norm(hypotheses.C_w - truth.position_m, axis=1).min() < 1e-6
