@@ -11,8 +11,9 @@ tracking loop.
 Two places do it: a background thread of the tracking process (:func:`~broadtrack_graph.io.prefetch.prefetch`), or
 a process of its own (:class:`FramesInProcess`), which reopens the input from its path (:class:`FramesRecipe`) and
 hands the prepared frames over through shared memory (:class:`~broadtrack_graph.io.process_prefetch.ProcessPrefetch`).
-A thread shares the interpreter's lock with the tracking thread; a process does not, but costs a second or so to
-start: :func:`feed_in_process` says which a run takes.
+A thread shares the interpreter's lock with the tracking thread; a process does not, but takes about half a second
+to start (it imports what finding the markings needs, neither GTSAM nor scipy): :func:`feed_in_process` says which a
+run takes.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ loop (it has time to spare: the loop is searching, say); else the loop does (the
 
 PROCESS_MIN_FRAMES = 100
 """A process of its own prepares the frames of an input of at least this many frames (:func:`feed_in_process`): it
-takes about a second to start, which a shorter input does not win back."""
+takes about half a second to start, which a shorter input does not win back."""
 
 PROCESS_DEPTH = 4
 """Frames the preparing process may hold ready (shared-memory slots of
