@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from reinit_helpers import image_lines
 
+from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_pencil import pencil_hypotheses
@@ -60,8 +61,6 @@ def test_the_line_across_is_found_among_stronger_arc_pieces():
 
 def _segment(a, b, support_px: float):
     """The image line through pixels a and b, drawn on its middle 60 % (its ends clear of where it meets others)."""
-    from broadtrack_graph.detect.marking_structures import ImageLine
-
     a, b = np.asarray(a, float), np.asarray(b, float)
     direction = (b - a) / np.linalg.norm(b - a)
     normal = np.array([-direction[1], direction[0]])
