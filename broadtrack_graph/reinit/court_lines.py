@@ -15,7 +15,10 @@ lines fix its ``(a, b)``; one such pair per family fixes H:
 (``a_x, b_x`` of the ``y = c`` family, ``a_y, b_y`` of the ``x = c`` family). Every pairing of two
 image lines of each family with two pitch lines of that family is a hypothesis, all formed at once, each
 with the vanishing points of its own lines (where its two lines of a family meet: a line that joined the
-family without being a pitch line bends no other hypothesis);
+family without being a pitch line bends no other hypothesis). Two conditions every camera's homography meets are
+asked first, of many pairings at once: some focal length in range makes the two vanishing points' directions
+orthogonal (:func:`orthogonal_in_range`) and the two axes of equal norm (:func:`equal_norms_in_range`), within the
+gate's mismatch; a pairing failing either is not formed (about three in four of them on random views).
 :func:`cameras_from_homographies` turns the homographies into cameras (principal point at the
 image centre, square pixels: ``f`` from the orthogonality and equal norm of ``K^-1 h1`` and
 ``K^-1 h2``) and gates them on plausibility. The families themselves (which image lines run along which pitch
@@ -28,6 +31,7 @@ with ``s = W / 2``. Pitch frame: SoccerNet (metres, origin at the centre spot, z
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -41,7 +45,14 @@ from broadtrack_graph.reinit.court_families import CourtLineConfig, LineFamilies
 
 def pitch_line_offsets(pitch: PitchTemplate) -> tuple[np.ndarray, np.ndarray]:
     """The offsets (metres) of the straight ground markings: ``y = c`` lines (parallel to the touchlines) and
-    ``x = c`` lines (parallel to the goal lines), each sorted, every painted line counted once."""
+    ``x = c`` lines (parallel to the goal lines), each sorted, every painted line counted once (read only)."""
+    return _line_offsets(pitch.dimensions)
+
+
+@functools.lru_cache(maxsize=8)
+def _line_offsets(dimensions) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`pitch_line_offsets` of the pitch of these dimensions (asked once per pitch)."""
+    pitch = PitchTemplate(dimensions)
     along_x, along_y = set(), set()
     for name, element in pitch.elements.items():
         if not pitch.is_on_ground(name) or not hasattr(element, "start_w"):
@@ -51,7 +62,19 @@ def pitch_line_offsets(pitch: PitchTemplate) -> tuple[np.ndarray, np.ndarray]:
             along_x.add(round(float(a[1]), 4))
         elif abs(a[0] - b[0]) < 1e-9:
             along_y.add(round(float(a[0]), 4))
-    return np.array(sorted(along_x)), np.array(sorted(along_y))
+    offsets = np.array(sorted(along_x)), np.array(sorted(along_y))
+    for array in offsets:
+        array.flags.writeable = False
+    return offsets
+
+
+@functools.lru_cache(maxsize=16)
+def _pairs(count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The unordered pairs (i < j) of ``count`` items, as two index arrays (read only)."""
+    pairs = np.triu_indices(count, 1)
+    for array in pairs:
+        array.flags.writeable = False
+    return pairs
 
 
 def _pair_maps(tau: np.ndarray, offsets_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -107,6 +130,7 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
     """
     along_x, along_y = pitch_line_offsets(pitch)
     q = np.array([0.0, 0.0, 1.0])
+    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
     homographies = []
     for first in (0, 1):  # family `first` is the y = c direction (through v_x), the other x = c
         second = 1 - first
@@ -114,7 +138,7 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
         lines_b = families.lines_n[families.members(second, config.max_lines_per_family, support_px)]
         if len(lines_a) < 2 or len(lines_b) < 2 or len(along_x) < 2 or len(along_y) < 2:
             continue
-        pairs_a, pairs_b = np.triu_indices(len(lines_a), 1), np.triu_indices(len(lines_b), 1)
+        pairs_a, pairs_b = _pairs(len(lines_a)), _pairs(len(lines_b))
         ends_a = np.stack([lines_a[pairs_a[0]], lines_a[pairs_a[1]]], axis=1)  # (Pa, 2, 3)
         ends_b = np.stack([lines_b[pairs_b[0]], lines_b[pairs_b[1]]], axis=1)  # (Pb, 2, 3)
         v_x = _unit(cross3(ends_a[:, 0], ends_a[:, 1]))  # (Pa, 3): each pair's meeting point
@@ -122,11 +146,14 @@ def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: Pitch
         with np.errstate(divide="ignore", invalid="ignore"):
             tau_a = (ends_a @ q)[:, None, :] / np.einsum("pki,qi->pqk", ends_a, v_y)  # (Pa, Pb, 2)
             tau_b = (ends_b @ q)[None, :, :] / np.einsum("qki,pi->pqk", ends_b, v_x)  # (Pa, Pb, 2)
-        a_x, b_x = _pair_maps(tau_a, along_x)  # (Pa, Pb, Ma)
-        a_y, b_y = _pair_maps(tau_b, along_y)  # (Pa, Pb, Mb)
-        H = homographies_from_maps(v_x[:, None, None, None, :], v_y[None, :, None, None, :],
-                                   a_x[..., :, None], b_x[..., :, None],  # (Pa, Pb, Ma, 1)
-                                   a_y[..., None, :], b_y[..., None, :]).reshape(-1, 3, 3)  # (Pa, Pb, 1, Mb)
+        # Only the pairs of pairs whose meeting points some focal length in range makes orthogonal (within the
+        # mismatch) can give a camera, and of their pitch-line assignments only those whose two axes some focal
+        # length in range makes of equal norm (within the mismatch): the others are not formed.
+        i, j = np.nonzero(orthogonal_in_range(v_x, v_y, f_lo, f_hi, config.max_axis_mismatch))
+        a_x, b_x = _pair_maps(tau_a[i, j], along_x)  # (B, Ma)
+        a_y, b_y = _pair_maps(tau_b[i, j], along_y)  # (B, Mb)
+        k, m, n = np.nonzero(equal_norms_in_range(v_x[i], v_y[j], a_x, a_y, f_lo, f_hi, config.max_axis_mismatch))
+        H = homographies_from_maps(v_x[i[k]], v_y[j[k]], a_x[k, m], b_x[k, m], a_y[k, n], b_y[k, n])
         homographies.append(H[np.all(np.isfinite(H), axis=(1, 2))])
     stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
     return cameras_from_homographies(stacked, frame_size, pitch, config)
@@ -148,6 +175,57 @@ def homographies_from_maps(v_x: np.ndarray, v_y: np.ndarray, a_x: np.ndarray, b_
 def _unit(points: np.ndarray) -> np.ndarray:
     """Homogeneous points (K, 3) scaled to unit norm."""
     return points / np.maximum(np.linalg.norm(points, axis=1, keepdims=True), 1e-12)
+
+
+def orthogonal_in_range(v_x: np.ndarray, v_y: np.ndarray, focal_lo_n: float, focal_hi_n: float,
+                        max_cosine: float) -> np.ndarray:
+    """(Px, Py) whether some focal length f_n in [focal_lo_n, focal_hi_n] (f / s) makes the directions of each
+    vanishing point of v_x (Px, 3) and of v_y (Py, 3) (homogeneous, normalised coordinates) at most ``max_cosine``
+    from orthogonal: ``|cos(K^-1 v_x, K^-1 v_y)| <= max_cosine``.
+
+    The cosine of a homography's first two axes (:func:`focal_and_mismatch`) is that of its vanishing points
+    whatever the scale of each column, so a homography through a pair failing this is not a camera's: a necessary
+    condition, decided for every pitch-line assignment of the pair at once. With ``g = 1 / f_n^2`` the condition is
+    the quadratic ``(A g + B)^2 - c^2 (P1 g + z1^2)(P2 g + z2^2) <= 0``, asked at both ends of g's range and at its
+    vertex.
+    """
+    x1, y1, z1 = (v_x[:, None, k] for k in range(3))  # (Px, 1)
+    x2, y2, z2 = (v_y[None, :, k] for k in range(3))  # (1, Py)
+    A, B = x1 * x2 + y1 * y2, z1 * z2
+    P1, P2, Q1, Q2 = x1 * x1 + y1 * y1, x2 * x2 + y2 * y2, z1 * z1, z2 * z2
+    c2 = (max_cosine + 1e-6) ** 2  # a hair of slack: the boundary is kept whatever the rounding
+    a2, a1, a0 = A * A - c2 * P1 * P2, 2 * A * B - c2 * (P1 * Q2 + P2 * Q1), B * B - c2 * Q1 * Q2
+    g_lo, g_hi = 1.0 / focal_hi_n ** 2, 1.0 / focal_lo_n ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vertex = np.clip(-a1 / (2 * a2), g_lo, g_hi)
+    lowest = np.minimum(a2 * g_lo ** 2 + a1 * g_lo + a0, a2 * g_hi ** 2 + a1 * g_hi + a0)
+    lowest = np.where((a2 > 0) & np.isfinite(vertex), np.minimum(lowest, a2 * vertex ** 2 + a1 * vertex + a0), lowest)
+    return ~(lowest > 0)
+
+
+def equal_norms_in_range(v_x: np.ndarray, v_y: np.ndarray, a_x: np.ndarray, a_y: np.ndarray, focal_lo_n: float,
+                         focal_hi_n: float, max_mismatch: float) -> np.ndarray:
+    """(B, Ma, Mb) whether some focal length f_n in [focal_lo_n, focal_hi_n] makes the axes ``K^-1 h1`` and
+    ``K^-1 h2`` of each homography ``[-v_x / a_y, -v_y / a_x, ...]`` (:func:`homographies_from_maps`) of equal norm
+    within ``max_mismatch`` (``| |a1| / |a2| - 1 |``, :func:`focal_and_mismatch`): a necessary condition of a
+    camera's homography.
+
+    Args:
+        v_x, v_y: (B, 3) each pair of pairs' vanishing points (homogeneous, normalised coordinates, unit norm).
+        a_x: (B, Ma) the slopes of the ``y = c`` family's maps; a_y: (B, Mb) the ``x = c`` family's.
+
+    With ``g = 1 / f_n^2`` the ratio of norms is ``|a_x / a_y| rho(g)``, ``rho = sqrt((P1 g + z1^2) / (P2 g + z2^2))``
+    (``P_i`` the squared x and y of a vanishing point), monotonic in g: its range is that of g's two ends.
+    """
+    P1 = v_x[:, 0] ** 2 + v_x[:, 1] ** 2
+    P2 = v_y[:, 0] ** 2 + v_y[:, 1] ** 2
+    g = np.array([1.0 / focal_hi_n ** 2, 1.0 / focal_lo_n ** 2])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = np.sqrt((P1[:, None] * g + v_x[:, 2:3] ** 2) / (P2[:, None] * g + v_y[:, 2:3] ** 2))  # (B, 2)
+        rho_lo, rho_hi = rho.min(axis=1)[:, None, None], rho.max(axis=1)[:, None, None]
+        ratio = np.abs(a_x)[:, :, None] / np.abs(a_y)[:, None, :]  # (B, Ma, Mb)
+        slack = max_mismatch + 1e-6  # a hair of slack: the boundary is kept whatever the rounding
+        return (ratio * rho_hi >= 1.0 - slack) & (ratio * rho_lo <= 1.0 + slack)
 
 
 def focal_and_mismatch(H_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -216,13 +294,14 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     half_l, half_w = pitch.dimensions.length_m / 2, pitch.dimensions.width_m / 2
     margin = -config.inside_pitch_slack_m
     height = -C[:, 2]
-    angles = angles_from_rotations(R) if len(R) else np.zeros((0, 3))
-    keep = ((sign != 0) & (height >= config.height_range_m[0]) & (height <= config.height_range_m[1])
-            & (np.hypot(C[:, 0], C[:, 1]) <= config.max_distance_m)
-            & ((np.abs(C[:, 0]) >= half_l + margin) | (np.abs(C[:, 1]) >= half_w + margin))
-            & (np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)) & (R[:, 1, 2] > 0)
-            & np.all(np.isfinite(R), axis=(1, 2)))
-    return PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[keep], sign[keep], scale[keep])
+    placed = np.nonzero((sign != 0) & (height >= config.height_range_m[0]) & (height <= config.height_range_m[1])
+                        & (np.hypot(C[:, 0], C[:, 1]) <= config.max_distance_m)
+                        & ((np.abs(C[:, 0]) >= half_l + margin) | (np.abs(C[:, 1]) >= half_w + margin))
+                        & (R[:, 1, 2] > 0) & np.all(np.isfinite(R), axis=(1, 2)))[0]
+    angles = angles_from_rotations(R[placed]) if len(placed) else np.zeros((0, 3))  # of the cameras placed only
+    level = np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)
+    keep = placed[level]
+    return PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[level], sign[keep], scale[keep])
 
 
 def concatenate(parts: list[PlaneHypotheses]) -> PlaneHypotheses:

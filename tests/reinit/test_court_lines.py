@@ -13,7 +13,11 @@ from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_families import CourtLineConfig, line_families
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
+    equal_norms_in_range,
+    focal_and_mismatch,
+    homographies_from_maps,
     line_hypotheses,
+    orthogonal_in_range,
     pitch_line_offsets,
 )
 from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
@@ -26,6 +30,44 @@ def test_pitch_line_offsets_are_the_painted_lines_of_each_direction():
     along_x, along_y = pitch_line_offsets(PITCH)
     assert np.allclose(along_x, [-34.0, -20.16, -9.16, 9.16, 20.16, 34.0], atol=0.01)
     assert np.allclose(along_y, [-52.5, -47.0, -36.0, 0.0, 36.0, 47.0, 52.5], atol=0.01)
+
+
+def test_the_pairs_not_formed_hold_no_homography_the_gate_keeps():
+    # The pairs of vanishing points and the pitch-line maps dropped before the homographies are formed must hold
+    # none that focal_and_mismatch's gate keeps (f in range, axes orthogonal and of equal norm within the mismatch),
+    # and the checks must drop most of the random ones.
+    rng = np.random.default_rng(7)
+    config = CourtLineConfig()
+    f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)
+    # Vanishing points of real cameras' pitch directions, disturbed, and random ones.
+    cameras = [Camera.from_degrees(float(rng.uniform(500, 12000)), 0.0, float(rng.uniform(-180, 180)),
+                                   float(rng.uniform(50, 88)), float(rng.uniform(-3, 3)), (0.0, 60.0, -20.0), W, H)
+               for _ in range(150)]
+    v_x, v_y = [], []
+    for c in cameras:
+        K_n = np.diag([c.focal_px / (W / 2.0), c.focal_px / (W / 2.0), 1.0])  # normalised coordinates: s = W / 2
+        for axis, out in ((0, v_x), (1, v_y)):
+            point = K_n @ c.R_cw[:, axis] + rng.normal(0.0, 0.05, 3)
+            out.append(point / np.linalg.norm(point))
+    v_x = np.vstack([v_x, rng.normal(size=(150, 3))])
+    v_y = np.vstack([v_y, rng.normal(size=(150, 3))])
+    v_x /= np.linalg.norm(v_x, axis=1, keepdims=True)
+    v_y /= np.linalg.norm(v_y, axis=1, keepdims=True)
+    # The maps' slopes spread over a factor of 3 either way of the ratio that makes the axes' norms equal.
+    a_x = np.exp(rng.uniform(-3, 3, (300, 20))) * rng.choice([-1.0, 1.0], (300, 20))
+    a_y = a_x[:, :1] * np.exp(rng.uniform(-1.1, 1.1, (300, 20))) * rng.choice([-1.0, 1.0], (300, 20))
+    b_x, b_y = rng.normal(size=(300, 20)), rng.normal(size=(300, 20))
+    H_n = homographies_from_maps(v_x[:, None, None], v_y[:, None, None], a_x[:, :, None], b_x[:, :, None],
+                                 a_y[:, None, :], b_y[:, None, :])  # (300, 20, 20, 3, 3)
+    focal_n, mismatch = focal_and_mismatch(H_n.reshape(-1, 3, 3))
+    kept = (np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi)
+            & (mismatch <= config.max_axis_mismatch)).reshape(300, 20, 20)
+    orthogonal = np.diagonal(orthogonal_in_range(v_x, v_y, f_lo, f_hi, config.max_axis_mismatch))  # (300,)
+    equal = equal_norms_in_range(v_x, v_y, a_x, a_y, f_lo, f_hi, config.max_axis_mismatch)  # (300, 20, 20)
+    formed = orthogonal[:, None, None] & equal
+    assert kept.sum() > 100
+    assert not np.any(kept & ~formed)
+    assert formed.mean() < 0.5 and (~orthogonal).sum() > 30
 
 
 def test_a_hypothesis_is_the_true_camera():
