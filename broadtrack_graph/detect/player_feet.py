@@ -35,7 +35,7 @@ def boxes_to_the_feet(boxes: np.ndarray, grey: np.ndarray, grass: np.ndarray, co
     """
     out = np.array(boxes, float).reshape(-1, 4)
     h, w = grey.shape
-    for k, (x0, y0, x1, y1) in enumerate(np.round(out).astype(int)):
+    for k, (x0, y0, x1, y1) in enumerate(np.round(out).astype(int).tolist()):
         x0, x1 = max(0, x0), min(w, x1)
         top, bottom = min(h, y1), min(h, y1 + int(math.ceil(max_share * (y1 - y0))))
         if bottom - top < gap_rows or x1 <= x0:
@@ -43,17 +43,27 @@ def boxes_to_the_feet(boxes: np.ndarray, grey: np.ndarray, grass: np.ndarray, co
         pad = max(1, (x1 - x0) // 2)
         lo, hi = max(0, x0 - pad), min(w, x1 + pad)
         region, on_grass = grey[top:bottom, lo:hi], grass[top:bottom, lo:hi] > 0
-        if np.count_nonzero(on_grass) < 10:
+        grass_grey = region[on_grass]
+        if len(grass_grey) < 10:
             continue
-        off = (region.astype(np.float32) - _median_grey(region[on_grass]) > contrast) | ~on_grass
-        inside = np.zeros(hi - lo, bool)
-        inside[x0 - lo:x1 - lo] = True
-        legs = off[:, inside].any(axis=1)
-        if (~inside).any():
-            legs &= off[:, ~inside].mean(axis=1) < 0.5
-        empty = np.flatnonzero(np.convolve(~legs, np.ones(gap_rows, int), "valid") == gap_rows)
-        out[k, 3] = top + (int(empty[0]) if len(empty) else len(legs))
+        # Whole grey levels over a level t are those over floor(t): compared with a whole number, no float image.
+        off = (region > math.floor(_median_grey(grass_grey) + contrast)) | ~on_grass
+        below = off[:, x0 - lo:x1 - lo]
+        legs = below.any(axis=1)
+        beside = (x0 - lo) + (hi - x1)  # the columns beside the box, either side
+        if beside:  # fewer than half of them off the grass's grey (whole counts: exact)
+            legs &= 2 * (off.sum(axis=1) - below.sum(axis=1)) < beside
+        out[k, 3] = top + _first_run(~legs, gap_rows)
     return out
+
+
+def _first_run(flags: np.ndarray, length: int) -> int:
+    """The index of the first run of ``length`` True values in the (n,) bool ``flags`` (n >= length), n if none."""
+    run = flags[:len(flags) - length + 1]
+    for step in range(1, length):
+        run = run & flags[step:len(flags) - length + 1 + step]
+    first = int(np.argmax(run))
+    return first if run[first] else len(flags)
 
 
 def _median_grey(values: np.ndarray) -> float:

@@ -37,7 +37,7 @@ def grass_beside(points_px: np.ndarray, normals: np.ndarray, candidates: np.ndar
     if n == 0:
         return np.zeros(0, bool)
     h, w = grass.shape
-    to_edge = cv2.distanceTransform((candidates > 0).astype(np.uint8), cv2.DIST_L2, 3)
+    to_edge = cv2.distanceTransform(np.asarray(candidates, np.uint8), cv2.DIST_L2, 3)  # to the nearest zero pixel
     col, row = pixels_of(points_px, (w, h)).T
     half_width = to_edge[row, col]
     unjudged = (half_width > reach_px) | (np.hypot(normals[:, 0], normals[:, 1]) < 0.5)

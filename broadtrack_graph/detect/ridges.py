@@ -313,9 +313,10 @@ def _centre_points(tophat: np.ndarray, allowed01: np.ndarray, threshold: float, 
         counts = cv2.boxFilter(centre, cv2.CV_16U, (k, k), normalize=False)
         near = ok & (np.isin(bins, [b, (b + 1) % n_bins, (b - 1) % n_bins]) if n_bins > 2 else np.ones_like(ok))
         support[near] += counts[ys[near], xs[near]]
-    ok &= support >= c.min_support
-    points = np.column_stack([xs[ok] + t[ok] * nx[ok], ys[ok] + t[ok] * ny[ok]]).astype(float)
-    return points, -lam[ok] / np.maximum(n[0, 0][ok], 1e-6), np.column_stack([nx[ok], ny[ok]]), candidates
+    kept = np.flatnonzero(ok & (support >= c.min_support))
+    t, nx, ny = t[kept], nx[kept], ny[kept]
+    points = np.column_stack([xs[kept] + t * nx, ys[kept] + t * ny]).astype(float)
+    return points, -lam[kept] / np.maximum(n[0, 0][kept], 1e-6), np.column_stack([nx, ny]), candidates
 
 
 def marking_channel(bgr: np.ndarray, channel: str) -> np.ndarray:

@@ -57,6 +57,19 @@ def test_the_legs_below_a_body_make_its_box_and_nothing_else_does():
     assert boxes_to_the_feet(np.zeros((0, 4)), grey, grass).shape == (0, 4)
 
 
+def test_the_box_ends_at_the_first_gap_of_gap_rows_rows_without_a_leg():
+    image = _player_on_grass(200)
+    image[183, 300:311] = (40, 140, 50)  # one row of grass across both legs
+    grey = cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+    grass = cv2.inRange(cv2.cvtColor(image, cv2.COLOR_BGR2HSV), (30, 40, 30), (95, 255, 255))
+    body = np.array([[300.0, 150.0, 311.0, 175.0]])
+    assert boxes_to_the_feet(body, grey, grass, gap_rows=1)[0, 3] == 183  # stops at the gap
+    assert boxes_to_the_feet(body, grey, grass, gap_rows=2)[0, 3] == 193  # steps over it, ends below the feet
+    assert boxes_to_the_feet(body, grey, grass, gap_rows=3)[0, 3] == 193
+    # Legs down to the bottom of what is looked at: the box ends there.
+    assert boxes_to_the_feet(body, grey, grass, max_share=0.5)[0, 3] == 175 + 13
+
+
 def test_the_player_mask_takes_the_legs_and_the_confidence_leaves_them_out():
     # Light socks or skin below a body are thin bright ridges on grass, as a marking is: the player mask takes the
     # legs down to the feet (a stride wider than the body too), and the confidence counts no ridge under it. The
