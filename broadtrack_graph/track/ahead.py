@@ -186,14 +186,16 @@ class FramesInProcess:
 
     Iterate it once; :attr:`shots` are the shots found (once the iteration has ended) and :attr:`detects_shots`
     whether shots were looked for at all, as for :class:`~broadtrack_graph.track.shot_stream.ShotStream`.
+    ``send_pixels``: every frame comes with its image (the loop reads pixels: a field model, an observer of the
+    frames); else only the frames whose pixels the loop reads do (:func:`without_pixels`).
     """
 
     prepared_ahead = True  # run_loop takes the frames as they come
 
     def __init__(self, recipe: FramesRecipe, detector, config: TrackingConfig, opencv_threads: int,
-                 frame_size: tuple[int, int]) -> None:
+                 frame_size: tuple[int, int], send_pixels: bool = True) -> None:
         self.detects_shots = config.detect_shots
-        producer = functools.partial(_prepared_frames, recipe, detector, config, opencv_threads)
+        producer = functools.partial(_prepared_frames, recipe, detector, config, opencv_threads, send_pixels)
         self._feed = ProcessPrefetch(producer, depth=PROCESS_DEPTH, slot_bytes=slot_bytes(*frame_size),
                                      name="broadtrack-frames")
 
@@ -205,13 +207,27 @@ class FramesInProcess:
         return self._feed.result or []
 
 
-def _prepared_frames(recipe: FramesRecipe, detector, config: TrackingConfig, opencv_threads: int,
+def without_pixels(frame: FrameInput, use_flow: bool) -> FrameInput:
+    """The prepared frame with its image left out (:attr:`FrameInput.image_stayed`) when the loop reads none of its
+    pixels: its markings were found (the loop names them) and its flow frame made (or the run has no flow), or it
+    shows another view (the loop only records it). Else the frame as it is (the loop detects on the image itself)."""
+    if frame.image is None:
+        return frame
+    other_view = frame.shot is not None and frame.shot.is_other_view
+    if other_view or (frame.markings is not None and (frame.flow_frame is not None or not use_flow)):
+        frame.image, frame.image_stayed = None, True
+    return frame
+
+
+def _prepared_frames(recipe: FramesRecipe, detector, config: TrackingConfig, opencv_threads: int, send_pixels: bool,
                      taken: Callable[[], int]):
-    """In the preparing process: the recipe's frames, shot and prepared; returns the shots found."""
+    """In the preparing process: the recipe's frames, shot and prepared (sent without the pixels the loop does not
+    read unless ``send_pixels``); returns the shots found."""
     cv2.setNumThreads(opencv_threads)
     with open_frames(recipe.path, recipe.start, recipe.end, recipe.fps) as source:
         stream = ShotStream.for_run(frames_from_source(source), config.detect_shots, config.mask_graphics, detector)
         ahead = FramesAhead(config, getattr(detector, "find_markings", None), taken)
         for frame in stream:
-            yield ahead(frame)
+            frame = ahead(frame)
+            yield frame if send_pixels else without_pixels(frame, config.use_flow)
     return stream.shots

@@ -133,7 +133,7 @@ class TrackingRun:
 
     def _process(self, frame: FrameInput) -> tuple[FrameObservations | None, Detections | None]:
         """Returns (the observations handed to the solver or None, the frame's detections or None)."""
-        if frame.image is None and frame.observations is None:
+        if not frame.has_image and frame.observations is None:
             # The camera barely moves over one lost frame: keep the track, drop only the flow link.
             self.records.emit_now(frame, FrameStatus.MISSING_FRAME, frame.problem or "frame could not be read")
             self.observer.unlink()

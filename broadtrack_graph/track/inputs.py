@@ -39,6 +39,13 @@ class FrameInput:
     repeats_previous: bool = False  # the image is the previous frame's again (shots.repeats), found ahead
     working_bgr: np.ndarray | None = None  # the detector's colour working image when it is an area reduction of the
     #                                        image (detect.weightfree.WeightFreeDetector.area_working_image), made once
+    image_stayed: bool = False  # decoded and prepared in the preparing process, its pixels not sent: the loop reads
+    #                             its markings and flow frame only (track.ahead.without_pixels)
+
+    @property
+    def has_image(self) -> bool:
+        """Whether the frame was decoded (its image here, or left where it was prepared)."""
+        return self.image is not None or self.image_stayed
 
 
 def frames_from_source(source: FrameSource) -> Iterator[FrameInput]:

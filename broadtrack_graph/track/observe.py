@@ -74,7 +74,7 @@ class FrameObserver:
             ValueError: the detector refused the image.
         """
         detections, grey, observations = None, None, frame.observations
-        if frame.image is not None:
+        if frame.has_image:
             if observations is None:
                 started = time.perf_counter()
                 detections = self.detect(frame, predicted)
@@ -123,7 +123,7 @@ class FrameObserver:
         """A re-initialised frame's observations without flow, its unnamed markings named with its new camera
         (so the first frame of a chain has line factors)."""
         observations = replace(observations, flow=None)
-        if (self.detector is not None and frame.image is not None and detections is not None
+        if (self.detector is not None and frame.has_image and detections is not None
                 and detections.marking_mask is not None and not observations.lines_px):
             detections = self.detect(frame, PredictedCamera(camera, RENAMING_UNCERTAINTY_PX))
             observations = detections.to_observations(frame.frame_index, None, with_marking_mask=False)

@@ -36,6 +36,7 @@ from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tr
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import TrackWriter
+from broadtrack_graph.reinit.field_model import NO_MODEL
 from broadtrack_graph.reinit.frame import frame_confidence
 from broadtrack_graph.track.ahead import FramesInProcess, FramesRecipe, feed_in_process
 from broadtrack_graph.track.chunked import refined_record
@@ -93,7 +94,11 @@ def run_frames(frames, width_px: int, height_px: int, out_dir: str | Path, conte
     recipe = FramesRecipe.of(source) if source is not None else None
     if feed_in_process(recipe, context.detector, total, (width_px, height_px)):
         # The shot step and the camera-free steps in a process of their own, which opens the input again.
-        stream = frames = FramesInProcess(recipe, context.detector, config, cv2.getNumThreads(), (width_px, height_px))
+        # The loop reads a frame's pixels only for a field model or an observer of the frames: else the frames whose
+        # markings and flow frame were made there stay there (a 1080p image is 6 MB to copy out of shared memory).
+        send_pixels = context.on_frame_done is not None or str(config.reinit_model) != NO_MODEL
+        stream = frames = FramesInProcess(recipe, context.detector, config, cv2.getNumThreads(), (width_px, height_px),
+                                          send_pixels)
     elif context.detector is not None and (config.detect_shots or config.mask_graphics):
         # Image input: shots (cuts, other views) and the static graphics mask, computed as frames are decoded.
         stream = ShotStream.for_run(frames, config.detect_shots, config.mask_graphics, context.detector)

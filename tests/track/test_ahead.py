@@ -11,9 +11,10 @@ from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.prefetch import PREFETCH_ENV
 from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.track import ahead
-from broadtrack_graph.track.ahead import FramesAhead, FramesInProcess, FramesRecipe, feed_in_process, slot_bytes
+from broadtrack_graph.track.ahead import (FramesAhead, FramesInProcess, FramesRecipe, feed_in_process, slot_bytes,
+                                          without_pixels)
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.inputs import frames_from_source
+from broadtrack_graph.track.inputs import FrameInput, frames_from_source
 from broadtrack_graph.track.shot_stream import ShotStream
 
 FRAMES = 8
@@ -120,6 +121,40 @@ def test_the_flow_tracked_ahead_in_another_process_is_the_loops_own(clip, recipe
             assert np.array_equal(observations.flow.uv_cur_px, tracked.flow.uv_cur_px)
 
 
+def test_the_pixels_stay_where_the_loop_reads_none_of_them(recipe):
+    config, detector = TrackingConfig(), WeightFreeDetector()
+    sent = list(FramesInProcess(recipe, detector, config, 1, SIZE, send_pixels=False))
+    with_pixels = list(FramesInProcess(recipe, detector, config, 1, SIZE))
+    assert all(f.image is None and f.image_stayed and f.has_image for f in sent)  # markings and flow made there
+    assert all(f.image is not None and not f.image_stayed for f in with_pixels)
+    for a, b in zip(sent, with_pixels):
+        assert np.array_equal(a.markings.points_work_px, b.markings.points_work_px)
+        assert np.array_equal(a.flow_frame.grey, b.flow_frame.grey)
+
+
+def test_a_frame_keeps_its_pixels_while_the_loop_may_read_them():
+    class Shot:
+        def __init__(self, other):
+            self.is_other_view = other
+
+    image, found, flow = np.zeros((4, 6, 3), np.uint8), object(), object()
+
+    def frame(**fields):
+        return FrameInput(0, "000001", 0.0, image, **fields)
+
+    assert frame(markings=found, flow_frame=flow).image is image  # untouched until asked
+    kept = [without_pixels(frame(), True),  # nothing found ahead: the loop detects on the image
+            without_pixels(frame(markings=found), True),  # no flow frame: the loop makes it from the image
+            without_pixels(frame(flow_frame=flow, shot=Shot(False)), True)]
+    assert all(f.image is image and not f.image_stayed for f in kept)
+    left = [without_pixels(frame(markings=found, flow_frame=flow), True),
+            without_pixels(frame(markings=found), False),  # a run without flow
+            without_pixels(frame(shot=Shot(True)), True)]  # another view: only recorded
+    assert all(f.image is None and f.image_stayed and f.has_image for f in left)
+    missing = without_pixels(FrameInput(0, "000001", 0.0, None, problem="cannot be decoded"), True)
+    assert not missing.has_image and not missing.image_stayed
+
+
 PREPARING_SIDE = """
 import sys
 from broadtrack_graph.detect.weightfree import WeightFreeDetector
@@ -128,7 +163,7 @@ from broadtrack_graph.track.ahead import FramesRecipe, _prepared_frames
 from broadtrack_graph.track.config import TrackingConfig
 with open_frames(sys.argv[1]) as source:
     recipe = FramesRecipe.of(source)
-prepared = list(_prepared_frames(recipe, WeightFreeDetector(), TrackingConfig(), 1, lambda: 0))
+prepared = list(_prepared_frames(recipe, WeightFreeDetector(), TrackingConfig(), 1, True, lambda: 0))
 assert all(frame.markings is not None for frame in prepared), "markings not found"
 print(" ".join(sorted({name.split(".")[0] for name in sys.modules} & {"scipy", "gtsam", "onnxruntime"})))
 """
