@@ -40,18 +40,29 @@ class FlowConfig:
     shading_gain: float = 512.0  # grey levels per unit of relative brightness after the division (around 128)
 
 
-@dataclass
 class FlowFrame:
-    """A frame prepared once for flow: grey working image (h, w) uint8.
+    """A frame prepared once for flow: its grey working image :attr:`grey` (h, w) uint8.
 
+    ``shading``: the flow's settings when the shading is still to be taken out of ``grey`` (``_without_shading``);
+    it is, when the grey image is first read: by the side that tracks the frame's flow first (the process preparing
+    the frames when it is ahead, else the tracking; the same numbers either way). None: ``grey`` is final.
     (OpenCV 5's Python binding does not accept prebuilt pyramids, so LK builds them.)
     """
 
-    grey: np.ndarray
+    def __init__(self, grey: np.ndarray, shading: FlowConfig | None = None) -> None:
+        self._grey = grey if shading is None else None
+        self._shaded = None if shading is None else grey
+        self._shading = shading
+
+    @property
+    def grey(self) -> np.ndarray:
+        if self._grey is None:
+            self._grey, self._shaded = _without_shading(self._shaded, self._shading), None
+        return self._grey
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.grey.shape
+        return (self._grey if self._grey is not None else self._shaded).shape
 
 
 def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig(), grey: np.ndarray | None = None,
@@ -65,7 +76,7 @@ def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig(), grey: np.n
     h, w = image_bgr.shape[:2]
     if grey is None or grey.shape[1] != min(config.work_width_px, w):
         grey = reduced_grey(image_bgr, config.work_width_px, reduced_bgr)
-    return FlowFrame(_without_shading(grey, config) if config.shading_sigma_px > 0 else grey)
+    return FlowFrame(grey, config if config.shading_sigma_px > 0 else None)  # the shading taken out when first read
 
 
 def _without_shading(grey: np.ndarray, config: FlowConfig) -> np.ndarray:

@@ -65,6 +65,27 @@ def test_prepare_takes_the_repeat_tests_grey_unchanged():
     assert np.array_equal(prepare(frame, config, reduced_grey(frame, 320)).grey, own)
 
 
+def test_the_shading_is_taken_out_where_the_grey_image_is_first_read():
+    """A prepared frame sent to another process before its grey image was read (the preparing process behind the
+    tracking) takes the shading out there: the same image as read here, sent once, whichever side read it."""
+    import pickle
+
+    from broadtrack_graph.shots.repeats import reduced_grey
+
+    rng = np.random.default_rng(5)
+    frame = rng.integers(0, 256, (360, 640, 3), dtype=np.uint8)
+    config = FlowConfig()
+    unread, read = prepare(frame, config), prepare(frame, config)
+    assert unread.shape == read.shape == (360, 640)
+    shaded = read.grey
+    assert not np.array_equal(shaded, reduced_grey(frame, config.work_width_px))  # the shading is out
+    sent = pickle.loads(pickle.dumps(unread))
+    assert np.array_equal(sent.grey, shaded) and sent.grey is sent.grey  # taken out once, then kept
+    assert len(pickle.dumps(read)) < 1.2 * shaded.nbytes  # the grey image sent once, not beside the unshaded one
+    raw = prepare(frame, FlowConfig(shading_sigma_px=0.0))
+    assert np.array_equal(raw.grey, reduced_grey(frame, config.work_width_px))
+
+
 def test_an_overlay_that_stays_put_while_the_camera_moves_is_left_out_of_the_flow():
     """A score bug pasted at the same place on both frames of a pan: its matches say 'no motion', against the
     homography every grass point follows; they are dropped (consensus_px 0: kept)."""
