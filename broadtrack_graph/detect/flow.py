@@ -51,18 +51,18 @@ class FlowFrame:
 
     def __init__(self, grey: np.ndarray, shading: FlowConfig | None = None) -> None:
         self._grey = grey if shading is None else None
-        self._shaded = None if shading is None else grey
+        self._with_shading = None if shading is None else grey
         self._shading = shading
 
     @property
     def grey(self) -> np.ndarray:
         if self._grey is None:
-            self._grey, self._shaded = _without_shading(self._shaded, self._shading), None
+            self._grey, self._with_shading = _without_shading(self._with_shading, self._shading), None
         return self._grey
 
     @property
     def shape(self) -> tuple[int, int]:
-        return (self._grey if self._grey is not None else self._shaded).shape
+        return (self._grey if self._grey is not None else self._with_shading).shape
 
 
 def prepare(image_bgr: np.ndarray, config: FlowConfig = FlowConfig(), grey: np.ndarray | None = None,

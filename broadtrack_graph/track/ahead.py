@@ -95,10 +95,9 @@ class FramesAhead:
             self.last_grey = grey
         if config.use_flow and frame.flow_frame is None:
             frame.flow_frame = prepare(frame.image, config.flow, grey, frame.working_bgr)  # the repeat test's grey
-        other_view = frame.shot is not None and frame.shot.is_other_view
         found = None
         if self.find_markings is not None and frame.observations is None and frame.markings is None \
-                and not other_view:
+                and not frame.shows_other_view:
             try:
                 found = frame.markings = self.find_markings(frame.image, frame.working_bgr)  # ShotStream's image
             except ValueError:
@@ -213,8 +212,7 @@ def without_pixels(frame: FrameInput, use_flow: bool) -> FrameInput:
     shows another view (the loop only records it). Else the frame as it is (the loop detects on the image itself)."""
     if frame.image is None:
         return frame
-    other_view = frame.shot is not None and frame.shot.is_other_view
-    if other_view or (frame.markings is not None and (frame.flow_frame is not None or not use_flow)):
+    if frame.shows_other_view or (frame.markings is not None and (frame.flow_frame is not None or not use_flow)):
         frame.image, frame.image_stayed = None, True
     return frame
 

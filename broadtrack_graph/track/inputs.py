@@ -43,6 +43,11 @@ class FrameInput:
     #                             its markings and flow frame only (track.ahead.without_pixels)
 
     @property
+    def shows_other_view(self) -> bool:
+        """Whether the shot step found the frame showing another view than a pitch camera's (not tracked)."""
+        return self.shot is not None and self.shot.is_other_view
+
+    @property
     def has_image(self) -> bool:
         """Whether the frame was decoded (its image here, or left where it was prepared)."""
         return self.image is not None or self.image_stayed
