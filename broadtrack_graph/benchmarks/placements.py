@@ -14,18 +14,20 @@ trusted) whose projected ground template lies within ``--success-px`` (median) o
 
 ``--random N`` draws N cameras anywhere around the pitch instead, under random looks (or by the plain renderer,
 ``--renderer plain``: asked without ``--random``, a one-line error), and asks every single-frame route for each:
-:mod:`broadtrack_graph.benchmarks.random_placements`.
+:mod:`broadtrack_graph.benchmarks.random_placements`. ``--annotations DIR`` asks the court model for the cameras of
+real broadcast frames from their annotated markings instead: :mod:`broadtrack_graph.benchmarks.annotated_views`.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
-from broadtrack_graph.arguments import float_between
-from broadtrack_graph.benchmarks import random_placements
+from broadtrack_graph.arguments import float_between, int_at_least
+from broadtrack_graph.benchmarks import annotated_views, random_placements
 from broadtrack_graph.benchmarks.options import add_reinit_model
 
 HELP = "a new shot's first frame from main cameras at several distances and elevations: is the camera found?"
@@ -52,9 +54,16 @@ def add_arguments(parser) -> None:
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     add_reinit_model(parser)
     random_placements.add_arguments(parser)
+    parser.add_argument("--annotations", type=Path, default=None, metavar="DIR",
+                        help="instead of rendered frames: the court model on the markings of SoccerNet line "
+                             "annotations (NNNNN.json files of real broadcast frames; see docs/BENCHMARKS.md)")
+    parser.add_argument("--limit", type=int_at_least(1), default=None, metavar="N",
+                        help="with --annotations: at most N frames (from --first K on)")
 
 
 def run(args) -> dict:
+    if args.annotations is not None:
+        return annotated_views.run(args)
     if args.random is not None:
         return random_placements.run(args)
     if args.renderer != "synth":

@@ -92,7 +92,8 @@ def add_arguments(parser) -> None:
                              "written apart from it (plain; --looks does not apply; see docs/BENCHMARKS.md)")
     parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
                         help="with --random: start at frame K of the seed's frames (frame i is the same in every run "
-                             "of the seed, size and looks: --random 1 --first i runs one frame of a report again)")
+                             "of the seed, size and looks: --random 1 --first i runs one frame of a report again); "
+                             "with --annotations: at the K-th annotated frame (by name)")
 
 
 def outcome(confidence: float | None, error_px: float | None, written_at: float, success_px: float) -> str:
