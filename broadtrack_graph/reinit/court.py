@@ -14,7 +14,9 @@ marking each explains and join as hypotheses of their own (:mod:`.court_refit`: 
 vanishing points poorly); the best distinct few are fitted with the label-and-fit rounds and one fit is kept and
 judged (:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a
 constraint to spare, counted on the map, and a camera fixed exactly (a circle and a line) only at
-``exact_fit_confidence``: laid on them, a wrong camera explains them as well. Every hypothesis has a twin turned half
+``exact_fit_confidence``: laid on them, a wrong camera explains them as well. A narrow view's camera returned under
+``narrow_view_walk_below`` confident is fitted again from starts along its line of sight and the most confident fit
+kept (:mod:`.court_depth`: its distance and focal length trade off). Every hypothesis has a twin turned half
 round the centre spot that explains the map as well; the main camera's side (y > 0) is kept
 (:func:`~broadtrack_graph.reinit.court_fit.main_side`) and ``ReinitResult.twin`` carries the other.
 
@@ -143,6 +145,15 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
             if later.camera is not None:
                 result = later
                 break
+    if (result.camera is not None and result.score.jaccard < config.narrow_view_walk_below
+            and result.camera.focal_px >= config.narrow_view_focal_per_width * W):
+        # A narrow view's depth along its line of sight (court_depth): the most confident of the fits from starts
+        # along it, judged as every camera is.
+        other = most_confident_along_line_of_sight(result.camera, fit_points(points_px, config.search), curves,
+                                                   config.search, config.narrow_view_depth_factors, confidence_of)
+        if other is not None:
+            deeper = judged(main_side(other, config.twin_tie_m), marking_mask, pitch, config, confidence_of)
+            result = deeper if deeper.camera is not None else result
     return replace(result, tried=len(hypotheses))
 
 

@@ -43,7 +43,8 @@ class CourtConfig:
     #                            hypotheses of at most this many sources (the straight markings, each later tier, the
     #                            refits) none of which was fitted, fitted too
     confidence_margin: float = 0.1  # a fit this much more confident than the best scoring one replaces it (the
-    #                                 margin a new camera needs to replace a chain's: TrackingConfig.reinit_switch_margin)
+    #                                 margin a new camera needs to replace a chain's:
+    #                                 TrackingConfig.reinit_switch_margin)
     distinct_per_width: float = 0.02  # hypotheses closer than this in the image count as one
     twin_tie_m: float = 2.0  # |y| under this: the twin is decided by x (x < 0 kept)
     # The markings the best camera explains must give this many constraints more than its 7 unknowns: a camera from
@@ -55,6 +56,13 @@ class CourtConfig:
     # ... after fits from starts along its line of sight at these factors of its distance (reinit.court_depth): an
     # ellipse's error moves an exact fit along it
     exact_fit_depth_factors: tuple[float, ...] = (0.4, 0.48, 0.58, 0.69, 0.83, 1.2, 1.44, 1.73, 2.08, 2.5)
+    # A narrow view (f at least narrow_view_focal_per_width of the width: about 37 deg across or less) is nearly affine:
+    # its distance and focal length trade off, and a fit can stop metres off along its line of sight with every
+    # marking in view drawn a few pixels off. The camera returned under narrow_view_walk_below confident is fitted
+    # again from starts at these factors of its distance, and the most confident fit kept (reinit.court_depth)
+    narrow_view_focal_per_width: float = 1.5
+    narrow_view_walk_below: float = 0.9
+    narrow_view_depth_factors: tuple[float, ...] = (0.69, 0.83, 1.2, 1.44)
     refit_top: int = 32  # the best hypotheses solved again on every straight marking they explain ...
     refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
     refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line

@@ -1,4 +1,4 @@
-"""Cameras along a camera's line of sight, for the ill-determined depth of an exact fit. No I/O.
+"""Cameras along a camera's line of sight, for the ill-determined depth of an exact fit or a narrow view. No I/O.
 
 A circle and one line fix a camera exactly: seven constraints for its seven unknowns. Read from an ellipse fitted
 to a few hundred marking pixels, the conic's error moves the fitted camera mostly along one direction: towards or
@@ -7,7 +7,8 @@ keep their size in the image (a narrow view is nearly affine, and the two trade 
 drawn about as well all along that valley, the rest of the template is not: a fit that stopped metres off along it
 draws the markings out of view where the frame shows none. :func:`along_line_of_sight` gives the starts of fits
 spread along it; the confidence, which reads the whole template in view, chooses among them
-(:func:`most_confident_along_line_of_sight`).
+(:func:`most_confident_along_line_of_sight`). Any fit of a narrow view lies in the same valley: with many markings in
+view, a fit started metres off along it can stop there, each marking a few pixels off.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down (the ground is z = 0).
 """

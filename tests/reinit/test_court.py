@@ -165,10 +165,11 @@ def test_an_exact_fit_under_the_exact_fit_confidence_is_fitted_again_along_its_l
 
     truth, det = _random_placement(444)
     unwalked = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
-                                 CourtConfig(exact_fit_depth_factors=()))
+                                 CourtConfig(exact_fit_depth_factors=(), narrow_view_depth_factors=()))
     assert unwalked.camera is None and "exactly" in unwalked.reason
     taken = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
-                              CourtConfig(exact_fit_confidence=0.0, exact_fit_depth_factors=()))
+                              CourtConfig(exact_fit_confidence=0.0, exact_fit_depth_factors=(),
+                                          narrow_view_depth_factors=()))
     assert taken.camera is not None and taken.score.jaccard < CourtConfig().exact_fit_confidence
     assert median_template_error_px(taken.twin, truth) > 1.0
     walked = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
