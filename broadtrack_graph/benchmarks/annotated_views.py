@@ -64,35 +64,20 @@ def annotation_marking_map(lines_norm: dict, width_px: int, height_px: int, pitc
     return marking_map > 0, (np.vstack(points) if points else np.zeros((0, 2)))
 
 
-def annotated_determinability(lines_norm: dict, width_px: int, height_px: int, pitch, min_line_px: float
-                              ) -> tuple[bool, dict]:
+def annotated_determinability(lines_norm: dict, width_px: int, height_px: int, pitch) -> tuple[bool, dict]:
     """Whether a frame's annotated ground markings determine a camera (module docstring), and what they hold:
-    {"x_lines", "y_lines": distinct straight markings of each direction annotated along ``min_line_px`` or more,
-    "curves": such circle classes}. Markings on one pitch line (the two boxes' long sides on one side) count once."""
+    {"x_lines", "y_lines": distinct straight markings of each direction annotated along ``MIN_LINE_PX`` or more,
+    "curves": circle classes annotated along that many} (:func:`~broadtrack_graph.geometry.determinable.
+    determinability_of_lengths`, the annotated polylines' lengths for the projected ones)."""
+    from broadtrack_graph.geometry.determinable import MIN_LINE_PX, determinability_of_lengths
     from broadtrack_graph.geometry.pitch import CIRCLE_CLASSES
 
     scale = np.array([width_px - 1, height_px - 1], float)
-    longest: dict[tuple[str, float], float] = {}
-    curves = []
-    for name, normalised in lines_norm.items():
-        if not pitch.is_on_ground(name) or len(normalised) < 2:
-            continue
-        length = float(np.linalg.norm(np.diff(np.asarray(normalised, float) * scale, axis=0), axis=1).sum())
-        if length < min_line_px:
-            continue
-        if name in CIRCLE_CLASSES:
-            curves.append(name)
-            continue
-        element = pitch.elements.get(name)
-        if element is None or not hasattr(element, "start_w"):
-            continue
-        a, b = np.asarray(element.start_w, float), np.asarray(element.end_w, float)
-        key = ("x", round(float(a[1]), 3)) if abs(a[1] - b[1]) < 1e-9 else ("y", round(float(a[0]), 3))
-        longest[key] = max(longest.get(key, 0.0), length)
-    x_lines = sum(1 for direction, _ in longest if direction == "x")
-    y_lines = len(longest) - x_lines
-    determinable = (x_lines >= 2 and y_lines >= 2) or (bool(curves) and x_lines + y_lines >= 1)
-    return determinable, {"x_lines": x_lines, "y_lines": y_lines, "curves": sorted(curves)}
+    length_px = {name: float(np.linalg.norm(np.diff(np.asarray(points, float) * scale, axis=0), axis=1).sum())
+                 for name, points in lines_norm.items() if pitch.is_on_ground(name) and len(points) >= 2}
+    curves = tuple(sorted(n for n, length in length_px.items() if n in CIRCLE_CLASSES and length >= MIN_LINE_PX))
+    seen = determinability_of_lengths(length_px, curves, pitch)
+    return seen.determinable, {"x_lines": seen.x_lines, "y_lines": seen.y_lines, "curves": list(seen.curves)}
 
 
 def run(args) -> dict:
@@ -100,7 +85,6 @@ def run(args) -> dict:
     import cv2
     from tqdm import tqdm
 
-    from broadtrack_graph.geometry.determinable import MIN_LINE_PX
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
     from broadtrack_graph.io.annotations import read_annotations
@@ -127,7 +111,7 @@ def run(args) -> dict:
     try:
         for frame_id in tqdm(frame_ids, desc="annotated views", unit="frame", disable=args.no_progress):
             lines = {name: points for name, points in annotations.frames[frame_id].items() if pitch.is_on_ground(name)}
-            determinable, held = annotated_determinability(lines, W, H, pitch, MIN_LINE_PX)
+            determinable, held = annotated_determinability(lines, W, H, pitch)
             marking_map, points = annotation_marking_map(lines, W, H, pitch)
             started = time.process_time()
             result = reinit_from_court(marking_map, points, (W, H), pitch=pitch, curves=curves)

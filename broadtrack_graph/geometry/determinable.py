@@ -25,7 +25,7 @@ that line. No I/O here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 
 import cv2
@@ -131,15 +131,24 @@ def determinability(camera: Camera, pitch: PitchTemplate | None = None,
     length_px = np.bincount(s.class_index[:-1], weights=step_px, minlength=count)
     pairs = np.bincount(s.class_index[:-1], weights=same_class, minlength=count)
     share = np.bincount(s.class_index[:-1], weights=pair_seen, minlength=count) / np.maximum(pairs, 1)
-    lines = (s.family < 2) & (length_px >= MIN_LINE_PX)
+    curves = tuple(n for n, f, v in zip(s.names, s.family, share) if f == 2 and v >= MIN_CURVE_SHARE)
+    seen = determinability_of_lengths(dict(zip(s.names, length_px)), curves, pitch)
+    return replace(seen, visible_px={n: round(float(v), 1) for n, v in zip(s.names, length_px)},
+                   curve_shares={n: round(float(v), 3) for n, f, v in zip(s.names, s.family, share) if f == 2})
+
+
+def determinability_of_lengths(length_px: dict[str, float], curves: tuple[str, ...],
+                               pitch: PitchTemplate | None = None) -> Determinability:
+    """The rule of the module docstring from what is seen of each marking, however it was measured (a camera's
+    projection, an annotation): ``length_px`` ground class -> the length seen, pixels (straight markings of at least
+    :data:`MIN_LINE_PX` count, each pitch line once); ``curves``: the circle classes seen enough to count."""
+    s = _samples((pitch or PitchTemplate()).dimensions)
+    length = np.array([length_px.get(name, 0.0) for name in s.names])
+    lines = (s.family < 2) & (length >= MIN_LINE_PX)
     x_lines = len(set(s.offset[lines & (s.family == 0)].tolist()))
     y_lines = len(set(s.offset[lines & (s.family == 1)].tolist()))
-    curves = tuple(n for n, f, v in zip(s.names, s.family, share) if f == 2 and v >= MIN_CURVE_SHARE)
     determinable = (x_lines >= 2 and y_lines >= 2) or (bool(curves) and x_lines + y_lines >= 1)
-    return Determinability(
-        determinable, x_lines, y_lines, curves,
-        visible_px={n: round(float(v), 1) for n, v in zip(s.names, length_px)},
-        curve_shares={n: round(float(v), 3) for n, f, v in zip(s.names, s.family, share) if f == 2})
+    return Determinability(determinable, x_lines, y_lines, tuple(curves))
 
 
 def _on_map(uv_px: np.ndarray, marking_map: np.ndarray, width_px: int) -> np.ndarray:

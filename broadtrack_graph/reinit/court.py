@@ -111,9 +111,9 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                                                 motion_blur=motion_blur)))
         return known[-1][1]
 
-    def walked(camera: Camera) -> Camera | None:  # an exact fit's depth (court_depth)
+    def walked(camera: Camera, factors=config.exact_fit_depth_factors) -> Camera | None:  # its depth (court_depth)
         other = most_confident_along_line_of_sight(camera, fit_points(points_px, config.search), curves, config.search,
-                                                   config.exact_fit_depth_factors, confidence_of)
+                                                   factors, confidence_of)
         return None if other is None else main_side(other, config.twin_tie_m)
 
     def fitted(among: np.ndarray) -> list:
@@ -147,12 +147,11 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                 break
     if (result.camera is not None and result.score.jaccard < config.narrow_view_walk_below
             and result.camera.focal_px >= config.narrow_view_focal_per_width * W):
-        # A narrow view's depth along its line of sight (court_depth): the most confident of the fits from starts
-        # along it, judged as every camera is.
-        other = most_confident_along_line_of_sight(result.camera, fit_points(points_px, config.search), curves,
-                                                   config.search, config.narrow_view_depth_factors, confidence_of)
+        # A narrow view's depth along its line of sight: the most confident of the fits from starts along it, judged
+        # as every camera is.
+        other = walked(result.camera, config.narrow_view_depth_factors)
         if other is not None:
-            deeper = judged(main_side(other, config.twin_tie_m), marking_mask, pitch, config, confidence_of)
+            deeper = judged(other, marking_mask, pitch, config, confidence_of)
             result = deeper if deeper.camera is not None else result
     return replace(result, tried=len(hypotheses))
 

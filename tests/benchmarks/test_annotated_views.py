@@ -9,7 +9,6 @@ import numpy as np
 from broadtrack_graph.benchmarks.annotated_views import annotated_determinability, annotation_marking_map
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.determinable import MIN_LINE_PX
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import distances_to_polyline, project_template_polylines
 from broadtrack_graph.io.annotations import write_annotation_file
@@ -60,19 +59,19 @@ def test_two_lines_of_each_direction_or_a_circle_and_a_line_determine_a_camera()
     two_and_two = {"Side line top": _straight(0, 100, 900, 90), "Big rect. right top": _straight(500, 200, 900, 190),
                    "Side line right": _straight(900, 90, 950, 300),
                    "Big rect. right main": _straight(500, 200, 600, 500)}
-    assert annotated_determinability(two_and_two, W, H, PITCH, MIN_LINE_PX) == (
+    assert annotated_determinability(two_and_two, W, H, PITCH) == (
         True, {"x_lines": 2, "y_lines": 2, "curves": []})
     # The two boxes' tops on one side lie on one pitch line: one line, however many classes.
     one_line_twice = dict(two_and_two, **{"Big rect. left top": _straight(0, 210, 300, 205)})
-    assert annotated_determinability(one_line_twice, W, H, PITCH, MIN_LINE_PX)[1]["x_lines"] == 2
+    assert annotated_determinability(one_line_twice, W, H, PITCH)[1]["x_lines"] == 2
     short = dict(two_and_two, **{"Big rect. right main": _straight(500, 200, 510, 230)})  # 32 px: does not count
-    assert annotated_determinability(short, W, H, PITCH, MIN_LINE_PX) == (
+    assert annotated_determinability(short, W, H, PITCH) == (
         False, {"x_lines": 2, "y_lines": 1, "curves": []})
     arc = np.column_stack([np.linspace(400, 600, 9), 300 + 40 * np.sin(np.linspace(0, np.pi, 9))]) / [W - 1, H - 1]
     circle_and_line = {"Circle right": arc, "Big rect. right main": _straight(500, 200, 600, 500)}
-    assert annotated_determinability(circle_and_line, W, H, PITCH, MIN_LINE_PX) == (
+    assert annotated_determinability(circle_and_line, W, H, PITCH) == (
         True, {"x_lines": 0, "y_lines": 1, "curves": ["Circle right"]})
-    assert not annotated_determinability({"Circle right": arc}, W, H, PITCH, MIN_LINE_PX)[0]
+    assert not annotated_determinability({"Circle right": arc}, W, H, PITCH)[0]
 
 
 def test_the_court_model_finds_the_camera_of_an_annotated_box_view(tmp_path):
