@@ -47,9 +47,9 @@ from broadtrack_graph.reinit.court_fit import fitted_hypotheses, judged, kept_ca
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
     concatenate,
-    line_hypotheses,
     pitch_line_offsets,
     pixel_homographies,
+    split_hypotheses,
 )
 from broadtrack_graph.reinit.court_pencil import pencil_hypotheses
 from broadtrack_graph.reinit.court_refit import pitch_lines, refit_on_lines
@@ -213,12 +213,8 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
     frame full of lines stays bounded) and their map costs."""
     lines = structures.lines
     support = np.array([line.support_px for line in lines])
-    parts = []
-    for families in line_families(lines, frame_size, config.lines, hidden_px):
-        parts.append(line_hypotheses(families, support, pitch, frame_size, config.lines))
-        if sum(len(part) for part in parts) >= config.max_hypotheses:
-            break
-    hypotheses = concatenate(parts)
+    hypotheses = split_hypotheses(line_families(lines, frame_size, config.lines, hidden_px), support, pitch,
+                                  frame_size, config.lines, config.max_hypotheses)
     return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top,
                                config.prescore_keep)
 
@@ -256,12 +252,12 @@ def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_to
     kept = np.arange(len(H_px))
     if len(kept) > prescore_keep:
         rough = scorer.plane_costs(H_px, sign, px_per_m, search.coarse_hit_px, search.coarse_point_px,
-                                   thin=2 * search.coarse_thin)
-        kept = np.sort(np.argsort(rough)[:prescore_keep])
+                                   thin=2 * search.coarse_thin, best=prescore_keep)
+        kept = np.sort(np.argsort(rough, kind="stable")[:prescore_keep])
     costs = np.full(len(H_px), np.inf)
     costs[kept] = scorer.plane_costs(H_px[kept], sign[kept], px_per_m[kept], search.coarse_hit_px,
-                                     search.coarse_point_px, thin=search.coarse_thin)
-    top = np.argsort(costs)[:rescore_top]
+                                     search.coarse_point_px, thin=search.coarse_thin, best=rescore_top)
+    top = np.argsort(costs, kind="stable")[:rescore_top]  # ties (the map's shares of whole counts) in order
     top = top[np.isfinite(costs[top])]
     fine = scorer.plane_costs(H_px[top], sign[top], px_per_m[top], search.score_hit_px, search.score_point_px)
     out = np.full(len(costs), np.inf)

@@ -116,47 +116,79 @@ class PlaneHypotheses:
     def __len__(self) -> int:
         return len(self.focal_n)
 
+    def subset(self, selected: np.ndarray) -> "PlaneHypotheses":
+        """The hypotheses ``selected`` (a bool mask or indices), in their order."""
+        return PlaneHypotheses(*(getattr(self, name)[selected] for name in PlaneHypotheses.__dataclass_fields__))
+
 
 
 def line_hypotheses(families: LineFamilies, support_px: np.ndarray, pitch: PitchTemplate, frame_size,
                     config: CourtLineConfig = CourtLineConfig()) -> PlaneHypotheses:
     """Every camera putting two lines of each image family on two pitch lines of one direction each
-    (either family as either direction), gated by :func:`cameras_from_homographies`.
+    (either family as either direction), gated by :func:`cameras_from_homographies`: :func:`split_hypotheses` of one
+    split."""
+    return split_hypotheses([families], support_px, pitch, frame_size, config)
+
+
+def split_hypotheses(splits: list[LineFamilies], support_px: np.ndarray, pitch: PitchTemplate, frame_size,
+                     config: CourtLineConfig = CourtLineConfig(), max_hypotheses: int | None = None
+                     ) -> PlaneHypotheses:
+    """The hypotheses of several splits of the lines (:func:`line_hypotheses` of each, one after the other), formed
+    at once: every pairing of two lines of each family of every split, all gated together.
 
     Each hypothesis takes its vanishing points from its own four lines (the two of a family meet at that
     direction's vanishing point), not from all of the family's: a line that joined a family without being
     a pitch line (a banner's edge, a board's base, nearly parallel to the pitch lines in a narrow view, where
     the vanishing point lies far off) does not bend the hypotheses of the lines that are.
+
+    Args:
+        splits: the splits, likeliest first (:func:`~.court_families.line_families`).
+        support_px: (L,) each line's support (the best supported ``max_lines_per_family`` of a family are paired).
+        max_hypotheses: the splits after the one whose plausible hypotheses bring the count to this are left out
+            (None: none), as if the splits were formed one by one until then.
     """
     along_x, along_y = pitch_line_offsets(pitch)
     q = np.array([0.0, 0.0, 1.0])
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
-    homographies = []
-    for first in (0, 1):  # family `first` is the y = c direction (through v_x), the other x = c
-        second = 1 - first
-        lines_a = families.lines_n[families.members(first, config.max_lines_per_family, support_px)]
-        lines_b = families.lines_n[families.members(second, config.max_lines_per_family, support_px)]
-        if len(lines_a) < 2 or len(lines_b) < 2 or len(along_x) < 2 or len(along_y) < 2:
-            continue
-        pairs_a, pairs_b = _pairs(len(lines_a)), _pairs(len(lines_b))
-        ends_a = np.stack([lines_a[pairs_a[0]], lines_a[pairs_a[1]]], axis=1)  # (Pa, 2, 3)
-        ends_b = np.stack([lines_b[pairs_b[0]], lines_b[pairs_b[1]]], axis=1)  # (Pb, 2, 3)
-        v_x = _unit(cross3(ends_a[:, 0], ends_a[:, 1]))  # (Pa, 3): each pair's meeting point
-        v_y = _unit(cross3(ends_b[:, 0], ends_b[:, 1]))  # (Pb, 3)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tau_a = (ends_a @ q)[:, None, :] / np.einsum("pki,qi->pqk", ends_a, v_y)  # (Pa, Pb, 2)
-            tau_b = (ends_b @ q)[None, :, :] / np.einsum("qki,pi->pqk", ends_b, v_x)  # (Pa, Pb, 2)
-        # Only the pairs of pairs whose meeting points some focal length in range makes orthogonal (within the
-        # mismatch) can give a camera, and of their pitch-line assignments only those whose two axes some focal
-        # length in range makes of equal norm (within the mismatch): the others are not formed.
-        i, j = np.nonzero(orthogonal_in_range(v_x, v_y, f_lo, f_hi, config.max_axis_mismatch))
-        a_x, b_x = _pair_maps(tau_a[i, j], along_x)  # (B, Ma)
-        a_y, b_y = _pair_maps(tau_b[i, j], along_y)  # (B, Mb)
-        k, m, n = np.nonzero(equal_norms_in_range(v_x[i], v_y[j], a_x, a_y, f_lo, f_hi, config.max_axis_mismatch))
-        H = homographies_from_maps(v_x[i[k]], v_y[j[k]], a_x[k, m], b_x[k, m], a_y[k, n], b_y[k, n])
-        homographies.append(H[np.all(np.isfinite(H), axis=(1, 2))])
-    stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
-    return cameras_from_homographies(stacked, frame_size, pitch, config)
+    blocks, block_split = [], []
+    for index, families in enumerate(splits):
+        for first in (0, 1):  # family `first` is the y = c direction (through v_x), the other x = c
+            lines_a = families.lines_n[families.members(first, config.max_lines_per_family, support_px)]
+            lines_b = families.lines_n[families.members(1 - first, config.max_lines_per_family, support_px)]
+            if len(lines_a) < 2 or len(lines_b) < 2 or len(along_x) < 2 or len(along_y) < 2:
+                continue
+            pairs_a, pairs_b = _pairs(len(lines_a)), _pairs(len(lines_b))
+            # every pair of lines_a with every pair of lines_b, the pair of lines_a major: (Pa * Pb, 4, 3)
+            of_a = np.repeat(np.arange(len(pairs_a[0])), len(pairs_b[0]))
+            of_b = np.tile(np.arange(len(pairs_b[0])), len(pairs_a[0]))
+            blocks.append(np.stack([lines_a[pairs_a[0][of_a]], lines_a[pairs_a[1][of_a]],
+                                    lines_b[pairs_b[0][of_b]], lines_b[pairs_b[1][of_b]]], axis=1))
+            block_split.append(np.full(len(of_a), index))
+    if not blocks:
+        return cameras_from_homographies(np.zeros((0, 3, 3)), frame_size, pitch, config)
+    quads, split_of = np.concatenate(blocks), np.concatenate(block_split)  # (B, 4, 3), (B,)
+    v_x = _unit(cross3(quads[:, 0], quads[:, 1]))  # (B, 3): where the pair of each direction meets
+    v_y = _unit(cross3(quads[:, 2], quads[:, 3]))
+    # Only the pairs of pairs whose meeting points some focal length in range makes orthogonal (within the mismatch)
+    # can give a camera, and of their pitch-line assignments only those whose two axes some focal length in range
+    # makes of equal norm (within the mismatch): the others are not formed.
+    kept = np.nonzero(orthogonal_in_range(v_x, v_y, f_lo, f_hi, config.max_axis_mismatch))[0]
+    quads, split_of, v_x, v_y = quads[kept], split_of[kept], v_x[kept], v_y[kept]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tau_a = (quads[:, :2] @ q) / np.einsum("bki,bi->bk", quads[:, :2], v_y)  # (B, 2) pencil coordinates
+        tau_b = (quads[:, 2:] @ q) / np.einsum("bki,bi->bk", quads[:, 2:], v_x)
+    a_x, b_x = _pair_maps(tau_a, along_x)  # (B, Ma)
+    a_y, b_y = _pair_maps(tau_b, along_y)  # (B, Mb)
+    k, m, n = np.nonzero(equal_norms_in_range(v_x, v_y, a_x, a_y, f_lo, f_hi, config.max_axis_mismatch))
+    H = homographies_from_maps(v_x[k], v_y[k], a_x[k, m], b_x[k, m], a_y[k, n], b_y[k, n])
+    finite = np.all(np.isfinite(H), axis=(1, 2))
+    hypotheses, placed = plausible_cameras(H[finite], frame_size, pitch, config)
+    if max_hypotheses is not None and len(placed):
+        of_split = split_of[k[finite][placed]]
+        counts = np.cumsum(np.bincount(of_split, minlength=len(splits)))
+        last = int(np.searchsorted(counts, max_hypotheses))  # the split that brings the count to max_hypotheses
+        hypotheses = hypotheses.subset(of_split <= last)
+    return hypotheses
 
 
 def homographies_from_maps(v_x: np.ndarray, v_y: np.ndarray, a_x: np.ndarray, b_x: np.ndarray, a_y: np.ndarray,
@@ -179,9 +211,9 @@ def _unit(points: np.ndarray) -> np.ndarray:
 
 def orthogonal_in_range(v_x: np.ndarray, v_y: np.ndarray, focal_lo_n: float, focal_hi_n: float,
                         max_cosine: float) -> np.ndarray:
-    """(Px, Py) whether some focal length f_n in [focal_lo_n, focal_hi_n] (f / s) makes the directions of each
-    vanishing point of v_x (Px, 3) and of v_y (Py, 3) (homogeneous, normalised coordinates) at most ``max_cosine``
-    from orthogonal: ``|cos(K^-1 v_x, K^-1 v_y)| <= max_cosine``.
+    """(...) whether some focal length f_n in [focal_lo_n, focal_hi_n] (f / s) makes the directions of the
+    vanishing points v_x and v_y ((..., 3), broadcast together; homogeneous, normalised coordinates) at most
+    ``max_cosine`` from orthogonal: ``|cos(K^-1 v_x, K^-1 v_y)| <= max_cosine``.
 
     The cosine of a homography's first two axes (:func:`focal_and_mismatch`) is that of its vanishing points
     whatever the scale of each column, so a homography through a pair failing this is not a camera's: a necessary
@@ -189,8 +221,8 @@ def orthogonal_in_range(v_x: np.ndarray, v_y: np.ndarray, focal_lo_n: float, foc
     the quadratic ``(A g + B)^2 - c^2 (P1 g + z1^2)(P2 g + z2^2) <= 0``, asked at both ends of g's range and at its
     vertex.
     """
-    x1, y1, z1 = (v_x[:, None, k] for k in range(3))  # (Px, 1)
-    x2, y2, z2 = (v_y[None, :, k] for k in range(3))  # (1, Py)
+    x1, y1, z1 = (v_x[..., k] for k in range(3))
+    x2, y2, z2 = (v_y[..., k] for k in range(3))
     A, B = x1 * x2 + y1 * y2, z1 * z2
     P1, P2, Q1, Q2 = x1 * x1 + y1 * y1, x2 * x2 + y2 * y2, z1 * z1, z2 * z2
     c2 = (max_cosine + 1e-6) ** 2  # a hair of slack: the boundary is kept whatever the rounding
@@ -267,11 +299,18 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     Args:
         H_n: (K, 3, 3) homographies, pitch (x, y, 1) metres -> normalised image points.
     """
+    return plausible_cameras(H_n, frame_size, pitch, config)[0]
+
+
+def plausible_cameras(H_n: np.ndarray, frame_size, pitch: PitchTemplate, config: CourtLineConfig = CourtLineConfig()
+                      ) -> tuple[PlaneHypotheses, np.ndarray]:
+    """:func:`cameras_from_homographies`, with the indices into ``H_n`` of the homographies kept."""
     H_n = np.asarray(H_n, float).reshape(-1, 3, 3)
+    index = np.arange(len(H_n))
     focal_n, mismatch = focal_and_mismatch(H_n)
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
     keep = np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi) & (mismatch <= config.max_axis_mismatch)
-    H_n, focal_n = H_n[keep], focal_n[keep]
+    H_n, focal_n, index = H_n[keep], focal_n[keep], index[keep]
     scale_k = np.stack([1.0 / focal_n, 1.0 / focal_n, np.ones_like(focal_n)], axis=1)[:, :, None]
     a = H_n * scale_k  # columns a1, a2, a3
     n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
@@ -301,7 +340,8 @@ def cameras_from_homographies(H_n: np.ndarray, frame_size, pitch: PitchTemplate,
     angles = angles_from_rotations(R[placed]) if len(placed) else np.zeros((0, 3))  # of the cameras placed only
     level = np.abs(angles[:, 2]) <= math.radians(config.max_roll_deg)
     keep = placed[level]
-    return PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[level], sign[keep], scale[keep])
+    return (PlaneHypotheses(H_n[keep], focal_n[keep], R[keep], C[keep], angles[level], sign[keep], scale[keep]),
+            index[keep])
 
 
 def concatenate(parts: list[PlaneHypotheses]) -> PlaneHypotheses:

@@ -187,7 +187,7 @@ class MapScorer:
 
 
     def plane_costs(self, H_px: np.ndarray, sign: np.ndarray, px_per_m_at_unit: np.ndarray, hit_px: float,
-                    point_px: float, chunk: int = 256, thin: int = 1) -> np.ndarray:
+                    point_px: float, chunk: int = 256, thin: int = 1, best: int | None = None) -> np.ndarray:
         """(K,) costs of ground-plane homographies, any camera (the same score as :meth:`costs`, no distortion).
 
         Args:
@@ -196,20 +196,43 @@ class MapScorer:
             px_per_m_at_unit: (K,) frame pixels per metre of a marking at ``sign * (H_px X)_z = 1`` (f over the
                 depth scale): a sample's image length is this over ``sign * (H_px X)_z``.
             thin: use every thin-th template sample and marking point (a quicker, coarser score).
+            best: only the ``best`` lowest costs are asked for: the recall of every homography is read first, and
+                the precision only of those whose recall alone (with a precision of 1) could score among the best
+                read so far; the others' costs are inf (None: every cost).
         """
+        recall, inside = self._plane_recalls(H_px, sign, px_per_m_at_unit, hit_px, chunk, thin)
+        b2 = self.config.score_beta ** 2
+        out = np.full(len(H_px), np.inf)
+        if best is None or best >= len(H_px):
+            order, bounds = np.arange(len(H_px)), None
+        else:
+            # F_beta rises with the precision: at a precision of 1 it bounds the score from above.
+            bounds = -_chunk_costs(np.ones_like(recall), recall, inside, thin, b2)
+            order = np.argsort(-bounds, kind="stable")
+            order = order[np.isfinite(bounds[order])]
+        step = chunk if bounds is None else max(1, min(chunk, best))  # the bound is asked again after each step
+        for s in range(0, len(order), step):
+            if bounds is not None and s >= best:
+                # Stop when the best-th score read so far beats every bound left.
+                kth = -np.partition(out[order[:s]], best - 1)[best - 1]
+                if kth > bounds[order[s]]:
+                    break
+            k = order[s:s + step]
+            precision = self._plane_precisions(H_px[k], sign[k], point_px, thin)
+            out[k] = _chunk_costs(precision, recall[k], inside[k], thin, b2)
+        return out
+
+    def _plane_recalls(self, H_px, sign, px_per_m_at_unit, hit_px: float, chunk: int, thin: int):
+        """(K,) recall of each homography's template in the map (:meth:`plane_costs`), and (K, S) whether each
+        template sample lands in the image."""
         dt, scale, config = self.dt, self.scale, self.config
         h, w = dt.shape
         dt_flat = dt.ravel()
         samples = self.samples_w[::thin]
         x, y = samples[:, 0], samples[:, 1]  # (S,) ground samples (metres)
-        points = self.points_c[::thin] + [self.W / 2.0, self.H / 2.0]
-        pu, pv = points[:, 0], points[:, 1]  # (M,) marking points (frame pixels)
-        grid_h, grid_w = self.nearest_xy.shape[:2]
-        tol2 = (point_px / scale) ** 2
-        b2 = config.score_beta ** 2
-        out = np.full(len(H_px), np.inf)
         samples_h = np.vstack([x, y, np.ones_like(x)])  # (3, S)
-        points_h = np.vstack([pu, pv, np.ones_like(pu)])  # (3, M)
+        recall = np.zeros(len(H_px))
+        inside_all = np.zeros((len(H_px), len(x)), bool)
         for s in range(0, len(H_px), chunk):
             Hk, sg = H_px[s:s + chunk], sign[s:s + chunk, None]
             k = len(Hk)
@@ -226,29 +249,38 @@ class MapScorer:
                 length = np.where(inside, px_per_m_at_unit[s:s + chunk, None] * scale * config.score_template_step_m
                                   * thin / depth, 0.0)
             d = np.take(dt_flat, index)
-            recall = np.sum(length * (d <= hit_px), axis=1) / np.maximum(np.sum(length, axis=1),
-                                                                         config.score_min_template_px)
-            if len(points):
-                # Marking points onto the pitch (H^-1), to their nearest painted marking, and back (H).
-                bx, by, bz = (np.linalg.inv(Hk).reshape(-1, 3) @ points_h).reshape(k, 3, -1).transpose(1, 0, 2)
-                ahead = sg * bz > 1e-12
-                wz = np.where(ahead, bz, 1.0)
-                col = np.rint((bx / wz - self.origin[0]) / self.resolution).astype(np.int64)
-                row = np.rint((by / wz - self.origin[1]) / self.resolution).astype(np.int64)
-                on_grid = ahead & (col >= 0) & (col < grid_w) & (row >= 0) & (row < grid_h)
-                cell = np.where(on_grid, row * grid_w + col, 0)
-                nx, ny = np.take(self.nearest_x_flat, cell), np.take(self.nearest_y_flat, cell)  # (k, M) metres
-                Hc = [[Hk[:, i, j, None] for j in range(3)] for i in range(3)]  # (k, 1) entries
-                fz = Hc[2][0] * nx + Hc[2][1] * ny + Hc[2][2]
-                ok = on_grid & (sg * fz > 1e-12)
-                fz = np.where(ok, fz, 1.0)
-                du = (Hc[0][0] * nx + Hc[0][1] * ny + Hc[0][2]) / fz - pu
-                dv = (Hc[1][0] * nx + Hc[1][1] * ny + Hc[1][2]) / fz - pv
-                precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
-            else:
-                precision = np.ones_like(recall)
-            out[s:s + chunk] = _chunk_costs(precision, recall, inside, thin, b2)
-        return out
+            recall[s:s + chunk] = np.sum(length * (d <= hit_px), axis=1) / np.maximum(
+                np.sum(length, axis=1), config.score_min_template_px)
+            inside_all[s:s + chunk] = inside
+        return recall, inside_all
+
+    def _plane_precisions(self, Hk: np.ndarray, sign: np.ndarray, point_px: float, thin: int) -> np.ndarray:
+        """(k,) precision of each homography (:meth:`plane_costs`): the share of the marking points that meet the
+        pitch near a painted marking whose image lies within ``point_px`` of them (1 with no points)."""
+        points = self.points_c[::thin] + [self.W / 2.0, self.H / 2.0]
+        if not len(points):
+            return np.ones(len(Hk))
+        pu, pv = points[:, 0], points[:, 1]  # (M,) marking points (frame pixels)
+        points_h = np.vstack([pu, pv, np.ones_like(pu)])  # (3, M)
+        grid_h, grid_w = self.nearest_xy.shape[:2]
+        tol2 = (point_px / self.scale) ** 2
+        k, sg = len(Hk), sign[:, None]
+        # Marking points onto the pitch (H^-1), to their nearest painted marking, and back (H).
+        bx, by, bz = (np.linalg.inv(Hk).reshape(-1, 3) @ points_h).reshape(k, 3, -1).transpose(1, 0, 2)
+        ahead = sg * bz > 1e-12
+        wz = np.where(ahead, bz, 1.0)
+        col = np.rint((bx / wz - self.origin[0]) / self.resolution).astype(np.int64)
+        row = np.rint((by / wz - self.origin[1]) / self.resolution).astype(np.int64)
+        on_grid = ahead & (col >= 0) & (col < grid_w) & (row >= 0) & (row < grid_h)
+        cell = np.where(on_grid, row * grid_w + col, 0)
+        nx, ny = np.take(self.nearest_x_flat, cell), np.take(self.nearest_y_flat, cell)  # (k, M) metres
+        Hc = [[Hk[:, i, j, None] for j in range(3)] for i in range(3)]  # (k, 1) entries
+        fz = Hc[2][0] * nx + Hc[2][1] * ny + Hc[2][2]
+        ok = on_grid & (sg * fz > 1e-12)
+        fz = np.where(ok, fz, 1.0)
+        du = (Hc[0][0] * nx + Hc[0][1] * ny + Hc[0][2]) / fz - pu
+        dv = (Hc[1][0] * nx + Hc[1][1] * ny + Hc[1][2]) / fz - pv
+        return np.mean(ok & (du * du + dv * dv < tol2), axis=1)
 
 
 def _chunk_costs(precision: np.ndarray, recall: np.ndarray, inside: np.ndarray, thin: int, beta2: float) -> np.ndarray:

@@ -19,6 +19,7 @@ from broadtrack_graph.reinit.court_lines import (
     line_hypotheses,
     orthogonal_in_range,
     pitch_line_offsets,
+    split_hypotheses,
 )
 from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
 
@@ -62,7 +63,7 @@ def test_the_pairs_not_formed_hold_no_homography_the_gate_keeps():
     focal_n, mismatch = focal_and_mismatch(H_n.reshape(-1, 3, 3))
     kept = (np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi)
             & (mismatch <= config.max_axis_mismatch)).reshape(300, 20, 20)
-    orthogonal = np.diagonal(orthogonal_in_range(v_x, v_y, f_lo, f_hi, config.max_axis_mismatch))  # (300,)
+    orthogonal = orthogonal_in_range(v_x, v_y, f_lo, f_hi, config.max_axis_mismatch)  # (300,)
     equal = equal_norms_in_range(v_x, v_y, a_x, a_y, f_lo, f_hi, config.max_axis_mismatch)  # (300, 20, 20)
     formed = orthogonal[:, None, None] & equal
     assert kept.sum() > 100
@@ -110,6 +111,31 @@ def test_a_line_that_joined_a_family_without_being_a_pitch_line_does_not_bend_th
     assert gap.min() < 1e-3
     assert hypotheses.focal_n[int(np.argmin(gap))] * W / 2 == pytest.approx(truth.focal_px, rel=1e-6)
 
+
+
+def test_the_splits_formed_at_once_are_each_split_s_hypotheses_in_turn():
+    # A board's edge beside the box's lines makes several splits; formed at once, the hypotheses are those of each
+    # split one after the other, the same numbers in the same order, and max_hypotheses leaves out the splits after
+    # the one that reaches it.
+    truth = box_view()
+    lines = image_lines(truth, BOX_SEGMENTS)
+    side = lines[2]
+    board = ImageLine(side.normal, float(-side.normal @ (side.centre_px + [0.0, 30.0])), side.centre_px + [0.0, 30.0],
+                      side.direction, side.extent_px, 1.5 * side.support_px)
+    lines = lines + [board]
+    support = np.array([line.support_px for line in lines])
+    splits = line_families(lines, (W, H))
+    assert len(splits) >= 2
+    each = [line_hypotheses(families, support, PITCH, (W, H)) for families in splits]
+    together = split_hypotheses(splits, support, PITCH, (W, H))
+    assert len(together) == sum(len(part) for part in each) > 0
+    np.testing.assert_allclose(together.H_n, np.concatenate([part.H_n for part in each]), rtol=1e-12, atol=1e-12)
+    np.testing.assert_array_equal(together.sign, np.concatenate([part.sign for part in each]))
+    first_two = len(each[0]) + len(each[1])
+    cut = split_hypotheses(splits, support, PITCH, (W, H), max_hypotheses=len(each[0]) + 1)
+    assert len(cut) == first_two  # the second split brings the count over: it is kept, the rest are not
+    assert len(split_hypotheses(splits, support, PITCH, (W, H), max_hypotheses=len(each[0]))) == len(each[0])
+    assert len(split_hypotheses([], support, PITCH, (W, H))) == 0
 
 def _normalised_homography(camera: Camera) -> np.ndarray:
     """The camera's ground-plane homography in the normalised image coordinates of the module."""

@@ -151,3 +151,35 @@ def test_the_plane_score_of_a_camera_s_ground_homography_is_the_camera_s_score()
     assert behind[0] == math.inf  # the template behind the camera: nothing in the image
     coarse = scorer.plane_costs(H_px, sign, focal, CONFIG.score_hit_px, CONFIG.score_point_px, thin=2)
     assert coarse == pytest.approx(costs, abs=0.05)
+
+
+def test_the_best_plane_costs_are_those_of_every_cost():
+    # Asked for the best few only, the scorer reads the precision only of the homographies whose recall could put
+    # them among those: the best few are the same numbers, the others inf or no better than the worst of them.
+    truth = Camera.from_degrees(1300.0, 0.0, 9.0, 77.0, 0.0, (0.0, 55.0, -12.0), W, H)
+    mask, points = _drawn_map(truth)
+    scorer = MapScorer(mask, points, (W, H), PITCH, CONFIG)
+    rng = np.random.default_rng(3)
+    cameras = [truth.replace(pan_rad=truth.pan_rad + math.radians(rng.normal(0, 4)),
+                             tilt_rad=truth.tilt_rad + math.radians(rng.normal(0, 2)),
+                             focal_px=truth.focal_px * math.exp(rng.normal(0, 0.2))) for _ in range(300)]
+    H_px, focal = [], []
+    for camera in cameras:
+        K = np.array([[camera.focal_px, 0.0, W / 2], [0.0, camera.focal_px, H / 2], [0.0, 0.0, 1.0]])
+        R, t = camera.R_cw, -camera.R_cw @ camera.position_m
+        H_px.append(K @ np.column_stack([R[:, 0], R[:, 1], t]))
+        focal.append(camera.focal_px)
+    H_px, sign, focal = np.array(H_px), np.ones(len(cameras)), np.array(focal)
+    every = scorer.plane_costs(H_px, sign, focal, CONFIG.coarse_hit_px, CONFIG.coarse_point_px, chunk=64, thin=2)
+    for best in (1, 10, 64):
+        some = scorer.plane_costs(H_px, sign, focal, CONFIG.coarse_hit_px, CONFIG.coarse_point_px, chunk=64, thin=2,
+                                  best=best)
+        top = np.argsort(every, kind="stable")[:best]
+        np.testing.assert_array_equal(some[top], every[top])
+        read = np.isfinite(some)
+        np.testing.assert_array_equal(some[read], every[read])
+        assert np.all(every[~read] >= every[top].max())
+    assert np.isfinite(every).sum() > 100
+    some = scorer.plane_costs(H_px, sign, focal, CONFIG.coarse_hit_px, CONFIG.coarse_point_px, chunk=64, thin=2,
+                              best=10)
+    assert (~np.isfinite(some)).sum() > 100  # most were not read
