@@ -127,8 +127,7 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
         smooth[:-1] += acc[1:]
         return smooth
 
-    acc = votes(pix)
-    alive = np.ones(len(pix), bool)
+    acc = votes(pix)  # pix holds the pixels no line has taken yet (in their order: each line's are dropped)
     band = config.line_band_px * unit
     scale = frame_width_px / w
     lines: list[ImageLine] = []
@@ -139,7 +138,7 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
             break
         t_i, r_i = divmod(k, n_r)
         normal = np.array([cs[t_i], sn[t_i]], float)
-        near = alive & (np.abs(pix @ normal - (r_i - r_max)) < 2.0 * unit)
+        near = np.abs(pix @ normal - (r_i - r_max)) < 2.0 * unit
         centre = pix[near].mean(axis=0) if near.any() else normal * (r_i - r_max)
         for _refit in range(2):  # total least squares on the band, twice
             sel = pix[near]
@@ -148,12 +147,12 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
             centre = sel.mean(axis=0)
             _, _, vt = np.linalg.svd(sel - centre, full_matrices=False)
             normal = vt[1]
-            near = near | (alive & (np.abs((pix - centre) @ normal) < band))
-        acc -= votes(pix[near])
-        alive &= ~near
+            near = near | (np.abs((pix - centre) @ normal) < band)
+        taken, pix = pix[near], pix[~near]
+        acc -= votes(taken)
         direction = np.array([-normal[1], normal[0]])
         # Pieces of the line: runs of pixels along it without gaps; specks (short runs) do not count.
-        along = np.sort((pix[near] - centre) @ direction)
+        along = np.sort((taken - centre) @ direction)
         breaks = np.nonzero(np.diff(along) > config.line_max_gap_px * unit)[0] + 1
         runs = [run for run in np.split(along, breaks) if len(run) >= config.line_min_run_px * unit]
         support = sum(len(run) for run in runs)
