@@ -19,6 +19,10 @@ import os
 # stderr ahead of the project's one-line error. The user's own settings win.
 os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")  # AV_LOG_QUIET
 os.environ.setdefault("OPENCV_LOG_LEVEL", "ERROR")
+# Before anything imports numpy: its BLAS on one thread. The court model's products of thousands of small matrices
+# split over threads that then wait spinning: on one core they run quicker and take a third less CPU, which the
+# process that prepares the frames needs (docs/BENCHMARKS.md, Why the defaults). The processes it starts inherit it.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
 import importlib  # noqa: E402

@@ -9,7 +9,8 @@ of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.
 ellipses fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All hypotheses are
 scored at once
 on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
-found in the map and the map explained by the template), the best ``refit_top`` are solved again on every straight
+found in the map and the map explained by the template; coarsely first, the precision read only of those whose recall
+could rank them among the best), the best ``refit_top`` are solved again on every straight
 marking each explains and join as hypotheses of their own (:mod:`.court_refit`: four lines place a narrow view's
 vanishing points poorly); the best distinct few are fitted with the label-and-fit rounds and one fit is kept and
 judged (:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a
