@@ -11,7 +11,8 @@ determine a camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of 
 60 px each, or a circle or arc 40 % visible and one line); frames that do not count are reported apart.
 
 Each route (``--routes``) is asked for the frame's camera on one core (OpenCV on one
-thread), from the weight-free detector's markings (detection is timed apart):
+thread; numpy's BLAS too, as the command line sets it), from the weight-free detector's markings (detection is timed
+apart):
 
 * ``tracker``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the court
   model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
