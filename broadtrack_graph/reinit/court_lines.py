@@ -150,12 +150,14 @@ def split_hypotheses(splits: list[LineFamilies], support_px: np.ndarray, pitch: 
     along_x, along_y = pitch_line_offsets(pitch)
     q = np.array([0.0, 0.0, 1.0])
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
+    if len(along_x) < 2 or len(along_y) < 2:
+        return cameras_from_homographies(np.zeros((0, 3, 3)), frame_size, pitch, config)
     blocks, block_split = [], []
     for index, families in enumerate(splits):
         for first in (0, 1):  # family `first` is the y = c direction (through v_x), the other x = c
             lines_a = families.lines_n[families.members(first, config.max_lines_per_family, support_px)]
             lines_b = families.lines_n[families.members(1 - first, config.max_lines_per_family, support_px)]
-            if len(lines_a) < 2 or len(lines_b) < 2 or len(along_x) < 2 or len(along_y) < 2:
+            if len(lines_a) < 2 or len(lines_b) < 2:
                 continue
             pairs_a, pairs_b = _pairs(len(lines_a)), _pairs(len(lines_b))
             # every pair of lines_a with every pair of lines_b, the pair of lines_a major: (Pa * Pb, 4, 3)
