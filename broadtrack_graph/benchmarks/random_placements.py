@@ -29,10 +29,11 @@ a new shot's chain needs to be written; the court route: at least the bar the tr
 (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of those, within
 ``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell apart);
 **near-written** = written, between the two off the truth or its twin; **none** = not written. Shares are of the
-counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner) and by height
-(low: under 12 m); seconds per frame as median and 95th percentile. ``markings_detected`` counts the frames whose
-detected markings, read on the true camera's projection, still determine it (the same rule on the marking map: what
-detection leaves a route); ``truth_written`` the frames whose true camera is itself confident enough to be written
+counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner), by height
+(low: under 12 m) and by look (:func:`look_group`: the plain renderer's frames sharp or smeared); seconds per frame
+as median and 95th percentile. ``markings_detected`` counts the frames whose detected markings, read on the true
+camera's projection, still determine it (the same rule on the marking map: what detection leaves a route);
+``truth_written`` the frames whose true camera is itself confident enough to be written
 by the route (no route can write more; the court route's bar is the one its camera would be taken at with the
 markings the true camera explains on the map); ``markings_visible`` the frames whose markings, kept only where the
 paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
@@ -342,15 +343,27 @@ def route_figures(rows: list[dict], route: str) -> dict:
     return out
 
 
+def look_group(row: dict) -> str:
+    """The look a frame is counted under (``by_look``): the synthetic renderer's named look; the plain renderer's
+    frames by whether their look smears them (``plain, motion blur``: a motion blur drawn, else ``plain, sharp``)."""
+    plain = row.get("plain_look")
+    if plain is not None:
+        return "plain, motion blur" if plain.get("motion_blur_px", 0.0) > 0 else "plain, sharp"
+    return row["look"]
+
+
 def summarise(rows: list[dict], routes: list[str]) -> dict:
-    """The report's figures: counted frames per route overall, by stand and by height; uncounted frames apart."""
+    """The report's figures: counted frames per route overall, by stand, by height and by look; uncounted frames
+    apart."""
     from broadtrack_graph.benchmarks.random_cameras import LOW_HEIGHT_M, STANDS
 
     counted = [row for row in rows if row["determinable"]]
     apart = [row for row in rows if not row["determinable"]]
     groups = {"by_stand": {stand: [r for r in counted if r["class"] == stand] for stand in STANDS},
               "by_height": {f"low (< {LOW_HEIGHT_M:g} m)": [r for r in counted if r["low"]],
-                            f"{LOW_HEIGHT_M:g} m and up": [r for r in counted if not r["low"]]}}
+                            f"{LOW_HEIGHT_M:g} m and up": [r for r in counted if not r["low"]]},
+              "by_look": {look: [r for r in counted if look_group(r) == look]
+                          for look in sorted({look_group(r) for r in counted})}}
     by_route = {}
     for route in routes:
         by_route[route] = {"determinable": route_figures(counted, route),
@@ -376,7 +389,7 @@ def summary_table(report: dict) -> str:
                  f"{'truth ok':>8}")
     for route, figures in report["by_route"].items():
         groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
-                  "not determinable": figures["not_determinable"]}
+                  **figures.get("by_look", {}), "not determinable": figures["not_determinable"]}
         for name, f in groups.items():
             pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}")
                    for o in ("found", "wrong", "wrong_twin", "near", "none", "found_or_twin")]

@@ -12,9 +12,9 @@ from broadtrack_graph.benchmarks import placement_frames, random_placements
 from broadtrack_graph.benchmarks.placement_frames import RANDOM_STREAM
 from broadtrack_graph.benchmarks.random_cameras import STANDS, draw_random_camera
 from broadtrack_graph.benchmarks.random_placements import outcome, twin_outcome
-from broadtrack_graph.reinit.court_fit import twin_camera
 from broadtrack_graph.cli import main
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit.court_fit import twin_camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.config import TrackingConfig
 
@@ -44,8 +44,11 @@ def test_two_frames_end_to_end_with_the_search(tmp_path, capsys):
         assert {"outcome", "confidence", "error_px", "seconds", "reason"} <= set(row["routes"]["search"])
     assert report["determinable"] + report["not_determinable"] == 2
     figures = report["by_route"]["search"]
-    assert set(figures) == {"determinable", "by_stand", "by_height", "not_determinable"}
+    assert set(figures) == {"determinable", "by_stand", "by_height", "by_look", "not_determinable"}
     assert set(figures["by_stand"]) == set(STANDS)
+    looks = {row["look"] for row in rows if row["determinable"]}
+    assert set(figures["by_look"]) == looks
+    assert sum(group["frames"] for group in figures["by_look"].values()) == report["determinable"]
     assert figures["determinable"]["frames"] == report["determinable"]
     assert sum(figures["determinable"][o] for o in ("found", "near", "wrong", "none")) == report["determinable"]
     found = [row for row in rows if row["routes"]["search"]["outcome"] == "found"]
@@ -139,6 +142,22 @@ def test_route_figures_count_the_twins_with_the_found_and_apart_from_the_wrong()
     shares = (figures["found_or_twin_pct"], figures["wrong_not_twin_pct"], figures["wrong_twin_pct"])
     assert shares == (40.0, 20.0, 20.0)
     assert route_figures([], "court")["found_or_twin_pct"] is None
+
+
+def test_the_plain_renderers_frames_are_counted_by_whether_their_look_smears_them():
+    def row(look, motion_blur_px=None):
+        out = {"look": look, "determinable": True, "class": STANDS[0], "low": False, "render_s": 0.1,
+               "detect_s": 0.1, "routes": {"court": {"outcome": "found", "seconds": 0.1}}, "truth_written": True}
+        if motion_blur_px is not None:
+            out["plain_look"] = {"motion_blur_px": motion_blur_px}
+        return out
+
+    rows = [row("clean"), row("blur"), row("clean"), row("plain", 0.0), row("plain", 12.5), row("plain", 0.0)]
+    assert [random_placements.look_group(r) for r in rows] == ["clean", "blur", "clean", "plain, sharp",
+                                                              "plain, motion blur", "plain, sharp"]
+    by_look = random_placements.summarise(rows, ["court"])["by_route"]["court"]["by_look"]
+    assert {look: figures["frames"] for look, figures in by_look.items()} == {
+        "blur": 1, "clean": 2, "plain, motion blur": 1, "plain, sharp": 2}
 
 
 def test_each_miss_has_one_cause_and_the_reachable_frames_are_counted_apart():
