@@ -29,9 +29,8 @@ import time
 
 import numpy as np
 
+from broadtrack_graph.benchmarks.placement_figures import OUTCOMES
 from broadtrack_graph.benchmarks.random_placements import WRONG_PX, outcome
-
-OUTCOMES = ("found", "near", "wrong", "none")
 
 
 def annotation_marking_map(lines_norm: dict, width_px: int, height_px: int, pitch) -> tuple[np.ndarray, np.ndarray]:

@@ -30,12 +30,13 @@ a new shot's chain needs to be written; the court route: at least the bar the tr
 ``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell apart);
 **near-written** = written, between the two off the truth or its twin; **none** = not written. Shares are of the
 counted frames, overall, by where the camera stands (main stand, far side, behind a goal, corner), by height
-(low: under 12 m) and by look (:func:`look_group`: the plain renderer's frames sharp or smeared); seconds per frame
-as median and 95th percentile. ``markings_detected`` counts the frames whose detected markings, read on the true
-camera's projection, still determine it (the same rule on the marking map: what detection leaves a route);
-``truth_written`` the frames whose true camera is itself confident enough to be written
-by the route (no route can write more; the court route's bar is the one its camera would be taken at with the
-markings the true camera explains on the map); ``markings_visible`` the frames whose markings, kept only where the
+(low: under 12 m) and by look (:func:`~.placement_figures.look_group`: the plain renderer's frames sharp or
+smeared); seconds per frame as median and 95th percentile (the figures: :mod:`.placement_figures`).
+``markings_detected`` counts the frames whose detected markings, read on the true camera's projection, still
+determine it (the same rule on the marking map: what detection leaves a route); ``truth_written`` the frames
+whose true camera is itself confident enough to be written by the route (no route can write more; the court route's
+bar is the one its camera would be taken at with the markings the true camera explains on the map);
+``markings_visible`` the frames whose markings, kept only where the
 paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
 (``placement_frames.visible_paint``), still determine the camera (faint, narrow paint rendered small can vanish into
 the grass: no detector can find what is not in the image). ``paint_found_by_width``: per look, the true cameras'
@@ -60,22 +61,18 @@ import time
 
 import numpy as np
 
+from broadtrack_graph.benchmarks.placement_figures import summarise, summary_table
 from broadtrack_graph.benchmarks.placement_found import (
     PAINT_WIDTH_BINS_PX,
     SMEARED_CONTRAST_BINS,
     TOPHAT_CONTRAST_BINS,
-    found_by_tophat_contrast,
     marking_contrast,
-    paint_found_by_width,
-    smear_found_by_contrast,
 )
 from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
-from broadtrack_graph.benchmarks.placement_misses import MISS_CAUSES, miss_cause, truth_written
 
 ROUTES = ("tracker", "search", "court")
 WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
-OUTCOMES = ("found", "near", "wrong", "none")
 
 
 def add_arguments(parser) -> None:
@@ -298,110 +295,3 @@ def _round(value, digits: int):
     """value rounded; None for None and for a non-finite value (JSON has no inf: an error of inf is a camera that
     puts every marking behind it, and its outcome is decided before rounding)."""
     return None if value is None or not math.isfinite(float(value)) else round(float(value), digits)
-
-
-def _seconds(values) -> dict:
-    values = np.asarray(values, float)
-    if not len(values):
-        return {"median": None, "p95": None}
-    return {"median": round(float(np.median(values)), 3), "p95": round(float(np.percentile(values, 95)), 3)}
-
-
-def route_figures(rows: list[dict], route: str) -> dict:
-    """Counts and shares (% of the rows) of each outcome of a route, wrong twins (and found or twin, wrong but not a
-    twin), frames whose true camera is confident enough to be written (what a route can reach at most), and the
-    route's seconds per frame."""
-    results = [row["routes"][route] for row in rows]
-    n = len(results)
-    out: dict = {"frames": n}
-    for name in OUTCOMES:
-        k = sum(r["outcome"] == name for r in results)
-        out[name], out[f"{name}_pct"] = k, round(100.0 * k / n, 1) if n else None
-    twins = [r["outcome"] == "wrong" and bool(r.get("twin")) for r in results]
-    out["wrong_twin"] = sum(twins)
-    # Found or its twin: what SoccerNet's own metric scores as right (it keeps the mirrored labelling of a frame);
-    # and the wrong cameras that are not twins (a camera near the twin is near: twin_outcome).
-    out["found_or_twin"] = out["found"] + out["wrong_twin"]
-    out["wrong_not_twin"] = out["wrong"] - out["wrong_twin"]
-    for name in ("wrong_twin", "found_or_twin", "wrong_not_twin"):
-        out[f"{name}_pct"] = round(100.0 * out[name] / n, 1) if n else None
-    written = [truth_written(row, route) for row in rows]
-    out["truth_written"] = sum(written)
-    out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
-    out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
-    right = [r["outcome"] == "found" or twin for r, twin in zip(results, twins)]
-    # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written.
-    reachable = [bool(row.get("markings_detected")) and can for row, can in zip(rows, written)]
-    out["reachable"] = sum(reachable)
-    out["found_or_twin_of_reachable_pct"] = round(100.0 * sum(
-        ok for ok, can in zip(right, reachable) if can) / out["reachable"], 1) if out["reachable"] else None
-    out["misses_by_cause"] = dict.fromkeys(MISS_CAUSES, 0)
-    for row, ok in zip(rows, right):
-        if not ok:
-            out["misses_by_cause"][miss_cause(row, route)] += 1
-    out["seconds"] = _seconds([r["seconds"] for r in results])
-    return out
-
-
-def look_group(row: dict) -> str:
-    """The look a frame is counted under (``by_look``): the synthetic renderer's named look; the plain renderer's
-    frames by whether their look smears them (``plain, motion blur``: a motion blur drawn, else ``plain, sharp``)."""
-    plain = row.get("plain_look")
-    if plain is not None:
-        return "plain, motion blur" if plain.get("motion_blur_px", 0.0) > 0 else "plain, sharp"
-    return row["look"]
-
-
-def summarise(rows: list[dict], routes: list[str]) -> dict:
-    """The report's figures: counted frames per route overall, by stand, by height and by look; uncounted frames
-    apart."""
-    from broadtrack_graph.benchmarks.random_cameras import LOW_HEIGHT_M, STANDS
-
-    counted = [row for row in rows if row["determinable"]]
-    apart = [row for row in rows if not row["determinable"]]
-    groups = {"by_stand": {stand: [r for r in counted if r["class"] == stand] for stand in STANDS},
-              "by_height": {f"low (< {LOW_HEIGHT_M:g} m)": [r for r in counted if r["low"]],
-                            f"{LOW_HEIGHT_M:g} m and up": [r for r in counted if not r["low"]]},
-              "by_look": {look: [r for r in counted if look_group(r) == look]
-                          for look in sorted({look_group(r) for r in counted})}}
-    by_route = {}
-    for route in routes:
-        by_route[route] = {"determinable": route_figures(counted, route),
-                           **{name: {key: route_figures(members, route) for key, members in group.items()}
-                              for name, group in groups.items()},
-                           "not_determinable": route_figures(apart, route)}
-    return {"determinable": len(counted), "not_determinable": len(apart),
-            "not_determinable_by_stand": {stand: sum(r["class"] == stand for r in apart) for stand in STANDS},
-            "render_s": _seconds([row["render_s"] for row in rows]),
-            "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route,
-            "paint_found_by_width": paint_found_by_width(rows),
-            "found_by_tophat_contrast": found_by_tophat_contrast(rows),
-            "smear_found_by_contrast": smear_found_by_contrast(rows)}
-
-
-def summary_table(report: dict) -> str:
-    """A few lines for a human (stderr): per route and group, the shares of the counted frames and the seconds."""
-    lines = [f"{report['frames']} frames ({report.get('renderer', 'synth')} renderer), {report['determinable']} "
-             f"determinable ({report['not_determinable']} apart); render {report['render_s']['median']} s, detect "
-             f"{report['detect_s']['median']} s median"]
-    lines.append(f"{'route':<7} {'group':<18} {'frames':>6} {'found%':>7} {'wrong%':>7} {'twin%':>6} {'near%':>6} "
-                 f"{'none%':>6} {'f+twin%':>7} {'s med':>6} {'s p95':>6} {'visible':>7} {'marks ok':>8} "
-                 f"{'truth ok':>8}")
-    for route, figures in report["by_route"].items():
-        groups = {"all": figures["determinable"], **figures["by_stand"], **figures["by_height"],
-                  **figures.get("by_look", {}), "not determinable": figures["not_determinable"]}
-        for name, f in groups.items():
-            pct = [("-" if f[f"{o}_pct"] is None else f"{f[f'{o}_pct']:.1f}")
-                   for o in ("found", "wrong", "wrong_twin", "near", "none", "found_or_twin")]
-            seconds = [("-" if f["seconds"][k] is None else f"{f['seconds'][k]:.2f}") for k in ("median", "p95")]
-            lines.append(f"{route:<7} {name:<18} {f['frames']:>6} {pct[0]:>7} {pct[1]:>7} {pct[2]:>6} {pct[3]:>6} "
-                         f"{pct[4]:>6} {pct[5]:>7} {seconds[0]:>6} {seconds[1]:>6} {f['markings_visible']:>7} "
-                         f"{f['markings_detected']:>8} "
-                         f"{f['truth_written']:>8}")
-        f = figures["determinable"]
-        causes = ", ".join(f"{MISS_CAUSES[cause]} {count}" for cause, count in f["misses_by_cause"].items())
-        lines.append(f"{route:<7} determinable misses by cause: {causes}; found or twin of the {f['reachable']} "
-                     f"reachable (markings fix the truth, truth written): {f['found_or_twin_of_reachable_pct']} %")
-    for note in report["skipped_routes"].values():
-        lines.append(note)
-    return "\n".join(lines)
