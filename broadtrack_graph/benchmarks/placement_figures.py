@@ -10,6 +10,7 @@ import numpy as np
 from broadtrack_graph.benchmarks.placement_found import (
     found_by_tophat_contrast,
     paint_found_by_width,
+    smear_estimates,
     smear_found_by_contrast,
 )
 from broadtrack_graph.benchmarks.placement_misses import MISS_CAUSES, miss_cause, truth_written
@@ -70,9 +71,10 @@ def look_group(row: dict) -> str:
     return row["look"]
 
 
-def summarise(rows: list[dict], routes: list[str]) -> dict:
+def summarise(rows: list[dict], routes: list[str], width_px: int | None = None) -> dict:
     """The report's figures: counted frames per route overall, by stand, by height and by look; uncounted frames
-    apart."""
+    apart; with the frames' width, the plain renderer's smears against the detector's reading of them
+    (:func:`~.placement_found.smear_estimates`)."""
     from broadtrack_graph.benchmarks.random_cameras import LOW_HEIGHT_M, STANDS
 
     counted = [row for row in rows if row["determinable"]]
@@ -94,7 +96,8 @@ def summarise(rows: list[dict], routes: list[str]) -> dict:
             "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route,
             "paint_found_by_width": paint_found_by_width(rows),
             "found_by_tophat_contrast": found_by_tophat_contrast(rows),
-            "smear_found_by_contrast": smear_found_by_contrast(rows)}
+            "smear_found_by_contrast": smear_found_by_contrast(rows),
+            "smear_estimates": smear_estimates(rows, width_px) if width_px else {}}
 
 
 def summary_table(report: dict) -> str:
@@ -120,6 +123,12 @@ def summary_table(report: dict) -> str:
         causes = ", ".join(f"{MISS_CAUSES[cause]} {count}" for cause, count in f["misses_by_cause"].items())
         lines.append(f"{route:<7} determinable misses by cause: {causes}; found or twin of the {f['reachable']} "
                      f"reachable (markings fix the truth, truth written): {f['found_or_twin_of_reachable_pct']} %")
+    smears = report.get("smear_estimates")
+    if smears:
+        long, short, sharp = smears["long"], smears["short"], smears["sharp"]
+        lines.append(f"smears drawn long enough to read: {long['frames']}, read as drawn {long['as_drawn']}, otherwise "
+                     f"{long['otherwise']}, not read {long['not_read']}; read smeared: {short['read_smeared']} of "
+                     f"{short['frames']} shorter, {sharp['read_smeared']} of {sharp['frames']} sharp")
     for note in report["skipped_routes"].values():
         lines.append(note)
     return "\n".join(lines)

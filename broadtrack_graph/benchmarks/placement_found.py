@@ -18,6 +18,10 @@ SMEARED_CONTRAST_BINS = (0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, floa
 """Bins of the share of contrast a frame's motion blur leaves a marking (``reinit.confidence.smeared_contrast``)."""
 TOPHAT_CONTRAST_BINS = (0.0, 4.0, 8.0, 11.0, 14.0, 20.0, 40.0, float("inf"))
 """Bins of a marking's contrast on the detector's top-hat (grey levels over the ground around it, working image)."""
+SMEAR_ANGLE_TOLERANCE_DEG = 5.0
+SMEAR_LENGTH_TOLERANCE_PX = 2.0
+"""A smear the detector reads is the one drawn when its direction is within the first (degrees) and its length within
+the second (pixels at the detector's working width) of the drawn one's."""
 
 
 def marking_contrast(detector, image_bgr: np.ndarray) -> np.ndarray:
@@ -60,3 +64,41 @@ def _found_shares(counts: list[dict], bins, key: str) -> list[dict]:
     samples, found = np.sum([c["samples"] for c in counts], axis=0), np.sum([c["found"] for c in counts], axis=0)
     return [{key: f"{lo:g}-{hi:g}", "samples": int(n), "found_share": round(float(k) / n, 3) if n else None}
             for lo, hi, n, k in zip(bins[:-1], bins[1:], samples, found)]
+
+
+def smear_estimates(rows: list[dict], width_px: int) -> dict:
+    """How the detector's motion blur (``detect.motion_blur.estimate_motion_blur``; a row's ``smear``: its length in
+    frame pixels and direction) compares with the smear the plain renderer drew (its ``plain_look``): of the frames
+    drawn with a smear at least the estimator's least length (``MotionBlurConfig.min_length_px``, at the working
+    width), those read as drawn (:data:`SMEAR_ANGLE_TOLERANCE_DEG`, :data:`SMEAR_LENGTH_TOLERANCE_PX`), read otherwise
+    and not read; of the shorter ones and of the sharp ones, those read smeared. Empty without plain rows.
+
+    The renderer turns its kernel by ``motion_angle_deg`` with OpenCV's rotation (anticlockwise as the image is shown,
+    y down): its direction in the detector's convention (degrees from +x towards +y) is ``-motion_angle_deg``.
+    """
+    from broadtrack_graph.detect.motion_blur import MotionBlurConfig
+    from broadtrack_graph.detect.weightfree import REFERENCE_WIDTH_PX
+
+    plain = [row for row in rows if "plain_look" in row]
+    if not plain:
+        return {}
+    to_frame = width_px / REFERENCE_WIDTH_PX
+    least = MotionBlurConfig().min_length_px * to_frame
+    out = {"long": {"frames": 0, "as_drawn": 0, "otherwise": 0, "not_read": 0},
+           "short": {"frames": 0, "read_smeared": 0}, "sharp": {"frames": 0, "read_smeared": 0}}
+    for row in plain:
+        drawn_px = float(row["plain_look"].get("motion_blur_px", 0.0))
+        read = row.get("smear")
+        group = "sharp" if drawn_px <= 1 else ("long" if drawn_px >= least else "short")
+        out[group]["frames"] += 1
+        if group != "long":
+            out[group]["read_smeared"] += read is not None
+        elif read is None:
+            out[group]["not_read"] += 1
+        else:
+            drawn_deg = -float(row["plain_look"]["motion_angle_deg"])
+            off_deg = abs((read["angle_deg"] - drawn_deg + 90.0) % 180.0 - 90.0)
+            close = off_deg <= SMEAR_ANGLE_TOLERANCE_DEG and \
+                abs(read["length_px"] - drawn_px) <= SMEAR_LENGTH_TOLERANCE_PX * to_frame
+            out[group]["as_drawn" if close else "otherwise"] += 1
+    return out

@@ -47,9 +47,11 @@ sample's paint on the detector's top-hat (:data:`~.placement_found.TOPHAT_CONTRA
 are thresholded at ``tophat_threshold`` or the grass texture's level, :mod:`.placement_found`).
 ``smear_found_by_contrast``: the same on the frames the detector finds
 smeared, pooled, by the share of contrast the smear leaves each marking (:data:`SMEARED_CONTRAST_BINS`,
-``reinit.template_reach.found_by_smeared_contrast``). ``misses_by_cause``: each counted frame a route neither finds nor
-twins, by the first of :data:`~.placement_misses.MISS_CAUSES` that applies; with ``found_or_twin_of_reachable_pct``,
-the share found or twin of the frames the route can reach (detected markings fix the truth, the truth written).
+``reinit.template_reach.found_by_smeared_contrast``). ``smear_estimates`` (the plain renderer's frames): its
+smears against the detector's reading of them (:func:`~.placement_found.smear_estimates`). ``misses_by_cause``:
+each counted frame a route neither finds nor twins, by the first of :data:`~.placement_misses.MISS_CAUSES` that
+applies; with ``found_or_twin_of_reachable_pct``, the share found or twin of the frames the route can reach
+(detected markings fix the truth, the truth written).
 Frame i of a seed is the same in every run (``--first K`` starts at frame K).
 """
 
@@ -239,6 +241,8 @@ def run(args) -> dict:
                     truth, detections.marking_mask, detections.motion_blur, np.array(SMEARED_CONTRAST_BINS), curves,
                     field_mask=detections.field_mask, player_mask=detections.player_mask)
                 row["smear_found"] = {"samples": smear_samples.tolist(), "found": smear_found.tolist()}
+                row["smear"] = {"length_px": round(detections.motion_blur.length_px, 2),
+                                "angle_deg": round(detections.motion_blur.angle_deg, 1)}
             if args.renderer == "plain":  # its look drawn per frame: blur, noise, compression (synth.plain)
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
@@ -286,7 +290,7 @@ def run(args) -> dict:
               "written_confidence": {route: round(written_at_by_route[route], 3) for route in routes},
               "success_px": args.success_px, "wrong_px": WRONG_PX,
               "rule": {"min_line_px": MIN_LINE_PX, "min_curve_share": MIN_CURVE_SHARE},
-              **summarise(rows, routes), "frames_by_index": rows}
+              **summarise(rows, routes, W), "frames_by_index": rows}
     print(summary_table(report), file=sys.stderr)
     return report
 

@@ -9,7 +9,9 @@ from broadtrack_graph.benchmarks.placement_found import (
     found_by_tophat_contrast,
     marking_contrast,
     paint_found_by_width,
+    smear_estimates,
 )
+from broadtrack_graph.benchmarks.placement_frames import draw_frame
 from broadtrack_graph.detect.weightfree import WeightFreeDetector
 
 
@@ -42,3 +44,33 @@ def test_the_tallies_are_pooled_per_look_and_bin():
     assert table["blur"][0]["found_share"] is None  # no samples
     assert paint_found_by_width(rows) == {}  # no row holds that tally
     assert len(PAINT_WIDTH_BINS_PX) == 9
+
+
+def test_the_smears_read_are_counted_against_the_smears_drawn():
+    def row(drawn_px, angle_deg=0.0, read=None):
+        out = {"plain_look": {"motion_blur_px": drawn_px, "motion_angle_deg": angle_deg}}
+        if read is not None:
+            out["smear"] = {"length_px": read[0], "angle_deg": read[1]}
+        return out
+
+    # at 1920 px the estimator's least length (9 px at 960) is 18 px, the length tolerance 4 px
+    rows = [row(24, 30.0, (25.0, 152.0)),  # drawn at -30 deg: read as drawn (2 deg, 1 px off)
+            row(24, 30.0, (24.0, 30.0)),  # the mirror direction: read otherwise
+            row(30, 90.0, (20.0, 90.0)),  # 10 px short: otherwise
+            row(20, 10.0),  # not read
+            row(12, 0.0, (12.0, 0.0)),  # shorter than the estimator reads: read smeared
+            row(0), row(0, read=(20.0, 45.0)), {"look": "clean"}]
+    assert smear_estimates(rows, 1920) == {"long": {"frames": 4, "as_drawn": 1, "otherwise": 2, "not_read": 1},
+                                           "short": {"frames": 1, "read_smeared": 1},
+                                           "sharp": {"frames": 2, "read_smeared": 1}}
+    assert smear_estimates([{"look": "clean"}], 1920) == {}
+
+
+def test_a_smear_the_plain_renderer_draws_is_read_in_its_direction():
+    # Frame 70 of seed 3 (plain): a motion blur of 24 px at 1280 px, which the estimator reads
+    frame = draw_frame(3, 70, 1280, 720, ["clean"], "plain")
+    blur = WeightFreeDetector().detect(frame["image"]).motion_blur
+    look = frame["look"]
+    row = {"plain_look": {"motion_blur_px": look.motion_blur_px, "motion_angle_deg": look.motion_angle_deg},
+           "smear": {"length_px": blur.length_px, "angle_deg": blur.angle_deg}}
+    assert look.motion_blur_px >= 20 and smear_estimates([row], 1280)["long"]["as_drawn"] == 1
