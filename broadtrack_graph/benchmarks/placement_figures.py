@@ -64,10 +64,11 @@ def route_figures(rows: list[dict], route: str) -> dict:
 
 def look_group(row: dict) -> str:
     """The look a frame is counted under (``by_look``): the synthetic renderer's named look; the plain renderer's
-    frames by whether their look smears them (``plain, motion blur``: a motion blur drawn, else ``plain, sharp``)."""
+    frames by whether their look smears them (``plain, motion blur``: a motion blur drawn, over a pixel long; else
+    ``plain, sharp``)."""
     plain = row.get("plain_look")
     if plain is not None:
-        return "plain, motion blur" if plain.get("motion_blur_px", 0.0) > 0 else "plain, sharp"
+        return "plain, motion blur" if plain.get("motion_blur_px", 0.0) > 1 else "plain, sharp"
     return row["look"]
 
 
