@@ -182,7 +182,7 @@ class MapScorer:
                 precision = np.mean(ok & (du * du + dv * dv < tol2), axis=1)
             else:
                 precision = np.ones_like(recall)
-            out[s:s + chunk] = _chunk_costs(precision, recall, inside, thin, b2)
+            out[s:s + chunk] = _chunk_costs(precision, recall, inside.sum(axis=1), thin, b2)
         return out
 
 
@@ -200,14 +200,14 @@ class MapScorer:
                 the precision only of those whose recall alone (with a precision of 1) could score among the best
                 read so far; the others' costs are inf (None: every cost).
         """
-        recall, inside = self._plane_recalls(H_px, sign, px_per_m_at_unit, hit_px, chunk, thin)
+        recall, shown = self._plane_recalls(H_px, sign, px_per_m_at_unit, hit_px, chunk, thin)
         b2 = self.config.score_beta ** 2
         out = np.full(len(H_px), np.inf)
         if best is None or best >= len(H_px):
             order, bounds = np.arange(len(H_px)), None
         else:
             # F_beta rises with the precision: at a precision of 1 it bounds the score from above.
-            bounds = -_chunk_costs(np.ones_like(recall), recall, inside, thin, b2)
+            bounds = -_chunk_costs(np.ones_like(recall), recall, shown, thin, b2)
             order = np.argsort(-bounds, kind="stable")
             order = order[np.isfinite(bounds[order])]
         step = chunk if bounds is None else max(1, min(chunk, best))  # the bound is asked again after each step
@@ -219,12 +219,12 @@ class MapScorer:
                     break
             k = order[s:s + step]
             precision = self._plane_precisions(H_px[k], sign[k], point_px, thin)
-            out[k] = _chunk_costs(precision, recall[k], inside[k], thin, b2)
+            out[k] = _chunk_costs(precision, recall[k], shown[k], thin, b2)
         return out
 
     def _plane_recalls(self, H_px, sign, px_per_m_at_unit, hit_px: float, chunk: int, thin: int):
-        """(K,) recall of each homography's template in the map (:meth:`plane_costs`), and (K, S) whether each
-        template sample lands in the image."""
+        """(K,) recall of each homography's template in the map (:meth:`plane_costs`), and (K,) how many of its
+        template samples land in the image (the recalls read chunk by chunk: no (K, S) array is kept)."""
         dt, scale, config = self.dt, self.scale, self.config
         h, w = dt.shape
         dt_flat = dt.ravel()
@@ -232,7 +232,7 @@ class MapScorer:
         x, y = samples[:, 0], samples[:, 1]  # (S,) ground samples (metres)
         samples_h = np.vstack([x, y, np.ones_like(x)])  # (3, S)
         recall = np.zeros(len(H_px))
-        inside_all = np.zeros((len(H_px), len(x)), bool)
+        shown = np.zeros(len(H_px), int)
         for s in range(0, len(H_px), chunk):
             Hk, sg = H_px[s:s + chunk], sign[s:s + chunk, None]
             k = len(Hk)
@@ -251,8 +251,8 @@ class MapScorer:
             d = np.take(dt_flat, index)
             recall[s:s + chunk] = np.sum(length * (d <= hit_px), axis=1) / np.maximum(
                 np.sum(length, axis=1), config.score_min_template_px)
-            inside_all[s:s + chunk] = inside
-        return recall, inside_all
+            shown[s:s + chunk] = inside.sum(axis=1)
+        return recall, shown
 
     def _plane_precisions(self, Hk: np.ndarray, sign: np.ndarray, point_px: float, thin: int) -> np.ndarray:
         """(k,) precision of each homography (:meth:`plane_costs`): the share of the marking points that meet the
@@ -283,13 +283,13 @@ class MapScorer:
         return np.mean(ok & (du * du + dv * dv < tol2), axis=1)
 
 
-def _chunk_costs(precision: np.ndarray, recall: np.ndarray, inside: np.ndarray, thin: int, beta2: float) -> np.ndarray:
+def _chunk_costs(precision: np.ndarray, recall: np.ndarray, shown: np.ndarray, thin: int, beta2: float) -> np.ndarray:
     """(k,) costs -F_beta of precision and recall (k,) (0 where both are 0; beta2 is beta squared), inf for a camera
-    with too few template samples in the image (inside: (k, S) bool)."""
+    with too few template samples in the image (shown: (k,) how many land in it)."""
     with np.errstate(invalid="ignore", divide="ignore"):
         score = np.where(precision + recall > 0, (1 + beta2) * precision * recall / (beta2 * precision + recall), 0.0)
     cost = -score
-    cost[inside.sum(axis=1) < max(4, 8 // thin)] = np.inf
+    cost[shown < max(4, 8 // thin)] = np.inf
     return cost
 
 
