@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from broadtrack_graph.benchmarks.placement_found import (
+    SHARP_SMEAR_PX,
     found_by_tophat_contrast,
     paint_found_by_width,
     smear_estimates,
@@ -65,10 +66,10 @@ def route_figures(rows: list[dict], route: str) -> dict:
 def look_group(row: dict) -> str:
     """The look a frame is counted under (``by_look``): the synthetic renderer's named look; the plain renderer's
     frames by whether their look smears them (``plain, motion blur``: a motion blur drawn, over a pixel long; else
-    ``plain, sharp``)."""
+    ``plain, sharp``; :data:`~.placement_found.SHARP_SMEAR_PX`)."""
     plain = row.get("plain_look")
     if plain is not None:
-        return "plain, motion blur" if plain.get("motion_blur_px", 0.0) > 1 else "plain, sharp"
+        return "plain, motion blur" if plain.get("motion_blur_px", 0.0) > SHARP_SMEAR_PX else "plain, sharp"
     return row["look"]
 
 

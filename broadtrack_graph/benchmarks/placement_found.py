@@ -18,6 +18,8 @@ SMEARED_CONTRAST_BINS = (0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, floa
 """Bins of the share of contrast a frame's motion blur leaves a marking (``reinit.confidence.smeared_contrast``)."""
 TOPHAT_CONTRAST_BINS = (0.0, 4.0, 8.0, 11.0, 14.0, 20.0, 40.0, float("inf"))
 """Bins of a marking's contrast on the detector's top-hat (grey levels over the ground around it, working image)."""
+SHARP_SMEAR_PX = 1.0
+"""A frame the plain renderer drew with a motion blur this long or shorter (frame pixels) counts as sharp."""
 SMEAR_ANGLE_TOLERANCE_DEG = 5.0
 SMEAR_LENGTH_TOLERANCE_PX = 2.0
 """A smear the detector reads is the one drawn when its direction is within the first (degrees) and its length within
@@ -89,7 +91,7 @@ def smear_estimates(rows: list[dict], width_px: int) -> dict:
     for row in plain:
         drawn_px = float(row["plain_look"].get("motion_blur_px", 0.0))
         read = row.get("smear")
-        group = "sharp" if drawn_px <= 1 else ("long" if drawn_px >= least else "short")
+        group = "sharp" if drawn_px <= SHARP_SMEAR_PX else ("long" if drawn_px >= least else "short")
         out[group]["frames"] += 1
         if group != "long":
             out[group]["read_smeared"] += read is not None
