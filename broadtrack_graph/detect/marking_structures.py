@@ -87,8 +87,8 @@ def _at_most_width(marking_mask: np.ndarray, width_px: int) -> np.ndarray:
     return cv2.resize(marking_mask.astype(np.uint8) * 255, (width_px, h_new), interpolation=cv2.INTER_AREA) > 0
 
 
-def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig()
-                  ) -> list[ImageLine]:
+def marking_lines(marking_mask: np.ndarray, frame_width_px: int,
+                  config: MarkingStructureConfig = MarkingStructureConfig()) -> list[ImageLine]:
     """Straight markings of the map by a greedy Hough transform: take the strongest line, remove its pixels, repeat.
 
     Removing each line's pixels before looking for the next keeps one long marking from
@@ -108,26 +108,38 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
     h, w = marking_mask.shape
     unit = w / 960.0
     min_support = max(10.0, config.line_min_support_px * unit)
-    ys, xs = np.nonzero(marking_mask)
-    if len(xs) < min_support:
+    # The map's pixels in row order (x, y), as np.nonzero gives them.
+    found = cv2.findNonZero(np.ascontiguousarray(marking_mask, dtype=bool).view(np.uint8))
+    if found is None or len(found) < min_support:
         return []
-    pix = np.column_stack([xs, ys]).astype(np.float32) - np.float32([w / 2.0, h / 2.0])
+    pix = found.reshape(-1, 2).astype(np.float32) - np.float32([w / 2.0, h / 2.0])
     theta_bins = 180
     thetas = np.arange(theta_bins) * (math.pi / theta_bins)
     cs, sn = np.cos(thetas).astype(np.float32), np.sin(thetas).astype(np.float32)
     r_max = int(math.ceil(math.hypot(w, h) / 2)) + 2
     n_r = 2 * r_max + 1
-    offsets = (n_r * np.arange(theta_bins)).astype(np.int64)
+    # Each (theta, rho) bin's index in the flat accumulator, less the pixel's rounded rho: whole numbers under 2^24,
+    # exact in float32.
+    bin_shift = (n_r * np.arange(theta_bins) + r_max).astype(np.float32)
 
     def votes(points):
-        r = np.rint(points[:, :1] * cs + points[:, 1:] * sn).astype(np.int64) + r_max
-        acc = np.bincount((r + offsets).ravel(), minlength=n_r * theta_bins).astype(np.int32)
-        smooth = acc.copy()  # a 3-bin window across rho: lines a pixel off the bin centre still collect all votes
-        smooth[1:] += acc[:-1]
-        smooth[:-1] += acc[1:]
-        return smooth
+        # (M, 180) rho of each pixel at each theta (float32), rounded and moved to its bin: the pixels' votes.
+        r = points[:, :1] * cs
+        r += points[:, 1:] * sn
+        np.rint(r, out=r)
+        r += bin_shift
+        return np.bincount(r.astype(np.intp).ravel(), minlength=n_r * theta_bins)
 
-    acc = votes(pix)  # pix holds the pixels no line has taken yet (in their order: each line's are dropped)
+    def spread(counts, into, combine):
+        # A 3-bin window across rho combined into ``into`` (np.add or np.subtract): lines a pixel off the bin centre
+        # still collect all votes (rho never reaches the ends of its theta's bins: no vote spills into the next's).
+        counts = counts.astype(np.int32)
+        combine(into, counts, out=into)
+        combine(into[1:], counts[:-1], out=into[1:])
+        combine(into[:-1], counts[1:], out=into[:-1])
+
+    acc = np.zeros(n_r * theta_bins, np.int32)  # the pixels no line has taken yet (pix, in their order)
+    spread(votes(pix), acc, np.add)
     band = config.line_band_px * unit
     scale = frame_width_px / w
     lines: list[ImageLine] = []
@@ -149,7 +161,7 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
             normal = vt[1]
             near = near | (np.abs((pix - centre) @ normal) < band)
         taken, pix = pix[near], pix[~near]
-        acc -= votes(taken)
+        spread(votes(taken), acc, np.subtract)
         direction = np.array([-normal[1], normal[0]])
         # Pieces of the line: runs of pixels along it without gaps; specks (short runs) do not count.
         along = np.sort((taken - centre) @ direction)
@@ -158,7 +170,8 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
         support = sum(len(run) for run in runs)
         if support < min_support:
             continue
-        lo, hi = np.percentile(np.concatenate(runs), [10.0, 90.0])  # stray runs at the ends do not count
+        kept = np.concatenate(runs)  # sorted, as along is
+        lo, hi = _sorted_percentile(kept, 0.1), _sorted_percentile(kept, 0.9)  # stray runs at the ends do not count
         centre_px = (centre + [w / 2.0, h / 2.0]) * scale
         lines.append(ImageLine(normal, float(-normal @ centre_px), centre_px, direction,
                                (float(lo * scale), float(hi * scale)), float(support * scale)))
@@ -169,6 +182,20 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int, config: Marking
         kept = [line for line, out in zip(lines, crowded) if not out]
         lines = sorted(kept, key=lambda line: -line.support_px)[:config.max_lines]
     return lines
+
+
+def _sorted_percentile(values: np.ndarray, share: float) -> float:
+    """The ``share`` (0-1) quantile of a non-empty sorted float array by linear interpolation: the number
+    ``np.percentile(values, 100 * share)`` gives (its steps, without its general machinery: the two neighbours'
+    difference in the array's precision, the interpolation in float64)."""
+    at = (len(values) - 1) * share
+    if at >= len(values) - 1:
+        return float(values[-1])
+    below = math.floor(at)
+    weight = at - below
+    a, b = values[below], values[below + 1]
+    step = float(b - a)
+    return float(b) - step * (1 - weight) if weight >= 0.5 else float(a) + step * weight
 
 
 def hatched(lines: list[ImageLine], width_px: float, rule: HatchRule = HatchRule()) -> np.ndarray:
@@ -220,8 +247,9 @@ class ImageEllipse:
         return np.column_stack([self.centre_px[0] + c * x - s * y, self.centre_px[1] + s * x + c * y])
 
 
-def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int, config: MarkingStructureConfig = MarkingStructureConfig(),
-                     at_border: bool = False, lines: list[ImageLine] = ()) -> list[ImageEllipse]:
+def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int,
+                     config: MarkingStructureConfig = MarkingStructureConfig(), at_border: bool = False,
+                     lines: list[ImageLine] = ()) -> list[ImageEllipse]:
     """Ellipses through pieces of the marking map: the image of a pitch circle (centre circle, penalty arcs).
 
     Connected pieces of the map are fitted in pairs (and the long ones alone) with an ellipse;
@@ -266,7 +294,8 @@ def marking_ellipses_both(marking_mask: np.ndarray, frame_width_px: int,
             continue
         (cx, cy), (d1, d2), angle_deg = cv2.fitEllipse(sample)
         a, b = max(d1, d2) / 2.0, min(d1, d2) / 2.0
-        if not (np.isfinite(a) and b > 1.0 and 0.03 * w < a < 3.0 * w and config.ellipse_min_ratio <= b / a <= config.ellipse_max_ratio):
+        if not (np.isfinite(a) and b > 1.0 and 0.03 * w < a < 3.0 * w
+                and config.ellipse_min_ratio <= b / a <= config.ellipse_max_ratio):
             continue
         theta = math.radians(angle_deg) + (0.0 if d1 >= d2 else math.pi / 2)
         if abs(math.sin(theta)) > math.sin(math.radians(config.ellipse_max_tilt_deg)):

@@ -7,7 +7,7 @@ import math
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import marking_ellipses, marking_lines
+from broadtrack_graph.detect.marking_structures import _sorted_percentile, marking_ellipses, marking_lines
 
 
 def test_marking_lines_finds_the_drawn_lines_not_the_specks():
@@ -22,9 +22,19 @@ def test_marking_lines_finds_the_drawn_lines_not_the_specks():
     assert len(lines) == 3
     for a, b in drawn:
         a2, b2 = 2 * np.array(a, float), 2 * np.array(b, float)
-        best = min(lines, key=lambda line: abs(line.normal @ a2 + line.offset_px) + abs(line.normal @ b2 + line.offset_px))
+        best = min(lines, key=lambda line: abs(line.normal @ a2 + line.offset_px)
+                   + abs(line.normal @ b2 + line.offset_px))
         assert abs(best.normal @ a2 + best.offset_px) < 3.0 and abs(best.normal @ b2 + best.offset_px) < 3.0
         assert 0.6 * np.linalg.norm(b2 - a2) < best.support_px < 1.3 * np.linalg.norm(b2 - a2)
+
+
+def test_a_lines_extent_is_numpys_percentile_of_its_sorted_support():
+    # The extent's 10th and 90th percentiles, read off the sorted support, to the last bit of np.percentile's.
+    rng = np.random.default_rng(7)
+    for trial in range(400):
+        values = np.sort(rng.normal(0.0, 300.0, int(rng.integers(1, 300))).astype((np.float32, np.float64)[trial % 2]))
+        assert (_sorted_percentile(values, 0.1), _sorted_percentile(values, 0.9)) == tuple(
+            np.percentile(values, [10.0, 90.0]))
 
 
 def test_marking_structures_recover_two_drawn_lines_and_an_ellipse():
