@@ -7,6 +7,7 @@ the frame size. No I/O.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from dataclasses import dataclass
@@ -108,11 +109,10 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int,
     h, w = marking_mask.shape
     unit = w / 960.0
     min_support = max(10.0, config.line_min_support_px * unit)
-    # The map's pixels in row order (x, y), as np.nonzero gives them.
-    found = cv2.findNonZero(np.ascontiguousarray(marking_mask, dtype=bool).view(np.uint8))
-    if found is None or len(found) < min_support:
+    xs, ys = _nonzero_xy(marking_mask)
+    if len(xs) < min_support:
         return []
-    pix = found.reshape(-1, 2).astype(np.float32) - np.float32([w / 2.0, h / 2.0])
+    pix = np.column_stack([xs, ys]).astype(np.float32) - np.float32([w / 2.0, h / 2.0])
     theta_bins = 180
     thetas = np.arange(theta_bins) * (math.pi / theta_bins)
     cs, sn = np.cos(thetas).astype(np.float32), np.sin(thetas).astype(np.float32)
@@ -182,6 +182,16 @@ def marking_lines(marking_mask: np.ndarray, frame_width_px: int,
         kept = [line for line, out in zip(lines, crowded) if not out]
         lines = sorted(kept, key=lambda line: -line.support_px)[:config.max_lines]
     return lines
+
+
+def _nonzero_xy(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(xs, ys) (N,) int32 of a bool map's set pixels in row order: ``np.nonzero``'s pixels (swapped), read by
+    OpenCV."""
+    found = cv2.findNonZero(np.ascontiguousarray(mask, dtype=bool).view(np.uint8))
+    if found is None:
+        return np.zeros(0, np.int32), np.zeros(0, np.int32)
+    found = found.reshape(-1, 2)
+    return found[:, 0], found[:, 1]
 
 
 def _sorted_percentile(values: np.ndarray, share: float) -> float:
@@ -274,15 +284,14 @@ def marking_ellipses_both(marking_mask: np.ndarray, frame_width_px: int,
     unit = w / 960.0
     if not pieces:
         return [], []
-    ys, xs = np.nonzero(labels > 0)
+    xs, ys = _nonzero_xy(labels > 0)
     pixels = np.column_stack([xs, ys]).astype(np.float32)
     piece_pixels = {}
     for label in pieces:
         own = pixels[labels[ys, xs] == label]
         piece_pixels[label] = own[np.linspace(0, len(own) - 1, min(len(own), 40)).astype(int)]
     if config.ellipse_cut_line_px > 0:  # the support is counted on the whole map, the cut pixels too
-        ys, xs = np.nonzero(marking_mask)
-        pixels = np.column_stack([xs, ys]).astype(np.float32)
+        pixels = np.column_stack(_nonzero_xy(marking_mask)).astype(np.float32)
     every = max(1, len(pixels) // config.ellipse_check_pixels)
     pixels = pixels[::every]  # support is counted on at most about ellipse_check_pixels map pixels
     trials = [(a,) for a in pieces if areas[a - 1] >= 60 * unit] + list(itertools.combinations(pieces, 2))
@@ -305,7 +314,7 @@ def marking_ellipses_both(marking_mask: np.ndarray, frame_width_px: int,
         y = -(pixels[:, 0] - cx) * s + (pixels[:, 1] - cy) * c
         F = (x / a) ** 2 + (y / b) ** 2 - 1.0
         grad = 2.0 * np.hypot(x / a**2, y / b**2)
-        support = int(np.sum(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
+        support = int(np.count_nonzero(np.abs(F) < tol * np.maximum(grad, 1e-9))) * every
         inside, outline_px = outline_in_image(cx, cy, a, b, theta, w, h)
         if support < config.ellipse_min_coverage * outline_px:
             continue
@@ -360,14 +369,23 @@ def map_pieces(marking_mask: np.ndarray, frame_width_px: int, lines: list[ImageL
     return marking_mask, labels, pieces, areas
 
 
+@functools.lru_cache(maxsize=4)
+def _unit_circle(samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """(cos t, sin t) (samples,) of angles t evenly spaced round the circle from 0 (kept: every ellipse asks)."""
+    t = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+    cos_t, sin_t = np.cos(t), np.sin(t)
+    cos_t.flags.writeable = sin_t.flags.writeable = False
+    return cos_t, sin_t
+
+
 def outline_in_image(cx: float, cy: float, a: float, b: float, theta: float, w: int, h: int,
                       samples: int = 360) -> tuple[float, float]:
     """(share of the ellipse's outline inside a w x h image, that length in pixels): evenly spaced (in
     angle) outline samples and Ramanujan's perimeter (close enough for the tests they serve)."""
-    t = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+    cos_t, sin_t = _unit_circle(samples)
     c, s = math.cos(theta), math.sin(theta)
-    x = cx + a * np.cos(t) * c - b * np.sin(t) * s
-    y = cy + a * np.cos(t) * s + b * np.sin(t) * c
-    inside = float(np.mean((x >= 0) & (x < w) & (y >= 0) & (y < h)))
+    x = cx + a * cos_t * c - b * sin_t * s
+    y = cy + a * cos_t * s + b * sin_t * c
+    inside = np.count_nonzero((x >= 0) & (x < w) & (y >= 0) & (y < h)) / samples
     perimeter = math.pi * (3.0 * (a + b) - math.sqrt((3.0 * a + b) * (a + 3.0 * b)))
     return inside, inside * perimeter
