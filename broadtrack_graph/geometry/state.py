@@ -90,15 +90,19 @@ def rotation_and_derivatives(pan_rad: float, tilt_rad: float, roll_rad: float) -
     P, dP = rotation_z(pan_rad), _rotation_z_derivative(pan_rad)
     T, dT = rotation_x(tilt_rad), _rotation_x_derivative(tilt_rad)
     Q, dQ = rotation_z(roll_rad), _rotation_z_derivative(roll_rad)
-    R = (P @ T @ Q).T
-    dR = np.stack([(dP @ T @ Q).T, (P @ dT @ Q).T, (P @ T @ dQ).T])
-    return R, dR
+    PT = P @ T
+    dR = np.empty((3, 3, 3))
+    dR[0] = (dP @ T @ Q).T
+    dR[1] = (P @ dT @ Q).T
+    dR[2] = (PT @ dQ).T
+    return (PT @ Q).T, dR
 
 
 def angles_from_rotations(R_cw: np.ndarray) -> np.ndarray:
-    """Pan, tilt and roll (radians) of many world-to-camera rotations at once: :func:`~broadtrack_graph.geometry.camera.angles_from_rotation`'s rule
-    in numpy (numpy's arctan2 and hypot can differ from :mod:`math`'s in the last bit, so the single-matrix
-    function keeps its own scalar arithmetic, whose numbers the homography decomposition's cameras rest on).
+    """Pan, tilt and roll (radians) of many world-to-camera rotations at once:
+    :func:`~broadtrack_graph.geometry.camera.angles_from_rotation`'s rule in numpy (numpy's arctan2 and hypot can
+    differ from :mod:`math`'s in the last bit, so the single-matrix function keeps its own scalar arithmetic, whose
+    numbers the homography decomposition's cameras rest on).
 
     Two (pan, tilt, roll) triples give the same matrix (tilt and -tilt); the one
     whose roll is nearest 0 is returned, as camera operators keep roll small.
@@ -186,7 +190,8 @@ def project_state(
     J[:, :, FOCAL] = g[:, None] * xy_n
     J[:, :, K1] = focal * r2[:, None] * xy_n
     duv_dXc = _duv_dXc(xy_n, safe_depth, focal, k1)
-    dXc_dangles = np.tensordot(d_w, dR, axes=([1], [2])).transpose(0, 2, 1)  # (N, 3, 3): columns pan, tilt, roll
+    # (N, 3, 3) d Xc / d (pan, tilt, roll), columns pan, tilt, roll: d_w contracted with dR's last axis (one product)
+    dXc_dangles = np.dot(d_w, dR.transpose(2, 0, 1).reshape(3, 9)).reshape(-1, 3, 3).transpose(0, 2, 1)
     J[:, :, ANGLES] = duv_dXc @ dXc_dangles
     J[:, :, POSITION] = -(duv_dXc @ R)
     J[~in_front] = 0.0

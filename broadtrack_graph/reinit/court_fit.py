@@ -162,16 +162,21 @@ def camera_through(H_px: np.ndarray, sign: float, start: Camera, curves: Templat
     on it from there.
     """
     W = start.width_px
+    # every ground class at once: H's image of its samples, then read class by class
+    names = [name for name in curves.samples_w if curves.pitch.is_on_ground(name)]
+    samples_w = curves.stacked(names)[0]
+    uvw = np.column_stack([samples_w[:, :2], np.ones(len(samples_w))]) @ H_px.T
+    ahead = sign * uvw[:, 2] > 1e-9
+    uv = uvw[:, :2] / np.where(ahead, uvw[:, 2], 1.0)[:, None]
+    shown = ahead & start.in_image(uv) & np.all(np.isfinite(uv), axis=1)
+    sizes = [len(curves.samples_w[name]) for name in names]
+    starts = np.cumsum(sizes) - sizes
+    counts = np.add.reduceat(shown, starts) if len(names) else np.zeros(0, int)
     lines = {}
-    for name, samples_w in curves.samples_w.items():
-        if not curves.pitch.is_on_ground(name):
-            continue
-        uvw = np.column_stack([samples_w[:, :2], np.ones(len(samples_w))]) @ H_px.T
-        ahead = sign * uvw[:, 2] > 1e-9
-        uv = uvw[:, :2] / np.where(ahead, uvw[:, 2], 1.0)[:, None]
-        shown = ahead & start.in_image(uv) & np.all(np.isfinite(uv), axis=1)
-        if shown.sum() >= 3:
-            lines[name] = uv[shown][np.linspace(0, shown.sum() - 1, min(per_class, int(shown.sum()))).astype(int)]
+    for j in np.flatnonzero(counts >= 3):
+        count = int(counts[j])
+        on_image = uv[starts[j]:starts[j] + sizes[j]][shown[starts[j]:starts[j] + sizes[j]]]
+        lines[names[j]] = on_image[np.linspace(0, count - 1, min(per_class, count)).astype(int)]
     if sum(len(p) for p in lines.values()) < 8:
         return start
     config = LineFitConfig(cauchy_scale_px=0.05 * W, polish_power=0.0, iterations=20, sigma_k1=1e-3)

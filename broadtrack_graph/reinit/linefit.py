@@ -80,7 +80,15 @@ class _Problem:
         sizes = [len(curves.samples_w[n]) for n in self.names]
         self._pairs = _PointSegmentPairs([len(self.points[n]) for n in self.names], sizes)
         self.all_points = np.vstack([self.points[n] for n in self.names]) if self.names else np.zeros((0, 2))
-        self._pair_x, self._pair_y = (self.all_points[self._pairs.point, k] for k in (0, 1))
+        # each pair's point coordinates: every point repeated over the segments of its class
+        self._pair_x, self._pair_y = (np.repeat(self.all_points[:, k], self._pairs.run_length) for k in (0, 1))
+        self._blocked = np.empty(max(len(self.all_samples) - 1, 0), bool)  # (segments,) scratch of associate
+        c = config
+        rows = [np.eye(STATE_SIZE)[4] / c.sigma_roll_rad, np.eye(STATE_SIZE)[1] / c.sigma_k1]
+        if self.position_prior_w is not None:
+            rows.extend(np.eye(STATE_SIZE)[5:8] / c.sigma_position_m)
+        self._prior_jacobian = np.asarray(rows)
+        self.prior_normal = self._prior_jacobian.T @ self._prior_jacobian  # (8, 8) Jp^T Jp, a constant of the fit
 
     def associate(self, state) -> "_Association":
         """Each point's nearest segment of its class's projected polyline (the distances now; the residuals' geometry
@@ -90,27 +98,34 @@ class _Problem:
         usable = front[:-1] & front[1:] & pairs.joins_next  # segments of a class with both ends in front
         class_seen = np.logical_or.reduceat(usable, pairs.class_segment_start) if len(usable) else usable
         # Every point against every segment of its class at once (one flat array of pairs, in point then segment
-        # order): the projection of the point on the segment, clipped to it, and the squared distance.
+        # order): the projection of the point on the segment, clipped to it, and the squared distance. The
+        # segments' numbers are gathered for the pairs in one call: rows start x, start y, dx, dy, squared length.
         s = pairs.segment
         with np.errstate(invalid="ignore", over="ignore"):
             seg_d = uv[1:] - uv[:-1]
-            length2 = np.maximum(np.einsum("ij,ij->i", seg_d, seg_d), 1e-12)
-            ax, ay, dx, dy = uv[s, 0], uv[s, 1], seg_d[s, 0], seg_d[s, 1]
+            table = np.empty((5, len(seg_d)))
+            table[0:2] = uv[:-1].T
+            table[2:4] = seg_d.T
+            table[4] = np.maximum(np.einsum("ij,ij->i", seg_d, seg_d), 1e-12)
+            ax, ay, dx, dy, length2 = table.take(s, axis=1)
             t = (self._pair_x - ax) * dx
             t += (self._pair_y - ay) * dy
-            t /= length2[s]
+            t /= length2
             np.clip(t, 0.0, 1.0, out=t)
             dist2 = self._pair_x - (ax + t * dx)
             dist2 *= dist2
             ey = self._pair_y - (ay + t * dy)
             ey *= ey
             dist2 += ey
-        dist2[~usable[s]] = np.inf
+        np.logical_not(usable, out=self._blocked)
+        np.copyto(dist2, np.inf, where=self._blocked.take(s))
         nearest = pairs.first_minimum(dist2)
-        distances = np.sqrt(dist2[nearest])
+        distances = np.sqrt(dist2.take(nearest))
+        if class_seen.all():
+            return _Association(self, uv, s.take(nearest), t.take(nearest), slice(None), distances, 0)
         missing_points = np.repeat(~class_seen, pairs.class_points)
         distances[missing_points] = np.nan
-        keep = slice(None) if class_seen.all() else ~missing_points
+        keep = ~missing_points
         return _Association(self, uv, s[nearest][keep], t[nearest][keep], keep, distances,
                             int(pairs.class_points[~class_seen].sum()))
 
@@ -122,18 +137,18 @@ class _Problem:
         return cost + 0.5 * float(np.sum(self.prior_residuals(state) ** 2))
 
     def prior_residuals(self, state) -> np.ndarray:
+        """(2,) roll and k1 over their sigmas, then (3,) the focal point's offset from its prior over its sigma (when
+        given)."""
         c = self.config
-        res = [state[4] / c.sigma_roll_rad, state[1] / c.sigma_k1]
+        res = np.empty(len(self._prior_jacobian))
+        res[0], res[1] = state[4] / c.sigma_roll_rad, state[1] / c.sigma_k1
         if self.position_prior_w is not None:
-            res.extend((state[5:8] - self.position_prior_w) / c.sigma_position_m)
-        return np.asarray(res)
+            res[2:] = (state[5:8] - self.position_prior_w) / c.sigma_position_m
+        return res
 
     def prior_jacobian(self) -> np.ndarray:
-        c = self.config
-        rows = [np.eye(STATE_SIZE)[4] / c.sigma_roll_rad, np.eye(STATE_SIZE)[1] / c.sigma_k1]
-        if self.position_prior_w is not None:
-            rows.extend(np.eye(STATE_SIZE)[5:8] / c.sigma_position_m)
-        return np.asarray(rows)
+        """(2 or 5, 8) the Jacobian of :meth:`prior_residuals` (a constant of the problem)."""
+        return self._prior_jacobian
 
 
 class _Association:
@@ -162,8 +177,10 @@ class _Association:
             a = samples[seg]
             anchors = a + t[:, None] * (samples[seg + 1] - a)
             direction = uv[seg + 1] - uv[seg]
-            direction /= np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
-            normals = np.stack([-direction[:, 1], direction[:, 0]], axis=1)
+            length = np.sqrt(np.add.reduce(direction * direction, axis=1, keepdims=True))  # np.linalg.norm's sum
+            direction /= np.maximum(length, 1e-12)
+            normals = np.empty_like(direction)
+            normals[:, 0], normals[:, 1] = -direction[:, 1], direction[:, 0]
             self._geometry = (anchors, normals, self._problem.all_points[self._keep])
         return self._geometry
 
@@ -186,27 +203,28 @@ class _PointSegmentPairs:
         self.joins_next = np.ones(max(int(samples.sum()) - 1, 0), bool)
         self.joins_next[(sample_start + samples - 1)[:-1]] = False
         self.class_segment_start = sample_start
-        point_parts, segment_parts = [], []
-        for c, (m, k) in enumerate(zip(self.class_points, segments)):
-            point_parts.append(np.repeat(np.arange(self.point_offsets[c], self.point_offsets[c + 1]), k))
-            segment_parts.append(np.tile(np.arange(sample_start[c], sample_start[c] + k), m))
-        self.point = np.concatenate(point_parts) if point_parts else np.zeros(0, int)
-        self.segment = np.concatenate(segment_parts) if segment_parts else np.zeros(0, int)
         self.run_length = np.repeat(segments, self.class_points)
         self.run_start = np.concatenate([[0], np.cumsum(self.run_length)])[:-1]
+        pair_count = int(self.run_length.sum())
+        # each point repeated over its class's segments; segment = the class's first segment + the place in the run
+        self.point = np.repeat(np.arange(len(self.run_length)), self.run_length)
+        first_segment = np.repeat(sample_start, self.class_points)
+        self.segment = np.arange(pair_count) - np.repeat(self.run_start - first_segment, self.run_length)
+        # the pairs of class c are a (points, segments) block of rows, one row per point
+        block_start = np.concatenate([[0], np.cumsum(self.class_points * segments)])
+        self._blocks = [(int(block_start[c]), int(block_start[c + 1]), int(m), int(k), int(self.point_offsets[c]),
+                         int(self.point_offsets[c + 1])) for c, (m, k) in enumerate(zip(self.class_points, segments))]
 
     def first_minimum(self, values: np.ndarray) -> np.ndarray:
         """(points,) the index into the pairs of each point's smallest value, the first one on ties (a NaN counts as
-        the smallest, as in ``np.argmin``)."""
+        the smallest, as in ``np.argmin``, which each class's block of rows is given)."""
         if not len(self.run_start):
             return np.zeros(0, int)
-        smallest = np.repeat(np.minimum.reduceat(values, self.run_start), self.run_length)
-        at_minimum = values == smallest
-        if np.isnan(smallest).any():
-            at_minimum |= np.isnan(smallest) & np.isnan(values)
-        index = np.flatnonzero(at_minimum)
-        owner = self.point[index]
-        return index[np.concatenate([[True], owner[1:] != owner[:-1]])]
+        nearest = np.empty(len(self.run_start), np.intp)
+        for start, stop, m, k, first, last in self._blocks:
+            nearest[first:last] = values[start:stop].reshape(m, k).argmin(axis=1)
+        nearest += self.run_start
+        return nearest
 
 
 def _residuals_and_jacobian(problem: _Problem, state, anchors, normals, targets):
@@ -245,6 +263,7 @@ def fit_camera_to_lines(
     association = problem.associate(state)
     cost = problem.robust_cost(association, state)
     free = np.array([i not in fixed for i in range(STATE_SIZE)])
+    free_rows, free_columns = np.ix_(free, free)
     lam = 1e-3
     f_lo, f_hi = config.min_focal_px_per_width * W, config.max_focal_px_per_width * W
     iteration = 0
@@ -260,10 +279,10 @@ def fit_camera_to_lines(
         r, J = _residuals_and_jacobian(problem, state, anchors, normals, targets)
         s = config.cauchy_scale_px
         w = 1.0 / (1.0 + (r / s) ** 2)
-        Jp, rp = problem.prior_jacobian(), problem.prior_residuals(state)
-        A = (J * w[:, None]).T @ J + Jp.T @ Jp
-        g = (J * w[:, None]).T @ r + Jp.T @ rp
-        A, g = A[np.ix_(free, free)], g[free]
+        Jw = J * w[:, None]
+        A = Jw.T @ J + problem.prior_normal
+        g = Jw.T @ r + problem.prior_jacobian().T @ problem.prior_residuals(state)
+        A, g = A[free_rows, free_columns], g[free]
 
         improved, candidate, c_cost, associated, lam = _damped_step(state, free, A, g, lam, 8, (f_lo, f_hi), evaluate,
                                                                     cost, 1e-7)
@@ -306,7 +325,8 @@ def _damped_step(state, free, A, g, lam: float, tries: int, focal_bounds, evalua
     return False, state, current, None, lam
 
 
-def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds, iterations: int = 12, cap_px: float = 12.0):
+def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds, iterations: int = 12,
+            cap_px: float = 12.0):
     """Push the worst points in: IRLS on sum min(|d|, cap)^p (p = config.polish_power), distances re-associated."""
     p = config.polish_power
 
@@ -322,6 +342,9 @@ def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds,
     association = problem.associate(state)
     best = objective(association)
     lam = 1e-2
+    scaled_prior_transposed = 1e-3 * problem.prior_jacobian().T  # the priors weigh 1e-3 here
+    prior_normal = scaled_prior_transposed @ problem.prior_jacobian()
+    free_rows, free_columns = np.ix_(free, free)
     for _ in range(iterations):
         anchors, normals, targets = association.geometry()
         if len(anchors) == 0:
@@ -330,11 +353,10 @@ def _polish(problem: _Problem, state, free, config: LineFitConfig, focal_bounds,
         a = np.abs(r)
         w = np.where(a < cap_px, np.maximum(a, 0.3) ** (p - 2), 0.0)
         w /= max(w.max(), 1e-12)
-        Jp, rp = problem.prior_jacobian(), problem.prior_residuals(state)
-        scale = 1e-3
-        A = (J * w[:, None]).T @ J + scale * Jp.T @ Jp
-        g = (J * w[:, None]).T @ r + scale * Jp.T @ rp
-        A, g = A[np.ix_(free, free)], g[free]
+        Jw = J * w[:, None]
+        A = Jw.T @ J + prior_normal
+        g = Jw.T @ r + scaled_prior_transposed @ problem.prior_residuals(state)
+        A, g = A[free_rows, free_columns], g[free]
 
         accepted, candidate, value, associated, lam = _damped_step(state, free, A, g, lam, 5, focal_bounds, evaluate,
                                                                    best, 1e-6)

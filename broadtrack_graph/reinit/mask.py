@@ -25,7 +25,7 @@ from broadtrack_graph.detect.marking_arcs import marking_arcs
 from broadtrack_graph.detect.marking_structures import marking_ellipses_both, marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves, closest_on_polyline
+from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.ellipses import circle_hypotheses
 from broadtrack_graph.reinit.line_pairs import line_pair_hypotheses, pitch_lines
@@ -213,7 +213,8 @@ class MapStructures:
         return self._ellipses
 
     def arcs(self) -> list:
-        """Single curved pieces of the map as ellipses (a penalty arc: :func:`~broadtrack_graph.detect.marking_arcs.marking_arcs`)."""
+        """Single curved pieces of the map as ellipses (a penalty arc:
+        :func:`~broadtrack_graph.detect.marking_arcs.marking_arcs`)."""
         if self._arcs is None:
             self._arcs = marking_arcs(self._mask, self._W, self.lines, self._config.structures)
         return self._arcs
@@ -299,30 +300,70 @@ def label_points_by_camera(camera: Camera, points_px: np.ndarray, curves: Templa
                            classes=None) -> dict[str, np.ndarray]:
     """Name unlabelled marking points by their nearest projected ground class within gate_px."""
     names = [n for n in (classes or curves.samples_w) if curves.pitch.is_on_ground(n)]
-    best_d = np.full(len(points_px), np.inf)
-    best_c = np.full(len(points_px), -1)
     if not names:
         return {}
-    # Every class projected at once (one call, not one per class), then read class by class.
-    uv_all, front = camera.project(curves.stacked(names)[0])
-    ok_all = front & camera.in_image(uv_all)
+    # Every class projected at once (one call, not one per class).
+    samples_w, _, joins_next = curves.stacked(names)
+    uv, front = camera.project(samples_w)
+    ok = front & camera.in_image(uv)
+    shown = np.flatnonzero(ok[:-1] & ok[1:] & joins_next)  # segments with both ends in the image, within a class
+    if not len(shown):
+        return {}
     sizes = [len(curves.samples_w[name]) for name in names]
-    ends = np.cumsum(sizes)
-    starts = ends - sizes
-    shown = np.add.reduceat(ok_all, starts)
-    for j, name in enumerate(names):
-        if shown[j] < 2:
-            continue
-        uv, ok = uv_all[starts[j]:ends[j]], ok_all[starts[j]:ends[j]]
-        valid = ok[:-1] & ok[1:]
-        if not valid.any():
-            continue
-        _, _, d = closest_on_polyline(points_px, uv, valid)
-        better = d < best_d
-        best_d[better], best_c[better] = d[better], j
-    out = {}
-    for j, name in enumerate(names):
-        sel = (best_c == j) & (best_d < gate_px)
-        if sel.sum() >= 3:
-            out[name] = points_px[sel]
-    return out
+    class_of_segment = np.append(np.repeat(np.arange(len(names)), sizes)[shown], -1)  # -1: no segment measured
+    best_d, best_segment = _nearest_segments(points_px, uv, shown, gate_px + 1.0)
+    named = best_d < gate_px
+    best_c = np.where(named, class_of_segment[best_segment], -1)
+    return {names[j]: points_px[best_c == j] for j in np.flatnonzero(np.bincount(best_c[named], minlength=1) >= 3)}
+
+
+def _nearest_segments(points_px: np.ndarray, uv: np.ndarray, segments: np.ndarray, reach_px: float):
+    """Each point's distance to the nearest of some polyline segments, measured only where it can be within reach.
+
+    The distance to a segment is :func:`~broadtrack_graph.geometry.template.closest_on_polyline`'s arithmetic; only
+    the pairs of a point and a segment whose bounding box grown by ``reach_px`` holds the point are measured (found
+    through the points sorted by x), so a point's distance is exact where it is under ``reach_px`` less the
+    rounding (far below a pixel), else at least that (inf when no segment is measured).
+
+    Args:
+        points_px: (M, 2) pixels; uv: (L, 2) polyline samples, pixels; segments: (S,) int, segment s joins samples
+            s and s + 1, in the order of preference on ties (ascending).
+        reach_px: how far from a segment's bounding box a point is measured.
+
+    Returns:
+        distance: (M,) pixels; nearest: (M,) index into ``segments`` of the first segment at that distance (S where
+        none is measured).
+    """
+    m = len(points_px)
+    distance, nearest = np.full(m, np.inf), np.full(m, len(segments))
+    if not len(segments) or not m:
+        return distance, nearest
+    a, b = uv[segments], uv[segments + 1]
+    d = b - a
+    length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-12)
+    lo, hi = np.minimum(a, b) - reach_px, np.maximum(a, b) + reach_px
+    order = np.argsort(points_px[:, 0], kind="stable")
+    sorted_x = points_px[order, 0]
+    first, stop = np.searchsorted(sorted_x, lo[:, 0], "left"), np.searchsorted(sorted_x, hi[:, 0], "right")
+    count = np.maximum(stop - first, 0)
+    segment = np.repeat(np.arange(len(segments)), count)  # pairs (segment, point) with the point in the x range
+    point = order[np.arange(len(segment)) - np.repeat(np.cumsum(count) - count - first, count)]
+    py = points_px[point, 1]
+    within = (py >= lo[segment, 1]) & (py <= hi[segment, 1])
+    segment, point, py = segment[within], point[within], py[within]
+    px = points_px[point, 0]
+    ax, ay, dx, dy = a[segment, 0], a[segment, 1], d[segment, 0], d[segment, 1]
+    t = (px - ax) * dx
+    t += (py - ay) * dy
+    t /= length2[segment]
+    np.clip(t, 0.0, 1.0, out=t)
+    dist2 = px - (ax + t * dx)
+    dist2 *= dist2
+    ey = py - (ay + t * dy)
+    ey *= ey
+    dist2 += ey
+    pair_distance = np.sqrt(dist2)
+    np.minimum.at(distance, point, pair_distance)
+    at_best = pair_distance == distance[point]
+    np.minimum.at(nearest, point[at_best], segment[at_best])
+    return distance, nearest
