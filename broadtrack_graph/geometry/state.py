@@ -65,6 +65,20 @@ def _rotation_x_derivative(angle_rad: float) -> np.ndarray:
     return np.array([[0.0, 0.0, 0.0], [0.0, -s, -c], [0.0, c, -s]])
 
 
+def _rotation_factors(pan_rad: float, tilt_rad: float, roll_rad: float) -> np.ndarray:
+    """(6, 3, 3) ``Rz(pan), dRz(pan), Rx(tilt), dRx(tilt), Rz(roll), dRz(roll)`` built in one array (the numbers of
+    :func:`rotation_z`, :func:`rotation_x` and their derivatives)."""
+    cp, sp = math.cos(pan_rad), math.sin(pan_rad)
+    ct, st = math.cos(tilt_rad), math.sin(tilt_rad)
+    cr, sr = math.cos(roll_rad), math.sin(roll_rad)
+    return np.array([[[cp, -sp, 0.0], [sp, cp, 0.0], [0.0, 0.0, 1.0]],
+                     [[-sp, -cp, 0.0], [cp, -sp, 0.0], [0.0, 0.0, 0.0]],
+                     [[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]],
+                     [[0.0, 0.0, 0.0], [0.0, -st, -ct], [0.0, ct, -st]],
+                     [[cr, -sr, 0.0], [sr, cr, 0.0], [0.0, 0.0, 1.0]],
+                     [[-sr, -cr, 0.0], [cr, -sr, 0.0], [0.0, 0.0, 0.0]]])
+
+
 def rotation_from_angles(pan_rad: float, tilt_rad: float, roll_rad: float) -> np.ndarray:
     """World-to-camera rotation ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T``.
 
@@ -87,15 +101,9 @@ def rotation_and_derivatives(pan_rad: float, tilt_rad: float, roll_rad: float) -
         R_cw: (3, 3) ``(Rz(pan) Rx(tilt) Rz(roll))^T``.
         dR: (3, 3, 3), ``dR[i]`` = d R_cw / d angle_i for angles (pan, tilt, roll).
     """
-    P, dP = rotation_z(pan_rad), _rotation_z_derivative(pan_rad)
-    T, dT = rotation_x(tilt_rad), _rotation_x_derivative(tilt_rad)
-    Q, dQ = rotation_z(roll_rad), _rotation_z_derivative(roll_rad)
+    P, dP, T, dT, Q, dQ = _rotation_factors(pan_rad, tilt_rad, roll_rad)
     PT = P @ T
-    dR = np.empty((3, 3, 3))
-    dR[0] = (dP @ T @ Q).T
-    dR[1] = (P @ dT @ Q).T
-    dR[2] = (PT @ dQ).T
-    return (PT @ Q).T, dR
+    return (PT @ Q).T, np.stack([(dP @ T @ Q).T, (P @ dT @ Q).T, (PT @ dQ).T])
 
 
 def angles_from_rotations(R_cw: np.ndarray) -> np.ndarray:

@@ -80,8 +80,7 @@ class _Problem:
         sizes = [len(curves.samples_w[n]) for n in self.names]
         self._pairs = _PointSegmentPairs([len(self.points[n]) for n in self.names], sizes)
         self.all_points = np.vstack([self.points[n] for n in self.names]) if self.names else np.zeros((0, 2))
-        # each pair's point coordinates: every point repeated over the segments of its class
-        self._pair_x, self._pair_y = (np.repeat(self.all_points[:, k], self._pairs.run_length) for k in (0, 1))
+        self._pair_x, self._pair_y = (self.all_points[:, k].take(self._pairs.point) for k in (0, 1))  # (pairs,) px
         self._blocked = np.empty(max(len(self.all_samples) - 1, 0), bool)  # (segments,) scratch of associate
         c = config
         rows = [np.eye(STATE_SIZE)[4] / c.sigma_roll_rad, np.eye(STATE_SIZE)[1] / c.sigma_k1]
@@ -97,9 +96,9 @@ class _Problem:
         pairs = self._pairs
         usable = front[:-1] & front[1:] & pairs.joins_next  # segments of a class with both ends in front
         class_seen = np.logical_or.reduceat(usable, pairs.class_segment_start) if len(usable) else usable
-        # Every point against every segment of its class at once (one flat array of pairs, in point then segment
+        # Every point against every segment of its class at once (one flat array of pairs, in segment then point
         # order): the projection of the point on the segment, clipped to it, and the squared distance. The
-        # segments' numbers are gathered for the pairs in one call: rows start x, start y, dx, dy, squared length.
+        # segments' numbers are repeated for the pairs in one call: rows start x, start y, dx, dy, squared length.
         s = pairs.segment
         with np.errstate(invalid="ignore", over="ignore"):
             seg_d = uv[1:] - uv[:-1]
@@ -107,18 +106,18 @@ class _Problem:
             table[0:2] = uv[:-1].T
             table[2:4] = seg_d.T
             table[4] = np.maximum(np.einsum("ij,ij->i", seg_d, seg_d), 1e-12)
-            ax, ay, dx, dy, length2 = table.take(s, axis=1)
+            ax, ay, dx, dy, length2 = table.repeat(pairs.segment_pairs, axis=1)
             t = (self._pair_x - ax) * dx
             t += (self._pair_y - ay) * dy
             t /= length2
-            np.clip(t, 0.0, 1.0, out=t)
+            t.clip(0.0, 1.0, out=t)
             dist2 = self._pair_x - (ax + t * dx)
             dist2 *= dist2
             ey = self._pair_y - (ay + t * dy)
             ey *= ey
             dist2 += ey
         np.logical_not(usable, out=self._blocked)
-        np.copyto(dist2, np.inf, where=self._blocked.take(s))
+        np.copyto(dist2, np.inf, where=self._blocked.repeat(pairs.segment_pairs))
         nearest = pairs.first_minimum(dist2)
         distances = np.sqrt(dist2.take(nearest))
         if class_seen.all():
@@ -186,8 +185,9 @@ class _Association:
 
 
 class _PointSegmentPairs:
-    """Every (point, segment of its class's polyline) pair of a fit, in class, point, segment order: the nearest
-    segment of each point is a minimum over its run of pairs (one pass for all classes, not one per class).
+    """Every (point, segment of its class's polyline) pair of a fit, in class, segment, point order (each class a
+    (segments, points) block): the nearest segment of each point is a minimum over its column of its class's block
+    (one pass for all classes, not one per class).
 
     Args:
         class_points: (C,) points per class; class_samples: (C,) polyline samples per class (at least 2 each).
@@ -203,27 +203,27 @@ class _PointSegmentPairs:
         self.joins_next = np.ones(max(int(samples.sum()) - 1, 0), bool)
         self.joins_next[(sample_start + samples - 1)[:-1]] = False
         self.class_segment_start = sample_start
-        self.run_length = np.repeat(segments, self.class_points)
-        self.run_start = np.concatenate([[0], np.cumsum(self.run_length)])[:-1]
-        pair_count = int(self.run_length.sum())
-        # each point repeated over its class's segments; segment = the class's first segment + the place in the run
-        self.point = np.repeat(np.arange(len(self.run_length)), self.run_length)
-        first_segment = np.repeat(sample_start, self.class_points)
-        self.segment = np.arange(pair_count) - np.repeat(self.run_start - first_segment, self.run_length)
-        # the pairs of class c are a (points, segments) block of rows, one row per point
+        # (segments,) pairs of each stacked segment: its class's points (none for the join of two classes)
+        self.segment_pairs = np.where(self.joins_next, np.repeat(self.class_points, samples)[:-1], 0)
+        self.segment = np.repeat(np.arange(len(self.segment_pairs)), self.segment_pairs)
         block_start = np.concatenate([[0], np.cumsum(self.class_points * segments)])
-        self._blocks = [(int(block_start[c]), int(block_start[c + 1]), int(m), int(k), int(self.point_offsets[c]),
+        self.point = np.concatenate([np.tile(np.arange(self.point_offsets[c], self.point_offsets[c + 1]), k)
+                                     for c, k in enumerate(segments)]) if len(segments) else np.zeros(0, int)
+        # the pair of each point with its class's first segment, and the pairs between two of its class's segments
+        self._first_pair = np.repeat(block_start[:-1] - self.point_offsets[:-1], self.class_points) + \
+            np.arange(int(self.class_points.sum()))
+        self._stride = np.repeat(self.class_points, self.class_points)
+        self._blocks = [(int(block_start[c]), int(block_start[c + 1]), int(k), int(m), int(self.point_offsets[c]),
                          int(self.point_offsets[c + 1])) for c, (m, k) in enumerate(zip(self.class_points, segments))]
 
     def first_minimum(self, values: np.ndarray) -> np.ndarray:
-        """(points,) the index into the pairs of each point's smallest value, the first one on ties (a NaN counts as
-        the smallest, as in ``np.argmin``, which each class's block of rows is given)."""
-        if not len(self.run_start):
-            return np.zeros(0, int)
-        nearest = np.empty(len(self.run_start), np.intp)
-        for start, stop, m, k, first, last in self._blocks:
-            nearest[first:last] = values[start:stop].reshape(m, k).argmin(axis=1)
-        nearest += self.run_start
+        """(points,) the index into the pairs of each point's smallest value, the first segment on ties (a NaN counts
+        as the smallest, as in ``np.argmin``, which each class's block is given)."""
+        nearest = np.empty(len(self._first_pair), np.intp)
+        for start, stop, k, m, first, last in self._blocks:
+            nearest[first:last] = values[start:stop].reshape(k, m).argmin(axis=0)
+        nearest *= self._stride
+        nearest += self._first_pair
         return nearest
 
 
