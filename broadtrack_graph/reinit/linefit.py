@@ -131,9 +131,9 @@ class _Problem:
     def robust_cost(self, association: "_Association", state) -> float:
         s = self.config.cauchy_scale_px
         values = association.distances[~np.isnan(association.distances)]
-        cost = float(np.sum(np.log1p((values / s) ** 2)))
+        cost = float(np.add.reduce(np.log1p((values / s) ** 2)))  # np.sum's own reduction, without its wrapper
         cost += association.missing * math.log1p((self.config.missing_class_penalty_px / s) ** 2)
-        return cost + 0.5 * float(np.sum(self.prior_residuals(state) ** 2))
+        return cost + 0.5 * float(np.add.reduce(self.prior_residuals(state) ** 2))
 
     def prior_residuals(self, state) -> np.ndarray:
         """(2,) roll and k1 over their sigmas, then (3,) the focal point's offset from its prior over its sigma (when
@@ -207,8 +207,11 @@ class _PointSegmentPairs:
         self.segment_pairs = np.where(self.joins_next, np.repeat(self.class_points, samples)[:-1], 0)
         self.segment = np.repeat(np.arange(len(self.segment_pairs)), self.segment_pairs)
         block_start = np.concatenate([[0], np.cumsum(self.class_points * segments)])
-        self.point = np.concatenate([np.tile(np.arange(self.point_offsets[c], self.point_offsets[c + 1]), k)
-                                     for c, k in enumerate(segments)]) if len(segments) else np.zeros(0, int)
+        # the pairs of a segment are its class's points in turn
+        segment_first_point = np.repeat(self.point_offsets[:-1], samples)[:-1]
+        segment_first_pair = np.cumsum(self.segment_pairs) - self.segment_pairs
+        self.point = np.arange(len(self.segment)) - np.repeat(segment_first_pair - segment_first_point,
+                                                              self.segment_pairs)
         # the pair of each point with its class's first segment, and the pairs between two of its class's segments
         self._first_pair = np.repeat(block_start[:-1] - self.point_offsets[:-1], self.class_points) + \
             np.arange(int(self.class_points.sum()))
