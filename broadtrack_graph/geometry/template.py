@@ -243,6 +243,27 @@ class TemplateCurves:
         return self._stacked[key]
 
 
+def to_segments(px, py, ax, ay, dx, dy, length2) -> tuple[np.ndarray, np.ndarray]:
+    """Points against segments, elementwise (any shapes that broadcast to one, pixels): each point's parameter t in
+    [0, 1] of its projection on the segment from (ax, ay) along (dx, dy) (squared length ``length2``, at least a tiny
+    positive number), clipped to it, and the squared distance to that point. Arrays made once and updated in place:
+    the hot loop of re-initialisation's fits and labelling.
+
+    Returns:
+        (t, squared distance), both of the broadcast shape.
+    """
+    t = (px - ax) * dx
+    t += (py - ay) * dy
+    t /= length2
+    np.clip(t, 0.0, 1.0, out=t)
+    dist2 = px - (ax + t * dx)
+    dist2 *= dist2
+    ey = py - (ay + t * dy)
+    ey *= ey
+    dist2 += ey
+    return t, dist2
+
+
 def closest_on_polyline(points_px: np.ndarray, poly_px: np.ndarray, valid_seg: np.ndarray):
     """Closest segment of a polyline for each point.
 
@@ -257,18 +278,8 @@ def closest_on_polyline(points_px: np.ndarray, poly_px: np.ndarray, valid_seg: n
     index = np.flatnonzero(valid_seg)
     d = b - a
     length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-12)
-    # (M, K) arrays per coordinate, updated in place: the hot loop of re-initialisation fits.
-    px, py = points_px[:, 0:1], points_px[:, 1:2]
-    ax, ay, dx, dy = a[:, 0], a[:, 1], d[:, 0], d[:, 1]
-    t = (px - ax) * dx
-    t += (py - ay) * dy
-    t /= length2
-    np.clip(t, 0.0, 1.0, out=t)
-    dist2 = px - (ax + t * dx)
-    dist2 *= dist2
-    ey = py - (ay + t * dy)
-    ey *= ey
-    dist2 += ey
+    # (M, K): every point against every segment.
+    t, dist2 = to_segments(points_px[:, 0:1], points_px[:, 1:2], a[:, 0], a[:, 1], d[:, 0], d[:, 1], length2)
     best = np.argmin(dist2, axis=1)
     rows = np.arange(len(points_px))
     return index[best], t[rows, best], np.sqrt(dist2[rows, best])

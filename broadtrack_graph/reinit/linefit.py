@@ -27,7 +27,7 @@ import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import TemplateCurves, to_segments
 
 
 @dataclass(frozen=True)
@@ -106,16 +106,7 @@ class _Problem:
             table[0:2] = uv[:-1].T
             table[2:4] = seg_d.T
             table[4] = np.maximum(np.einsum("ij,ij->i", seg_d, seg_d), 1e-12)
-            ax, ay, dx, dy, length2 = table.repeat(pairs.segment_pairs, axis=1)
-            t = (self._pair_x - ax) * dx
-            t += (self._pair_y - ay) * dy
-            t /= length2
-            t.clip(0.0, 1.0, out=t)
-            dist2 = self._pair_x - (ax + t * dx)
-            dist2 *= dist2
-            ey = self._pair_y - (ay + t * dy)
-            ey *= ey
-            dist2 += ey
+            t, dist2 = to_segments(self._pair_x, self._pair_y, *table.repeat(pairs.segment_pairs, axis=1))
         np.logical_not(usable, out=self._blocked)
         np.copyto(dist2, np.inf, where=self._blocked.repeat(pairs.segment_pairs))
         nearest = pairs.first_minimum(dist2)

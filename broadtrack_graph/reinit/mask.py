@@ -25,7 +25,7 @@ from broadtrack_graph.detect.marking_arcs import marking_arcs
 from broadtrack_graph.detect.marking_structures import marking_ellipses_both, marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.template import TemplateCurves
+from broadtrack_graph.geometry.template import TemplateCurves, to_segments
 from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.ellipses import circle_hypotheses
 from broadtrack_graph.reinit.line_pairs import line_pair_hypotheses, pitch_lines
@@ -320,7 +320,7 @@ def label_points_by_camera(camera: Camera, points_px: np.ndarray, curves: Templa
 def _nearest_segments(points_px: np.ndarray, uv: np.ndarray, segments: np.ndarray, reach_px: float):
     """Each point's distance to the nearest of some polyline segments, measured only where it can be within reach.
 
-    The distance to a segment is :func:`~broadtrack_graph.geometry.template.closest_on_polyline`'s arithmetic; only
+    The distance to a segment is :func:`~broadtrack_graph.geometry.template.to_segments`; only
     the pairs of a point and a segment whose bounding box grown by ``reach_px`` holds the point are measured (found
     through the points sorted by x), so a point's distance is exact where it is under ``reach_px`` less the
     rounding (far below a pixel), else at least that (inf when no segment is measured).
@@ -352,16 +352,7 @@ def _nearest_segments(points_px: np.ndarray, uv: np.ndarray, segments: np.ndarra
     within = (py >= lo[segment, 1]) & (py <= hi[segment, 1])
     segment, point, py = segment[within], point[within], py[within]
     px = points_px[point, 0]
-    ax, ay, dx, dy = a[segment, 0], a[segment, 1], d[segment, 0], d[segment, 1]
-    t = (px - ax) * dx
-    t += (py - ay) * dy
-    t /= length2[segment]
-    np.clip(t, 0.0, 1.0, out=t)
-    dist2 = px - (ax + t * dx)
-    dist2 *= dist2
-    ey = py - (ay + t * dy)
-    ey *= ey
-    dist2 += ey
+    _, dist2 = to_segments(px, py, a[segment, 0], a[segment, 1], d[segment, 0], d[segment, 1], length2[segment])
     pair_distance = np.sqrt(dist2)
     np.minimum.at(distance, point, pair_distance)
     at_best = pair_distance == distance[point]
