@@ -53,18 +53,6 @@ def rotation_x(angle_rad: float) -> np.ndarray:
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
 
-def _rotation_z_derivative(angle_rad: float) -> np.ndarray:
-    """(3, 3) d Rz(a) / d a."""
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    return np.array([[-s, -c, 0.0], [c, -s, 0.0], [0.0, 0.0, 0.0]])
-
-
-def _rotation_x_derivative(angle_rad: float) -> np.ndarray:
-    """(3, 3) d Rx(a) / d a."""
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    return np.array([[0.0, 0.0, 0.0], [0.0, -s, -c], [0.0, c, -s]])
-
-
 def _rotation_factors(pan_rad: float, tilt_rad: float, roll_rad: float) -> np.ndarray:
     """(6, 3, 3) ``Rz(pan), dRz(pan), Rx(tilt), dRx(tilt), Rz(roll), dRz(roll)`` built in one array (the numbers of
     :func:`rotation_z`, :func:`rotation_x` and their derivatives)."""
