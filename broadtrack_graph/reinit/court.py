@@ -204,7 +204,8 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
     """The hypotheses and costs with ``part``'s (scored on the map) after them."""
     if not len(part):
         return hypotheses, costs
-    scores = _scores(part, structures.scorer, frame_size, config.search, config.rescore_top, config.prescore_keep)
+    scores = _scores(part, structures.scorer, frame_size, config.search, config.rescore_top, config.prescore_keep,
+                     config.prescore_thin)
     return concatenate([hypotheses, part]), np.concatenate([costs, scores])
 
 
@@ -217,7 +218,7 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
     hypotheses = split_hypotheses(line_families(lines, frame_size, config.lines, hidden_px), support, pitch,
                                   frame_size, config.lines, config.max_hypotheses)
     return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top,
-                               config.prescore_keep)
+                               config.prescore_keep, config.prescore_thin)
 
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):
@@ -240,11 +241,11 @@ def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config
     return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
 
-def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int, prescore_keep: int
-            ) -> np.ndarray:
+def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int, prescore_keep: int,
+            prescore_thin: int) -> np.ndarray:
     """(K,) map costs of the hypotheses: all on every second template sample and marking point (when there are more
-    than ``prescore_keep``, only the ``prescore_keep`` best on every fourth), the ``rescore_top`` best again in full
-    (the others inf: they are not fitted)."""
+    than ``prescore_keep``, only the ``prescore_keep`` best on every ``prescore_thin``-th), the ``rescore_top`` best
+    again in full (the others inf: they are not fitted)."""
     if not len(hypotheses):
         return np.zeros(0)
     H_px = pixel_homographies(hypotheses, frame_size)
@@ -253,7 +254,7 @@ def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_to
     kept = np.arange(len(H_px))
     if len(kept) > prescore_keep:
         rough = scorer.plane_costs(H_px, sign, px_per_m, search.coarse_hit_px, search.coarse_point_px,
-                                   thin=2 * search.coarse_thin, best=prescore_keep)
+                                   thin=prescore_thin, best=prescore_keep)
         kept = np.sort(np.argsort(rough, kind="stable")[:prescore_keep])
     costs = np.full(len(H_px), np.inf)
     costs[kept] = scorer.plane_costs(H_px[kept], sign[kept], px_per_m[kept], search.coarse_hit_px,

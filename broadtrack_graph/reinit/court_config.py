@@ -67,9 +67,10 @@ class CourtConfig:
     refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
     refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line
     rescore_top: int = 64  # hypotheses scored coarsely first (every second sample), these best ones again in full
-    prescore_keep: int = 256  # over this many hypotheses, all are scored on every fourth sample first, these go on
-    #                           (four times rescore_top: the best of every fourth sample hold the best of every
-    #                           second, docs/BENCHMARKS.md)
+    prescore_keep: int = 256  # over this many hypotheses, all are scored on every prescore_thin-th template sample
+    #                           and marking point first, these best go on (four times rescore_top: the best of that
+    #                           rough pass hold the best of every second sample, docs/BENCHMARKS.md)
+    prescore_thin: int = 8
     circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
     centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
     #                                          centre circle beside a touchline (painted all round; an arc is not)

@@ -247,9 +247,10 @@ def test_a_penalty_arc_fitted_alone_joins_the_ellipse_fitted_through_it_and_its_
 
 
 def test_a_frame_full_of_lines_is_scored_coarser_first_and_keeps_the_same_best_hypotheses():
-    """Frame 168 of ``bench placements --random --seed 3`` gives over 20 000 line hypotheses. Scored on every fourth
-    sample first, only the best ``prescore_keep`` are scored on every second; the best ``rescore_top`` scored in full
-    are the same hypotheses with the same costs as when all are scored on every second sample."""
+    """Frame 168 of ``bench placements --random --seed 3`` gives over 20 000 line hypotheses. Scored on every eighth
+    sample first (``prescore_thin``), only the best ``prescore_keep`` are scored on every second; the best
+    ``rescore_top`` scored in full are the same hypotheses with the same costs as when all are scored on every second
+    sample."""
     from broadtrack_graph.reinit import court
     from broadtrack_graph.reinit.mask import map_structures
 
@@ -259,7 +260,7 @@ def test_a_frame_full_of_lines_is_scored_coarser_first_and_keeps_the_same_best_h
     hypotheses, costs = court._line_hypotheses(structures, (1280, 720), PITCH, config)
     assert len(costs) > 10 * config.prescore_keep
     every = court._scores(hypotheses, structures.scorer, (1280, 720), config.search, config.rescore_top,
-                          prescore_keep=len(costs))
+                          prescore_keep=len(costs), prescore_thin=config.prescore_thin)
     np.testing.assert_array_equal(costs, every)
 
 
