@@ -34,14 +34,17 @@ class DetectorOptions:
     segmentation_model: Path | None = None  # ONNX line-segmentation model
     keypoint_model: Path | None = None  # ONNX keypoint-heatmap model
     field_model: Path | None = None  # ONNX field model: keypoints and lines in one (not with the other two)
+    faint_lines: bool = False  # weight-free: look for faint straight paint along its length too (detect.faint_lines)
 
 
 def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
     """The detector described by the options (ONNX models are checked against their contract)."""
     if options.kind == "weightfree":
-        from broadtrack_graph.detect.weightfree import WeightFreeDetector
+        from broadtrack_graph.detect.faint_lines import FaintLineConfig
+        from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 
-        return WeightFreeDetector(pitch)
+        faint = FaintLineConfig() if options.faint_lines else None
+        return WeightFreeDetector(pitch, WeightFreeConfig(faint_lines=faint))
     if options.kind == "onnx":
         from broadtrack_graph.detect.onnx_detector import OnnxDetector
 

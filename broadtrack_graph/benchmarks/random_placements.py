@@ -91,6 +91,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--renderer", choices=RENDERERS, default="synth",
                         help="with --random: the frames' renderer: the project's own (synth, under --looks) or one "
                              "written apart from it (plain; --looks does not apply; see docs/BENCHMARKS.md)")
+    parser.add_argument("--faint-lines", action="store_true",
+                        help="with --random: the weight-free detector looks for faint straight paint along its length "
+                             "too (detect.faint_lines; off in the tracker by default)")
     parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
                         help="with --random: start at frame K of the seed's frames (frame i is the same in every run "
                              "of the seed, size and looks: --random 1 --first i runs one frame of a report again); "
@@ -161,7 +164,8 @@ def run(args) -> dict:
     import cv2
     from tqdm import tqdm
 
-    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.detect.faint_lines import FaintLineConfig
+    from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
     from broadtrack_graph.geometry.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -180,7 +184,9 @@ def run(args) -> dict:
 
     W, H = args.width, args.height
     pitch = PitchTemplate()
-    curves, sampling, detector = fitting_curves(pitch), TemplateSampling(pitch), WeightFreeDetector(pitch)
+    faint = FaintLineConfig() if getattr(args, "faint_lines", False) else None
+    curves, sampling = fitting_curves(pitch), TemplateSampling(pitch)
+    detector = WeightFreeDetector(pitch, WeightFreeConfig(faint_lines=faint))
     config = TrackingConfig(reinit_model=args.reinit_model)
     written_at = config.confidence_threshold + config.reinit_switch_margin
     # The court model's camera is taken by the tracker only from its own bar (court_accept_at: by the markings it
@@ -285,6 +291,7 @@ def run(args) -> dict:
         cv2.setNumThreads(threads)
     looks = ["plain"] if args.renderer == "plain" else list(args.looks)
     report = {"mode": "random", "frames": len(rows), "frame_size": [W, H], "seed": args.seed, "renderer": args.renderer,
+              "faint_lines": faint is not None,
               "looks": looks,
               "routes": routes, "skipped_routes": skipped, "reinit_model": args.reinit_model,
               "written_confidence": {route: round(written_at_by_route[route], 3) for route in routes},

@@ -75,6 +75,15 @@ def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | No
     return points, peak >= c.wide_min_peak, candidates
 
 
+def ridge_points_at(tophat: np.ndarray, allowed01: np.ndarray, level: float, ridge_kernel: np.ndarray, c
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """The centre-line points (N, 2) of the top-hat's ridges over ``level`` where ``allowed01`` is 1, kept on curvature
+    and support as :func:`marking_ridges` keeps its own, and their unit normals (N, 2) (across the ridge). Pixels of
+    the top-hat's image."""
+    points, _, normals, _ = _centre_points(tophat, allowed01, level, ridge_kernel, c)
+    return points, normals
+
+
 def white(colour_bgr: np.ndarray, points: np.ndarray, max_rise: float, window_px: int = 15) -> np.ndarray:
     """(N,) bool: the points no more colourful than the ground around them: the image's chroma (the largest channel
     less the smallest, grey levels) at each point (bilinear, at its sub-pixel place) at most ``max_rise`` over its mean

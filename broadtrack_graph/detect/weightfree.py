@@ -58,6 +58,7 @@ import numpy as np
 
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
+from broadtrack_graph.detect.faint_lines import FaintLineConfig, faint_line_points
 from broadtrack_graph.detect.found_markings import BodiesToFeet, FoundMarkings, marking_map
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
 from broadtrack_graph.detect.playing_field import grass_and_field
@@ -94,6 +95,9 @@ class WeightFreeConfig:
     tophat_noise_margin: float = 4.0  # ... and this much above the 90th percentile of the top-hat on grass
     faint_threshold: float = 8.0  # a blurred frame's pixels above this (and the grass's level) joined to those above
     faint_max_chroma_rise: float = 6.0  # ... and its points more colourful than the ground around by this dropped
+    # Faint straight markings found by their length (detect.faint_lines); None: not looked for (the default: on a
+    # 1080p main camera the search costs as much again as the rest of the tracking, docs/BENCHMARKS.md)
+    faint_lines: FaintLineConfig | None = None
     support_window_px: int = 9  # a centre-line point needs min_support others in this window ...
     min_support: int = 7  # ... (a line crossing it gives about the window size; specks fewer)
     orientation_bins: int = 1  # > 2: support counts only neighbours within +-1 of these orientation bins (1: all)
@@ -327,6 +331,10 @@ class WeightFreeDetector:
         threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
         blur = blur_factor(grey, W, pitch) if self.config.wide_levels > 0 else 1.0
         points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from, grass)
+        if self.config.faint_lines is not None:  # faint straight paint, found along its length (detect.faint_lines)
+            faint = faint_line_points(small, allowed, points, self._tophat_kernel, self._ridge_kernel, self.config,
+                                      self.config.faint_lines)
+            points, peaked = np.vstack([points, faint]), np.concatenate([peaked, np.zeros(len(faint), bool)])
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).
         wide = WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
