@@ -97,9 +97,10 @@ def candidate_lines(points: np.ndarray, normals: np.ndarray, allowed01: np.ndarr
     own = np.floor((np.arctan2(normals[:, 1], normals[:, 0]) % np.pi) / step).astype(int) % bins
     spread = np.arange(-config.angle_spread_bins, config.angle_spread_bins + 1)
     angle_bin = (own[:, None] + spread[None, :]) % bins
-    angle = (angle_bin + 0.5) * step
+    centres = (np.arange(bins) + 0.5) * step  # each bin's direction, its cosine and sine looked up per vote
     diagonal = int(np.ceil(np.hypot(w, h)))
-    distance = np.rint(points[:, 0, None] * np.cos(angle) + points[:, 1, None] * np.sin(angle)).astype(int)
+    distance = np.rint(points[:, 0, None] * np.cos(centres)[angle_bin]
+                       + points[:, 1, None] * np.sin(centres)[angle_bin]).astype(int)
     size = 2 * diagonal + 1
     votes = np.bincount((angle_bin * size + distance + diagonal).ravel(), minlength=bins * size).reshape(bins, size)
     votes = votes.astype(np.float32)
