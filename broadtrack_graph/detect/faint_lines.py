@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.point_cells import pixels_of
 from broadtrack_graph.detect.ridges import marking_channel, ridge_points_at, white
 
 
@@ -102,11 +103,11 @@ def candidate_lines(points: np.ndarray, normals: np.ndarray, allowed01: np.ndarr
     distance = np.rint(points[:, 0, None] * np.cos(centres)[angle_bin]
                        + points[:, 1, None] * np.sin(centres)[angle_bin]).astype(int)
     size = 2 * diagonal + 1
-    votes = np.bincount((angle_bin * size + distance + diagonal).ravel(), minlength=bins * size).reshape(bins, size)
-    votes = votes.astype(np.float32)
+    cell = angle_bin * size + distance + diagonal  # (N, S) the accumulator cell of each vote
+    votes = np.bincount(cell.ravel(), minlength=bins * size).reshape(bins, size).astype(np.float32)
     enough = votes >= config.min_votes
     if new is not None:  # a line the markings already found hold whole has nothing to add
-        new_votes = np.bincount((angle_bin * size + distance + diagonal)[new].ravel(), minlength=bins * size)
+        new_votes = np.bincount(cell[new].ravel(), minlength=bins * size)
         enough &= new_votes.reshape(bins, size) >= config.min_new_votes
     # A line's votes spread over the directions its points' noisy normals vote for: one peak per spread of them.
     suppressed = cv2.dilate(votes, np.ones((2 * config.angle_spread_bins + 1, 5), np.uint8))
@@ -160,8 +161,7 @@ def shown_stretches(tophat: np.ndarray, allowed01: np.ndarray, lines: np.ndarray
     if not len(lines):
         return np.zeros((0, 2))
     image = tophat.astype(np.float32)
-    wide = _profile(image, allowed01, lines, config.refine_px, config.band_px)
-    lines = _fitted(lines, *wide)
+    lines = _fitted(lines, *_profile(image, allowed01, lines, config.refine_px, config.band_px))
     points, stands, on_field = _profile(image, allowed01, lines, config.across_px, config.band_px)
     # Mean over window_px along the line (a running sum, the same at every line).
     L, T = stands.shape
@@ -241,8 +241,8 @@ def unknown_map(known: np.ndarray, size: tuple[int, int], gap_px: int) -> np.nda
     w, h = size
     near = np.zeros((h, w), np.uint8)
     if len(known) and gap_px > 0:
-        k = np.rint(known).astype(int)
-        near[np.clip(k[:, 1], 0, h - 1), np.clip(k[:, 0], 0, w - 1)] = 1
+        k = pixels_of(known, size)
+        near[k[:, 1], k[:, 0]] = 1
         near = cv2.dilate(near, np.ones((2 * gap_px + 1, 2 * gap_px + 1), np.uint8))
     return 1 - near
 
@@ -271,10 +271,10 @@ def faint_line_points(colour_bgr: np.ndarray, allowed: np.ndarray, known: np.nda
     # A line is looked along where the markings found leave it (they need no finding again), its faint stretches
     # told from the others by the whole line's points.
     unknown = unknown_map(known, size, config.gap_px)
-    pixel = np.clip(np.rint(points).astype(int), 0, [size[0] - 1, size[1] - 1])
+    pixel = pixels_of(points, size)
     new = unknown[pixel[:, 1], pixel[:, 0]] > 0
     found = shown_stretches(tophat, allowed01, candidate_lines(points, normals, allowed01, config, new), config)
-    pixel = np.clip(np.rint(found).astype(int), 0, [size[0] - 1, size[1] - 1])
+    pixel = pixels_of(found, size)
     # One point a pixel: the candidates of one line pivot on it (its points' normals scatter) and trace it again.
     _, first = np.unique(pixel[:, 1] * size[0] + pixel[:, 0], return_index=True)
     first = first[unknown[pixel[first, 1], pixel[first, 0]] > 0]
