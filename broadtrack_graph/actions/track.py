@@ -34,7 +34,7 @@ class DetectorOptions:
     segmentation_model: Path | None = None  # ONNX line-segmentation model
     keypoint_model: Path | None = None  # ONNX keypoint-heatmap model
     field_model: Path | None = None  # ONNX field model: keypoints and lines in one (not with the other two)
-    faint_lines: bool = False  # weight-free: look for faint straight paint along its length too (detect.faint_lines)
+    faint_look: bool = True  # weight-free: frames placed from nothing take the faint look (detect.faint_lines)
 
 
 def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
@@ -43,7 +43,7 @@ def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
         from broadtrack_graph.detect.faint_lines import FaintLineConfig
         from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
 
-        faint = FaintLineConfig() if options.faint_lines else None
+        faint = FaintLineConfig() if options.faint_look else None
         return WeightFreeDetector(pitch, WeightFreeConfig(faint_lines=faint))
     if options.kind == "onnx":
         from broadtrack_graph.detect.onnx_detector import OnnxDetector

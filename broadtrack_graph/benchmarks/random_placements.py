@@ -12,16 +12,17 @@ determine a camera (:mod:`broadtrack_graph.geometry.determinable`: two lines of 
 
 Each route (``--routes``) is asked for the frame's camera on one core (OpenCV on one
 thread; numpy's BLAS too, as the command line sets it), from the weight-free detector's markings (detection is timed
-apart):
+apart; the faint look the court model's second look takes, ``--no-faint-look``: none, is timed with the route):
 
 * ``tracker``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the court
   model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
   camera's next frames while the policy waits for them (at most ``court_agreement_frames``), as ``bench placements``
   does;
 * ``search``: the same policy without the court model (the global search at the default positions);
-* ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``), its
-  camera judged by the tracker's confidence (``frame_confidence``, not timed); skipped with a note when it
-  cannot be imported.
+* ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``) as the tracker
+  takes its camera at a new shot: judged by the tracker's confidence (``frame_confidence``) against its bar, and,
+  when under it, looked for again on the markings' faint look (timed with it); skipped with a note when it cannot
+  be imported.
 
 Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin`` confident (what
 a new shot's chain needs to be written; the court route: at least the bar the tracker takes its camera at,
@@ -91,9 +92,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--renderer", choices=RENDERERS, default="synth",
                         help="with --random: the frames' renderer: the project's own (synth, under --looks) or one "
                              "written apart from it (plain; --looks does not apply; see docs/BENCHMARKS.md)")
-    parser.add_argument("--faint-lines", action="store_true",
-                        help="with --random: the weight-free detector looks for faint straight paint along its length "
-                             "too (detect.faint_lines; off in the tracker by default)")
+    parser.add_argument("--no-faint-look", dest="faint_look", action="store_false",
+                        help="with --random: no second look of the court model at the markings' faint look, as the "
+                             "tracker takes it at a new shot (detect.faint_lines)")
     parser.add_argument("--first", type=int_at_least(0), default=0, metavar="K",
                         help="with --random: start at frame K of the seed's frames (frame i is the same in every run "
                              "of the seed, size and looks: --random 1 --first i runs one frame of a report again); "
@@ -136,18 +137,58 @@ def _median_error(estimate, truth, ground) -> float | None:
     return float(np.median(errors)) if len(errors) else None
 
 
-def still_camera_decision(policy, detections, frame_size, pitch, curves, sampling, image):
+def still_camera_decision(policy, detections, frame_size, pitch, curves, sampling, image, faint_look=None):
     """The policy's decision for a new shot's first frame, the frame given again as a still camera's next frames while
-    the policy waits for them (a court camera under its bar waiting for the next frames' to agree)."""
+    the policy waits for them (a court camera under its bar waiting for the next frames' to agree); ``faint_look``:
+    the frame's detections with their faint look, for the court model's second look (None: none)."""
     from broadtrack_graph.types.observations import FrameObservations
 
     W, H = frame_size
     index = 0
     while True:
-        decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling, image=image)
+        decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling, image=image,
+                                 faint_look=faint_look)
         if decision.camera is not None or not policy.tries.court_may_agree(index):
             return decision
         index += 1
+
+
+class _FaintLook:
+    """``() -> Detections | None``: a frame's detections with their faint look (None: it adds nothing), looked for
+    once."""
+
+    def __init__(self, detector, found) -> None:
+        self.detector, self.found, self.detections, self.asked = detector, found, None, False
+
+    def __call__(self):
+        if not self.asked:
+            looked = self.detector.with_faint_lines(self.found)
+            added = len(looked.points_work_px) > len(self.found.points_work_px)
+            self.detections, self.asked = (self.detector.name(looked) if added else None), True
+        return self.detections
+
+
+def _court_with_second_look(court, detections, faint_look, frame_size, pitch, curves, sampling, config):
+    """(the court model's result, its camera's confidence or None, the bar it is taken at) as the tracker takes it
+    at a new shot: on the markings as found, then, when its camera is under its bar, on their faint look
+    (``faint_look``: a :class:`_FaintLook`, or None: no second look), kept when over its own bar."""
+    from broadtrack_graph.reinit.frame import frame_confidence
+    from broadtrack_graph.track.reinit_policy import court_accept_at
+    from broadtrack_graph.types.observations import FrameObservations
+
+    def tried(on):
+        result = court(on.marking_mask, on.marking_points_px, frame_size, pitch=pitch, curves=curves,
+                       field_mask=on.field_mask, player_mask=on.player_mask, motion_blur=on.motion_blur)
+        confidence = None if result.camera is None else frame_confidence(
+            result.camera, FrameObservations(0, *frame_size), on, curves, sampling)
+        return result, confidence, court_accept_at(config, result)
+
+    first = tried(detections)
+    looked = None if (first[1] or 0.0) >= first[2] or faint_look is None else faint_look()
+    if looked is None:
+        return first
+    again = tried(looked)
+    return again if (again[1] or 0.0) >= again[2] else first
 
 
 def _court_route():
@@ -164,8 +205,7 @@ def run(args) -> dict:
     import cv2
     from tqdm import tqdm
 
-    from broadtrack_graph.detect.faint_lines import FaintLineConfig
-    from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.determinable import MIN_CURVE_SHARE, MIN_LINE_PX, determinability
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -184,9 +224,9 @@ def run(args) -> dict:
 
     W, H = args.width, args.height
     pitch = PitchTemplate()
-    faint = FaintLineConfig() if getattr(args, "faint_lines", False) else None
+    faint_look = getattr(args, "faint_look", True)
     curves, sampling = fitting_curves(pitch), TemplateSampling(pitch)
-    detector = WeightFreeDetector(pitch, WeightFreeConfig(faint_lines=faint))
+    detector = WeightFreeDetector(pitch)
     config = TrackingConfig(reinit_model=args.reinit_model)
     written_at = config.confidence_threshold + config.reinit_switch_margin
     # The court model's camera is taken by the tracker only from its own bar (court_accept_at: by the markings it
@@ -215,7 +255,8 @@ def run(args) -> dict:
             frame = draw_frame(args.seed, index, W, H, args.looks, args.renderer)
             drawn, image, truth = frame["drawn"], frame["image"], frame["drawn"].camera
             started = time.perf_counter()
-            detections = detector.detect(image)
+            found = detector.find_markings(image)
+            detections = detector.name(found)
             detect_s = time.perf_counter() - started
             seen = determinability(truth, pitch)
 
@@ -252,23 +293,24 @@ def run(args) -> dict:
             if args.renderer == "plain":  # its look drawn per frame: blur, noise, compression (synth.plain)
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
+                # The markings' faint look, taken (and timed) within the route that asks for it, as the tracker does.
+                looked = _FaintLook(detector, found) if faint_look else None
                 if route in ("tracker", "search"):
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence,
                                           model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
-                    decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image)
+                    decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image,
+                                                     looked)
                     seconds = time.perf_counter() - started
                     camera, confidence, reason = decision.camera, decision.confidence, decision.reason
                 else:
                     started = time.perf_counter()
-                    result = court(detections.marking_mask, detections.marking_points_px, (W, H), pitch=pitch,
-                                   curves=curves, field_mask=detections.field_mask, player_mask=detections.player_mask,
-                                   motion_blur=detections.motion_blur)
+                    result, confidence, bar = _court_with_second_look(court, detections, looked, (W, H), pitch,
+                                                                      curves, sampling, config)
                     seconds = time.perf_counter() - started
                     camera, reason = result.camera, result.reason
-                    confidence = None if camera is None else confidence_of(camera)
                 error = _median_error(camera, truth, ground)
-                bar = court_accept_at(config, result) if route == "court" else written_at_by_route[route]
+                bar = bar if route == "court" else written_at_by_route[route]
                 truth_bar = court_accept_at(config, ReinitResult(truth, None, "", explained=found_markings)) \
                     if route == "court" else written_at_by_route[route]
                 result_row = {"outcome": outcome(confidence, error, bar, args.success_px),
@@ -291,7 +333,7 @@ def run(args) -> dict:
         cv2.setNumThreads(threads)
     looks = ["plain"] if args.renderer == "plain" else list(args.looks)
     report = {"mode": "random", "frames": len(rows), "frame_size": [W, H], "seed": args.seed, "renderer": args.renderer,
-              "faint_lines": faint is not None,
+              "faint_look": faint_look,
               "looks": looks,
               "routes": routes, "skipped_routes": skipped, "reinit_model": args.reinit_model,
               "written_confidence": {route: round(written_at_by_route[route], 3) for route in routes},

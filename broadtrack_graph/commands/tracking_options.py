@@ -52,9 +52,9 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--tripod-position", nargs="*", action=_Renamed, help=argparse.SUPPRESS)
     parser.add_argument("--detector", choices=("weightfree", "onnx"), default=_DETECTOR.kind,
                         help=f"field detector (default {_DETECTOR.kind})")
-    parser.add_argument("--faint-lines", action="store_true",
-                        help="weight-free detector: also look for straight paint too faint for its threshold, along "
-                             "its length (worn paint, low resolution; about halves the frame rate at 1080p)")
+    parser.add_argument("--no-faint-look", dest="faint_look", action="store_false",
+                        help="weight-free detector: no faint look (straight paint too faint for its threshold, found "
+                             "along its length) for the frames whose camera is looked for from nothing")
     parser.add_argument("--segmentation-model", type=Path, help="ONNX line-segmentation model (with its .json contract)")
     parser.add_argument("--keypoint-model", type=Path, help="ONNX keypoint-heatmap model (with its .json contract)")
     parser.add_argument("--field-model", type=Path,
@@ -179,6 +179,6 @@ def detector_options(args) -> DetectorOptions:
     if field_model is not None and (args.segmentation_model is not None or args.keypoint_model is not None):
         raise InputError(field_model, "a field model holds both outputs: give it without --segmentation-model "
                                       "and --keypoint-model")
-    if args.faint_lines and args.detector != "weightfree":
-        raise InputError(None, "--faint-lines is the weight-free detector's: give it without --detector onnx")
-    return DetectorOptions(args.detector, args.segmentation_model, args.keypoint_model, field_model, args.faint_lines)
+    if not args.faint_look and args.detector != "weightfree":
+        raise InputError(None, "--no-faint-look is the weight-free detector's: give it without --detector onnx")
+    return DetectorOptions(args.detector, args.segmentation_model, args.keypoint_model, field_model, args.faint_look)

@@ -26,21 +26,23 @@ lines of other sports on artificial turf leave one dark):
    centre is not found twice), one is kept a pixel, and those more colourful than the ground around them are
    dropped (:func:`~broadtrack_graph.detect.ridges.white`).
 
-Off by default (``WeightFreeConfig.faint_lines``; ``--faint-lines``): it costs about as much as the rest of a 1080p
-frame's tracking, and grass texture seen at a grazing angle lines up into faint runs of its own
-(docs/BENCHMARKS.md, Why the defaults).
+The faint look (:func:`with_faint_lines`) adds these points to a frame's markings found already. The tracker takes
+it only for the court model's second look at a lost frame whose court camera was not taken, and for the frames of a
+chain whose first camera needed it to be confident: on every frame it would cost about as much as the rest of a
+1080p frame's tracking (``WeightFreeConfig.faint_lines``; docs/BENCHMARKS.md, Why the defaults).
 
 Pixels are the working image's.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.point_cells import pixels_of
+from broadtrack_graph.detect.found_markings import FoundMarkings, marking_map
+from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
 from broadtrack_graph.detect.ridges import marking_channel, ridge_points_at, white
 
 
@@ -280,3 +282,29 @@ def faint_line_points(colour_bgr: np.ndarray, allowed: np.ndarray, known: np.nda
     first = first[unknown[pixel[first, 1], pixel[first, 0]] > 0]
     found = found[np.sort(first)]
     return found[white(colour_bgr, found, c.faint_max_chroma_rise)]
+
+
+def with_faint_lines(found: FoundMarkings, tophat_kernel: np.ndarray, ridge_kernel: np.ndarray, c,
+                     config: FaintLineConfig = FaintLineConfig()) -> FoundMarkings:
+    """The faint look: ``found`` with the faint straight paint's points (:func:`faint_line_points`) added to its points
+    and marking map, and ``faint_look_of`` the markings it was taken of; ``found`` itself when it offers no faint look
+    (``found.faint`` None: not offered, or taken already).
+
+    Args:
+        found: a frame's markings (:meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.find_markings`).
+        tophat_kernel, ridge_kernel, c: the detector's top-hat element, Hessian Gaussian and settings.
+    """
+    if found.faint is None:
+        return found
+    faint = faint_line_points(found.faint.colour_bgr, found.faint.allowed, found.points_work_px, tophat_kernel,
+                              ridge_kernel, c, config)
+    if not len(faint):
+        return replace(found, faint=None, faint_look_of=found)
+    points = np.vstack([found.points_work_px, faint])
+    detections = replace(found.detections, marking_mask=marking_map(points, found.work_size),
+                         marking_points_px=work_to_frame_px(grid_thin(points, c.point_spacing_px), found.scale))
+    # The wide markings' search keeps a finer level's peaked points: the faint points are not.
+    wide = found.wide
+    if wide is not None:
+        wide = replace(wide, peaked=np.concatenate([wide.peaked, np.zeros(len(faint), bool)]))
+    return replace(found, detections=detections, points_work_px=points, wide=wide, faint=None, faint_look_of=found)

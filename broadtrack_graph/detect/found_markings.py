@@ -47,6 +47,18 @@ class BodiesToFeet:
 
 
 @dataclass(frozen=True)
+class FaintInputs:
+    """What the faint look (:func:`~broadtrack_graph.detect.faint_lines.with_faint_lines`) needs of a frame.
+
+    colour_bgr: (h, w, 3) uint8 colour working image; allowed: (h, w) uint8, non-zero where markings may be (the
+    field inside its edge, off the players' bodies).
+    """
+
+    colour_bgr: np.ndarray
+    allowed: np.ndarray
+
+
+@dataclass(frozen=True)
 class FoundMarkings:
     """What :meth:`~broadtrack_graph.detect.weightfree.WeightFreeDetector.find_markings` finds in a frame before any
     camera is known.
@@ -58,6 +70,8 @@ class FoundMarkings:
     wide: what the wide markings' search needs when the predicted camera asks for it (None: ``wide_levels`` 0, or
         a blurred frame's, already found).
     bodies: the players' legs still to find (None: ``detections`` holds them).
+    faint: what the faint look needs (None: not offered, or taken: :func:`~.faint_lines.with_faint_lines`).
+    faint_look_of: the markings this faint look was taken of (None: these are not a faint look's).
     """
 
     detections: Detections
@@ -67,6 +81,8 @@ class FoundMarkings:
     seconds: float
     wide: WideInputs | None = None
     bodies: BodiesToFeet | None = None
+    faint: FaintInputs | None = None
+    faint_look_of: "FoundMarkings | None" = None
 
     @cached_property
     def unnamed(self) -> Detections:

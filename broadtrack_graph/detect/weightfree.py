@@ -42,7 +42,9 @@ mapped back to the frame's pixels. Pipeline:
    :func:`broadtrack_graph.reinit.mask.reinit_from_mask`).
 
 Steps 1-3 need no camera (:meth:`WeightFreeDetector.find_markings`, run by the tracker
-ahead of time in the thread that decodes the frames); step 4 is :meth:`~WeightFreeDetector.name`.
+ahead of time in the thread that decodes the frames); step 4 is :meth:`~WeightFreeDetector.name`. The faint look
+(:meth:`WeightFreeDetector.with_faint_lines`, :mod:`~broadtrack_graph.detect.faint_lines`) adds the straight paint
+too faint for step 3, found along its length, to a frame's markings when the tracker asks for it.
 
 No I/O.
 """
@@ -58,8 +60,8 @@ import numpy as np
 
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
-from broadtrack_graph.detect.faint_lines import FaintLineConfig, faint_line_points
-from broadtrack_graph.detect.found_markings import BodiesToFeet, FoundMarkings, marking_map
+from broadtrack_graph.detect.faint_lines import FaintLineConfig, with_faint_lines
+from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marking_map
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
@@ -95,9 +97,9 @@ class WeightFreeConfig:
     tophat_noise_margin: float = 4.0  # ... and this much above the 90th percentile of the top-hat on grass
     faint_threshold: float = 8.0  # a blurred frame's pixels above this (and the grass's level) joined to those above
     faint_max_chroma_rise: float = 6.0  # ... and its points more colourful than the ground around by this dropped
-    # Faint straight markings found by their length (detect.faint_lines); None: not looked for (the default: on a
-    # 1080p main camera the search costs as much again as the rest of the tracking, docs/BENCHMARKS.md)
-    faint_lines: FaintLineConfig | None = None
+    # The faint look (faint straight markings found by their length, detect.faint_lines), offered with the markings
+    # found for a frame that needs it (with_faint_lines: the tracker's second look at a lost frame); None: not offered
+    faint_lines: FaintLineConfig | None = FaintLineConfig()
     support_window_px: int = 9  # a centre-line point needs min_support others in this window ...
     min_support: int = 7  # ... (a line crossing it gives about the window size; specks fewer)
     orientation_bins: int = 1  # > 2: support counts only neighbours within +-1 of these orientation bins (1: all)
@@ -331,10 +333,6 @@ class WeightFreeDetector:
         threshold_grass = cv2.bitwise_and(grass, allowed) if W < 2 * work_w else None
         blur = blur_factor(grey, W, pitch) if self.config.wide_levels > 0 else 1.0
         points, peaked, _ = self.ridges(grey, allowed, threshold_grass, blur >= self.config.blurred_from, grass)
-        if self.config.faint_lines is not None:  # faint straight paint, found along its length (detect.faint_lines)
-            faint = faint_line_points(small, allowed, points, self._tophat_kernel, self._ridge_kernel, self.config,
-                                      self.config.faint_lines)
-            points, peaked = np.vstack([points, faint]), np.concatenate([peaked, np.zeros(len(faint), bool)])
         # What the reduced levels need if the predicted camera draws a wide marking (name): a wide marking's middle
         # lies farther from grass than grass_reach_px. A blurred frame's are found now (then not again).
         wide = WideInputs(grey, cv2.bitwise_and(outline, cv2.bitwise_not(player_mask)), inner, grass, threshold_grass,
@@ -351,7 +349,14 @@ class WeightFreeDetector:
         # The legs below the bodies are found when the detections are first read (detect.found_markings).
         bodies = BodiesToFeet(boxes, player_mask, grey, grass, self.config.feet_contrast, self.config.feet_max_share,
                               self.config.player_margin_px)
-        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide, bodies)
+        faint = None if self.config.faint_lines is None else FaintInputs(small, allowed)
+        return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide, bodies,
+                             faint)
+
+    def with_faint_lines(self, found: FoundMarkings) -> FoundMarkings:
+        """``found`` with its faint straight paint added (:func:`~.faint_lines.with_faint_lines`; ``found`` itself when
+        it offers no faint look)."""
+        return with_faint_lines(found, self._tophat_kernel, self._ridge_kernel, self.config, self.config.faint_lines)
 
     def name(self, found: FoundMarkings, predicted: PredictedCamera | None = None) -> Detections:
         """The frame's detections: ``found`` with its points named by the predicted camera (none without one).

@@ -50,9 +50,10 @@ PROCESS_DEPTH = 4
 """Frames the preparing process may hold ready (shared-memory slots of
 :class:`~broadtrack_graph.io.process_prefetch.ProcessPrefetch`)."""
 
-MAPS_BYTES = 8 * 1024 * 1024
+MAPS_BYTES = 12 * 1024 * 1024
 """Room in a slot beside the frame's image for what is found ahead: the detector's maps at its working width (960 px
-whatever the frame's size), the flow's grey image, the graphics mask (about 5 MB in all)."""
+whatever the frame's size) with the colour working image its faint look needs, the flow's grey image, the graphics
+mask (about 7 MB in all for a 16:9 frame)."""
 
 
 def slot_bytes(width_px: int, height_px: int) -> int:

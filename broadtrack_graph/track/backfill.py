@@ -17,7 +17,7 @@ so memory stays bounded over a match. No I/O.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -126,7 +126,10 @@ class Backfill:
         """A frame entering the loop (a :class:`~broadtrack_graph.track.inputs.FrameInput`): keep what it found
         ahead until its record is final (a few frames; the lag of the smoother)."""
         cut = frame.shot is not None and (frame.shot.cut or frame.shot.is_other_view)
-        self._ahead[frame.frame_index] = (frame.markings, cut)
+        markings = frame.markings
+        if getattr(markings, "faint", None) is not None:
+            markings = replace(markings, faint=None)  # its faint look's colour image is not needed here
+        self._ahead[frame.frame_index] = (markings, cut)
 
     def final(self, record) -> None:
         """A record became final (a :class:`~broadtrack_graph.types.track_record.TrackRecord`, frame order)."""

@@ -12,7 +12,10 @@ the one before (flow, motion prior). A cut, a frame without a pitch, a failed de
 - whether its re-initialisation **continued** a confident camera's chain (a refined guess: the trust goes on; a
   better camera of the same id replacing a trusted chain's held camera mid-shot keeps the trust too);
 - whether the run is **lost** (the next frame is re-initialised) and how many frames in a row were **carried** on
-  the motion prior alone.
+  the motion prior alone;
+- whether its frames take the **faint look** (:mod:`~broadtrack_graph.detect.faint_lines`): a chain whose first
+  camera the court model found on its frame's faint look keeps it while that camera is under the chain's bar
+  without it.
 
 Everything else asks it: the re-initialisation policy reads the camera id and the trust, the judge
 (:mod:`~broadtrack_graph.track.judge`) is given the trust, the frame loop tells it what happened. No I/O.
@@ -45,6 +48,8 @@ class Chain:
         continued: the chain was started by a re-initialisation that continues a confident camera's chain.
         lost: no chain: the next frame is re-initialised.
         carried: frames in a row carried on the motion prior alone.
+        faint_look: the chain's frames take the faint look (detect.faint_lines): its first camera needed it to be
+            confident (set by the frame loop).
     """
 
     def __init__(self, config: TrackingConfig, registry: CameraRegistry, tripod: OnlineTripod | None = None,
@@ -58,6 +63,7 @@ class Chain:
         self.continued = False
         self.lost = True
         self.carried = 0
+        self.faint_look = False
 
     # ----------------------------------------------------------------- the camera id
 
@@ -137,6 +143,6 @@ class Chain:
 
     def end(self) -> None:
         """The chain ends: the next frame is not linked to it but re-initialised, the bar back at the threshold."""
-        self.lost, self.carried, self.continued = True, 0, False
+        self.lost, self.carried, self.continued, self.faint_look = True, 0, False, False
         self.trusted, self.trusted_since = False, None
         self.trust_at = self.config.confidence_threshold

@@ -100,6 +100,7 @@ class TrackingRun:
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
         self.cuts = 0  # cuts that broke the chain
+        self.faint_look_frames = 0  # frames whose markings took the faint look (a second look, a chain needing it)
         self.shot_index: int | None = None  # the current shot (None: no shot information)
         self.shot_camera_ids: dict[int, str] = {}  # shot index -> the camera id of its first confident frame
         self.backfill = None
@@ -154,8 +155,10 @@ class TrackingRun:
         lost = self.chain.lost
         predicted = None if lost else predicted_camera(self._history, self._last_std, self.W)
         try:
+            # A chain whose camera needed the faint look (detect.faint_lines) keeps it.
+            self.faint_look_frames += self.chain.faint_look
             observations, detections = self.observer.observe(frame, predicted, None if lost or not self._history
-                                                             else self._history[-1])
+                                                             else self._history[-1], self.chain.faint_look)
         except ValueError as exc:
             self.records.emit_now(frame, FrameStatus.FAILED, f"detector: {exc}")
             self._end_chain()
@@ -180,13 +183,18 @@ class TrackingRun:
         guess = None
         trust_previous = not self.chain.lost
         if self.chain.lost:
-            decision = self._decide(observations, detections, image=frame.image)
+            # The court model may look again at the frame's markings with their faint look (detect.faint_lines).
+            decision = self._decide(observations, detections, image=frame.image,
+                                    faint_look=lambda: self.observer.faint_look(frame))
+            if decision.faint_look:
+                self.observer.take_faint_look(frame)  # the frame's markings are those its camera was found on
+                self.faint_look_frames += 1
             if decision.camera is None:
                 self.records.emit_now(frame, FrameStatus.UNPLACED if detections is not None else FrameStatus.NO_DETECTIONS,
                                       f"no camera found: {decision.reason}")
                 self._end_chain()
                 return None, detections
-            self.chain.start(decision)
+            self._start_chain(frame, observations, decision)
             guess, reinitialised = decision.camera, True
             if self.chain.place_known:
                 self.solver.hold_position_next()  # a known camera's place: not moved by one frame's few markings
@@ -212,11 +220,12 @@ class TrackingRun:
         return observations, detections
 
     def _decide(self, observations: FrameObservations, detections: Detections | None, held: Camera | None = None,
-                held_confidence: float | None = None, image=None) -> ReinitDecision:
-        """The re-initialisation policy's decision for this frame (its time counted; image: for the field model)."""
+                held_confidence: float | None = None, image=None, faint_look=None) -> ReinitDecision:
+        """The re-initialisation policy's decision for this frame (its time counted; image: for the field model;
+        faint_look: the frame's detections with their faint look, when asked)."""
         started = time.perf_counter()
         decision = self.policy.decide(observations, detections, self.pitch, self.curves, self.sampling, held,
-                                      held_confidence, image)
+                                      held_confidence, image, faint_look)
         self.timings["reinit_s"] += time.perf_counter() - started
         if decision.camera is not None and not self.config.estimate_k1:
             decision = replace(decision, camera=decision.camera.replace(k1=0.0))
@@ -251,7 +260,7 @@ class TrackingRun:
             # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
             decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
             if decision.camera is not None:
-                self.chain.start(decision)
+                self._start_chain(entry.frame, observations, decision)
                 self.solver.replace_last(decision.camera)
                 entry.reinitialised, entry.status = True, FrameStatus.REINITIALISED
                 entry.override_camera = decision.camera
@@ -287,6 +296,17 @@ class TrackingRun:
         if tripod is not None:
             self.policy.tripod(self.chain.camera_id, tripod.T_w)  # the fitted tripod identifies the camera
 
+    def _start_chain(self, frame: FrameInput, observations: FrameObservations, decision: ReinitDecision) -> None:
+        """A decision's camera starts the chain; the chain keeps the faint look when the frame's added markings and
+        the camera is under the bar its chain is trusted from on those found without it."""
+        self.chain.start(decision)
+        before = self.observer.without_faint_look(frame)
+        keeps = before is not None
+        if keeps and before.marking_mask is not None and before.marking_mask.any():
+            confidence = self.confidence(decision.camera, observations, before, self.curves, self.sampling)
+            keeps = confidence is None or confidence < max(self.chain.trust_at, self.config.confidence_threshold)
+        self.chain.faint_look = keeps
+
     def _end_chain(self) -> None:
         """The next frame is not linked to the previous one (no flow, re-initialise)."""
         self.chain.end()
@@ -308,5 +328,6 @@ class TrackingRun:
         extra["solver_restarts"] = self.solver.rebuilds
         extra["reinit_searches"] = dict(self.policy.counts)
         extra["cuts"] = self.cuts
+        extra["faint_look_frames"] = self.faint_look_frames
         summary = self.writer.close(extra)
         return RunResult(self.out_dir, summary, None, tripod, by_camera)

@@ -120,16 +120,11 @@ class FrameTries:
         if self.court is None or getattr(detections, "marking_mask", None) is None or not self.court_schedule.allows(i):
             return None
         self.counts["court_tried"] += 1
-        result = self.court(detections, (observations.width_px, observations.height_px), curves)
-        if result.camera is None:
+        result, camera, twin, confidence = self._court(observations, detections, curves, score)
+        if camera is None:
             if result.tried:  # a frame that formed no hypothesis cost the map's structures only: it is no try
                 self.court_schedule.tried(i, False)
             return None
-        camera, twin = result.camera, result.twin
-        if twin is not None and self.registry.nearest(camera.position_m, camera.R_cw[2]) is None \
-                and self.registry.nearest(twin.position_m, twin.R_cw[2]) is not None:
-            camera, twin = twin, camera  # a known camera's tripod decides the twin
-        confidence = float(score(camera) or 0.0)
         self.court_schedule.tried(i, confidence >= self.config.confidence_threshold)
         agrees = False
         if confidence >= self.config.confidence_threshold + self.config.reinit_switch_margin:
@@ -143,6 +138,28 @@ class FrameTries:
                 self._first_court_frame = i
         return CourtCandidate(replace(result, camera=camera, twin=twin), None, confidence, False, result.hypothesis,
                               agrees=agrees)
+
+    def court_camera_again(self, observations, detections, curves, score) -> CourtCandidate | None:
+        """The court model's camera for the frame on other markings of it (its faint look), as :meth:`court_camera`
+        gives it but outside the court model's schedule and the stretch's agreement: a second look at one frame."""
+        if self.court is None or getattr(detections, "marking_mask", None) is None:
+            return None
+        result, camera, twin, confidence = self._court(observations, detections, curves, score)
+        if camera is None:
+            return None
+        return CourtCandidate(replace(result, camera=camera, twin=twin), None, confidence, False, result.hypothesis)
+
+    def _court(self, observations, detections, curves, score):
+        """(the court model's result, its camera and twin, the tracker's confidence of the camera; camera None when
+        it found none)."""
+        result = self.court(detections, (observations.width_px, observations.height_px), curves)
+        if result.camera is None:
+            return result, None, None, 0.0
+        camera, twin = result.camera, result.twin
+        if twin is not None and self.registry.nearest(camera.position_m, camera.R_cw[2]) is None \
+                and self.registry.nearest(twin.position_m, twin.R_cw[2]) is not None:
+            camera, twin = twin, camera  # a known camera's tripod decides the twin
+        return result, camera, twin, float(score(camera) or 0.0)
 
     def court_may_agree(self, frame_index: int) -> bool:
         """Whether a court camera confident by the margin, on this frame or one before in the stretch, can still be

@@ -6,8 +6,10 @@ out; optical flow links the frame to the previous one while the previous camera 
 (:func:`~broadtrack_graph.detect.flow.grid_flow`: back-projected through that camera, kept only on
 the field and off the players; tracked ahead where the frames are decoded when the markings are found
 there, :func:`~broadtrack_graph.detect.flow.flow_candidates`, and only checked against the previous
-camera here). A detections file's frames bring their observations; flow is added when their images
-come too. No I/O beyond a detections file's mask images.
+camera here). A frame's markings can take their faint look (the faint straight paint added,
+:mod:`~broadtrack_graph.detect.faint_lines`): looked at for the court model's second look at a lost frame, kept when
+its camera was found on them and for the frames of a chain that needs them. A detections file's frames bring their
+observations; flow is added when their images come too. No I/O beyond a detections file's mask images.
 """
 
 from __future__ import annotations
@@ -49,26 +51,60 @@ class FrameObserver:
         self.mask_paths, self.timings = mask_paths, timings
         self._prev_grey: np.ndarray | None = None
         self._prev_keep_mask: np.ndarray | None = None
+        self._looked = None  # (frame, its markings' faint look): the last frame looked at (faint_look)
 
     def unlink(self) -> None:
         """The next frame is not linked to the previous one by flow."""
         self._prev_grey = None
 
-    def detect(self, frame: FrameInput, predicted: PredictedCamera | None) -> Detections:
-        """The frame's detections without what lies under graphics; from the markings found ahead when there."""
+    def detect(self, frame: FrameInput, predicted: PredictedCamera | None, faint_look: bool = False) -> Detections:
+        """The frame's detections without what lies under graphics; from the markings found ahead when there, with
+        their faint look when asked (:meth:`take_faint_look`)."""
+        if faint_look:
+            self.take_faint_look(frame)
         if frame.markings is not None:
             detections = self.detector.name(frame.markings, predicted)
         else:
             detections = self.detector.detect(frame.image, predicted)
         return mask_graphics(detections, frame.graphics_mask)
 
-    def observe(self, frame: FrameInput, predicted: PredictedCamera | None,
-                previous: Camera | None) -> tuple[FrameObservations, Detections | None]:
+    def faint_look(self, frame: FrameInput) -> Detections | None:
+        """The frame's unnamed detections with their faint look (the faint straight paint added to the markings found
+        ahead: the detector's ``with_faint_lines``), without what lies under graphics; None when the markings offer
+        none or it adds nothing. Looked for once a frame; the frame's markings stay as found
+        (:meth:`take_faint_look`)."""
+        if frame.markings is None or frame.markings.faint is None:
+            return None
+        if self._looked is None or self._looked[0] is not frame:
+            self._looked = (frame, self.detector.with_faint_lines(frame.markings))
+        looked = self._looked[1]
+        if len(looked.points_work_px) == len(frame.markings.points_work_px):
+            return None
+        return mask_graphics(looked.unnamed, frame.graphics_mask)
+
+    def take_faint_look(self, frame: FrameInput) -> None:
+        """The frame's markings are their faint look's from here on (:meth:`faint_look`); nothing when the markings
+        offer none."""
+        if frame.markings is not None and frame.markings.faint is not None:
+            self.faint_look(frame)
+            frame.markings, self._looked = self._looked[1], None
+
+    def without_faint_look(self, frame: FrameInput) -> Detections | None:
+        """The frame's unnamed detections as they were before its faint look added anything (None: it added nothing,
+        or was not taken)."""
+        before = getattr(frame.markings, "faint_look_of", None)
+        if before is None or len(before.points_work_px) == len(frame.markings.points_work_px):
+            return None
+        return mask_graphics(before.unnamed, frame.graphics_mask)
+
+    def observe(self, frame: FrameInput, predicted: PredictedCamera | None, previous: Camera | None,
+                faint_look: bool = False) -> tuple[FrameObservations, Detections | None]:
         """(observations at the run's resolution, detections or None) of one frame.
 
         Args:
             predicted: the camera the markings are named with (None: lost, nothing is named).
             previous: the previous frame's trusted camera (None: no flow).
+            faint_look: the markings with their faint look (:meth:`take_faint_look`).
 
         Raises:
             ValueError: the detector refused the image.
@@ -77,7 +113,7 @@ class FrameObserver:
         if frame.has_image:
             if observations is None:
                 started = time.perf_counter()
-                detections = self.detect(frame, predicted)
+                detections = self.detect(frame, predicted, faint_look)
                 self.timings["detect_s"] += time.perf_counter() - started
                 if frame.markings is not None:
                     self.timings["markings_ahead_s"] += frame.markings.seconds

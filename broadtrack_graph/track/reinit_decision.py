@@ -24,6 +24,8 @@ class ReinitDecision:
     reason: one line.
     new_camera: ``camera`` was searched for a shot whose camera was not known: its chain is trusted only from
         a frame confident by the margin (a shot's first frame can be explained, nearly as well, by a wrong camera).
+    faint_look: ``camera`` was found on the frame's markings with their faint look (detect.faint_lines): the frame's
+        markings are those from here on.
     """
 
     camera: Camera | None
@@ -33,6 +35,7 @@ class ReinitDecision:
     searched: bool
     reason: str
     new_camera: bool = False
+    faint_look: bool = False
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,10 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    (its twin when a known camera stands there); otherwise dropped. On its own
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`. A new shot's court camera confident by the margin
    defers the shot's global search for ``court_agreement_frames``: the next frames' court cameras confirm it or not.
+   A lost frame whose court camera is not taken is looked at again with its faint look (the markings with the faint
+   straight paint added, :mod:`~broadtrack_graph.detect.faint_lines`): the court model's camera on those, taken at
+   the same bar, and the frame's markings are those from then on; the rest of the decision stays on the markings
+   as found.
 3. **The learned field model** (image input): its keypoints give a camera wherever it stands
    (:class:`~broadtrack_graph.reinit.field_model.ModelReinit`, tens of ms), refined on the marking
    map. Taken when confident (a new shot's camera: when certain, ``certain_confidence``), with
@@ -133,8 +137,8 @@ class ReinitPolicy:
         self.search_positions = None if search_positions is None else [tuple(p) for p in search_positions]
         self._frame = None  # (detections, curves, score) of the frame decided on
         self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
-        self.counts = {"guess_used": 0, "court_used": 0, "court_tried": 0, "model_used": 0, "model_tried": 0,
-                       "global": 0, "stages": 0, "skipped_by_budget": 0}
+        self.counts = {"guess_used": 0, "court_used": 0, "court_faint_look_used": 0, "court_tried": 0, "model_used": 0,
+                       "model_tried": 0, "global": 0, "stages": 0, "skipped_by_budget": 0}
         self.searches = SearchRoute(config, search, self.registry, self.counts)
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
 
@@ -170,12 +174,14 @@ class ReinitPolicy:
         return self.held_schedule.allows(frame_index)
 
     def decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
-               held_confidence: float | None = None, image: np.ndarray | None = None) -> ReinitDecision:
+               held_confidence: float | None = None, image: np.ndarray | None = None,
+               faint_look=None) -> ReinitDecision:
         """A camera for a frame without a trusted one (module docstring; arguments: :meth:`_decide`)."""
-        decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image)
+        decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image,
+                                faint_look)
         if held is not None and self.chain.trusted:
             self.held_schedule.tried(observations.frame_index, decision.camera is not None)
-        mask = getattr(detections, "marking_mask", None)
+        mask = getattr(self._frame[0] if decision.faint_look else detections, "marking_mask", None)
         if decision.camera is not None and not self.chain.trusted and mask is not None and pitch is not None:
             # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it.
             fixed = determinability(decision.camera, pitch, explained_by=mask)
@@ -185,7 +191,7 @@ class ReinitPolicy:
         return decision
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
-                held_confidence: float | None = None, image=None) -> ReinitDecision:
+                held_confidence: float | None = None, image=None, faint_look=None) -> ReinitDecision:
         """The decision, before the held camera's schedule hears of it.
 
         Args:
@@ -194,6 +200,8 @@ class ReinitPolicy:
             held: the camera the solver holds for this frame (confidence under the threshold), None when lost.
             held_confidence: its confidence.
             image: the frame (H, W, 3) BGR, for the field model; None: no model this frame.
+            faint_look: ``() -> Detections | None``: the frame's detections with their faint look (detect.faint_lines;
+                None: it adds nothing), for the court model's second look; None: no second look.
 
         The chain's camera id and its trust (a trusted chain's held camera costs smoothing to switch) are read from
         :attr:`chain`.
@@ -223,6 +231,7 @@ class ReinitPolicy:
             if candidate is not None:
                 return self._candidate_decision(candidate, False, "", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, "no refined guess of the held camera")
+        court_tries = self.counts["court_tried"]
         court = self.tries.court_camera(observations, detections, curves, score) if from_nothing else None
         if court is not None and (court.confidence >= court_accept_at(self.config, court.result, new_camera)
                                   or court.agrees):
@@ -232,6 +241,21 @@ class ReinitPolicy:
             self.counts["court_used"] += 1
             return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
                                   False, False, court.label, held, held_confidence, new_camera)
+        tried_court = self.counts["court_tried"] > court_tries  # on its schedule, this frame
+        looked = faint_look() if tried_court and faint_look is not None else None
+        if looked is not None:
+            # A second look at the frame: its markings with the faint straight paint added, for the court model alone
+            # (the rest of the decision stays on the markings as found). Its camera is taken at the same bar.
+            looked_score = lambda camera: self.confidence(camera, observations, looked, curves, sampling)  # noqa: E731
+            again = self.tries.court_camera_again(observations, looked, curves, looked_score)
+            if again is not None and again.confidence >= court_accept_at(self.config, again.result, new_camera):
+                self.counts["court_faint_look_used"] += 1
+                self._frame = (looked, curves, looked_score)
+                decision = self._decision(again.result, again.confidence,
+                                          self._camera_id_of(again.result, again.confidence), False, False,
+                                          again.label + " (faint look)", held, held_confidence, new_camera)
+                return replace(decision, faint_look=True) if decision.camera is not None else decision
+            self._frame = (detections, curves, score)
         modelled = self.tries.model_camera(i, image, detections, curves, score) if from_nothing else None
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /

@@ -181,3 +181,33 @@ def test_the_plain_renderer_draws_the_same_cameras_and_its_paint_shows(tmp_path,
 def test_the_plain_renderer_is_asked_of_random_frames_only(capsys):
     assert main(["bench", "placements", "--renderer", "plain", "--distances", "55", "--elevations", "15"]) != 0
     assert "--renderer plain renders the frames of --random N only" in capsys.readouterr().err
+
+
+def test_the_court_route_looks_again_on_the_faint_look_when_its_camera_is_under_its_bar(monkeypatch):
+    """As the tracker at a new shot: the court model's camera on the markings as found, and when under its bar (0.7
+    without a grid of lines) the one on their faint look, kept only when over its own bar."""
+    from types import SimpleNamespace
+
+    from broadtrack_graph.reinit import frame
+
+    found, looked = (SimpleNamespace(marking_mask=np.ones((9, 16), bool), marking_points_px=np.zeros((5, 2)),
+                                     field_mask=None, player_mask=None, motion_blur=None) for _ in range(2))
+    cameras = {id(found): "on the markings as found", id(looked): "on the faint look"}
+
+    def court(marking_mask, marking_points_px, frame_size, **kwargs):
+        on = found if marking_mask is found.marking_mask else looked
+        return ReinitResult(cameras[id(on)], None, "stand-in")
+
+    def second(first_confidence, again_confidence, offered=True):
+        scores = {id(found): first_confidence, id(looked): again_confidence}
+        monkeypatch.setattr(frame, "frame_confidence", lambda camera, observations, on, curves, sampling: scores[id(on)])
+        asked = []
+        look = (lambda: asked.append(1) or looked) if offered else None
+        result, confidence, bar = random_placements._court_with_second_look(
+            court, found, look, (WIDTH, HEIGHT), None, None, None, TrackingConfig())
+        return result.camera, confidence, bar, len(asked)
+
+    assert second(0.5, 0.8) == ("on the faint look", 0.8, 0.7, 1)
+    assert second(0.5, 0.65) == ("on the markings as found", 0.5, 0.7, 1)  # under its bar there too
+    assert second(0.75, 0.9) == ("on the markings as found", 0.75, 0.7, 0)  # taken at once: no second look
+    assert second(0.5, 0.8, offered=False) == ("on the markings as found", 0.5, 0.7, 0)

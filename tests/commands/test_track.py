@@ -102,16 +102,16 @@ def test_a_field_model_reaches_the_action(calls):
     assert options.kind == "onnx" and str(options.field_model) == "field.onnx" and options.keypoint_model is None
 
 
-def test_faint_lines_reach_the_weight_free_detector_only(calls, capsys):
+def test_the_faint_look_is_the_weight_free_detector_s_and_on_by_default(calls, capsys):
     from broadtrack_graph.actions.track import make_detector
 
-    assert main(["track", "clip.mp4", "--out", "run", "--faint-lines"]) == 0
+    assert make_detector(DetectorOptions()).config.faint_lines is not None  # on by default
+    assert main(["track", "clip.mp4", "--out", "run", "--no-faint-look"]) == 0
     options = calls[0]["detector"]
-    assert options.kind == "weightfree" and options.faint_lines
-    assert make_detector(options).config.faint_lines is not None
-    assert make_detector(DetectorOptions()).config.faint_lines is None  # off by default
-    assert main(["track", "clip.mp4", "--out", "run", "--detector", "onnx", "--faint-lines"]) == 2
-    assert "--faint-lines is the weight-free detector's" in capsys.readouterr().err
+    assert options.kind == "weightfree" and not options.faint_look
+    assert make_detector(options).config.faint_lines is None
+    assert main(["track", "clip.mp4", "--out", "run", "--detector", "onnx", "--no-faint-look"]) == 2
+    assert "--no-faint-look is the weight-free detector's" in capsys.readouterr().err
 
 
 def test_onnx_without_a_model_runs_the_shipped_one_and_the_reinit_model_is_an_option(calls):

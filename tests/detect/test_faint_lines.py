@@ -119,10 +119,18 @@ def test_unknown_map_clears_a_square_round_each_known_point():
     assert unknown_map(np.zeros((0, 2)), (40, 30), 3).all()
 
 
-def test_the_detector_finds_the_faint_line_only_with_the_stage_on():
+def test_the_faint_look_adds_the_faint_line_to_the_markings_found_and_keeps_what_it_was_taken_of():
     image = np.clip(_with_line(_grass(), 10.0), 0, 255).astype(np.uint8)
-    with_stage = WeightFreeDetector(config=WeightFreeConfig(faint_lines=FaintLineConfig())).detect(image)
-    without = WeightFreeDetector().detect(image)  # off by default
-    assert len(without.marking_points_px) < 10
-    points = with_stage.marking_points_px
+    detector = WeightFreeDetector()
+    found = detector.find_markings(image)
+    assert len(detector.name(found).marking_points_px) < 10  # the ridge detector alone misses it
+    looked = detector.with_faint_lines(found)
+    points = detector.name(looked).marking_points_px
     assert len(points) > 50 and np.median(_off_line_px(points)) < 1.0
+    assert looked.faint_look_of is found and looked.faint is None
+    assert detector.with_faint_lines(looked) is looked  # taken once
+    assert looked.unnamed.marking_mask.sum() == len(looked.points_work_px) > len(found.points_work_px)
+    # Not offered: the markings as they are.
+    plain = WeightFreeDetector(config=WeightFreeConfig(faint_lines=None))
+    unoffered = plain.find_markings(image)
+    assert unoffered.faint is None and plain.with_faint_lines(unoffered) is unoffered

@@ -53,7 +53,9 @@ def test_a_new_shot_s_camera_is_trusted_only_from_a_frame_at_the_raised_bar():
     assert not chain.trusted and chain.trust_at == pytest.approx(0.5)
     # After the chain ended (lost), a re-initialisation starts untrusted whatever its id.
     chain.trust(12)
+    chain.faint_look = True  # the frame loop's: the chain's camera needed the faint look
     chain.end()
+    assert not chain.faint_look  # the next chain's frames take it only if it needs it too
     chain.start(decision("high"))
     assert not chain.trusted
 

@@ -416,3 +416,65 @@ def test_a_trusted_chain_s_camera_under_the_threshold_is_tried_after_growing_wai
     # Every frame is written (the chain is trusted), as solved: no frame between tries is replaced or held back.
     assert all(r.camera is not None and r.status == "tracked" for r in records[1:])
     assert solver.replaced == []
+
+
+class FaintFound:
+    """A frame's markings found ahead (a FoundMarkings' part the loop reads): 20 points, 30 with the faint look."""
+
+    def __init__(self, i: int, looked_of: "FaintFound | None" = None) -> None:
+        self.i, self.faint_look_of, self.seconds = i, looked_of, 0.0
+        self.faint = None if looked_of is not None else "offered"
+        self.points_work_px = np.zeros((20 if looked_of is None else 30, 2))
+        self.unnamed = Detections(W, H, marking_points_px=self.points_work_px, marking_mask=np.ones((9, 16), bool),
+                                  info={"faint_look": looked_of is not None})
+
+
+class FaintLookDetector:
+    """Names found markings with the middle line (with a predicted camera); records the frames whose faint look it was
+    asked for."""
+
+    def __init__(self) -> None:
+        self.looked = []
+
+    def name(self, found, predicted=None):
+        lines = dict(LINES) if predicted is not None else {}
+        return Detections(W, H, lines_px=lines, marking_points_px=found.points_work_px,
+                          marking_mask=found.unnamed.marking_mask, info=dict(found.unnamed.info))
+
+    def with_faint_lines(self, found):
+        self.looked.append(found.i)
+        return FaintFound(found.i, found)
+
+
+@pytest.mark.parametrize("standard_placed, without_look, looked", [
+    (False, 0.3, [0, 1, 2, 3]), (False, 0.9, [0]), (True, 0.9, [])])
+def test_the_court_model_looks_again_with_the_faint_look_and_the_chain_keeps_it_only_when_needed(
+        tmp_path, monkeypatch, standard_placed, without_look, looked):
+    """The lost first frame's court camera: on the markings as found when ``standard_placed``, else only on their
+    faint look (0.9 confident there) and ``without_look`` on those found without it: under the bar, the chain's frames
+    keep the look. The global search finds nothing."""
+    from broadtrack_graph.track import frame_loop
+
+    def court(detections, frame_size, curves):
+        if detections.info.get("faint_look") or standard_placed:
+            return ReinitResult(reinit_camera(0), None, "court", tried=1)
+        return ReinitResult(None, None, "", "nothing", tried=1)
+
+    monkeypatch.setattr(frame_loop, "court_reinit", court)
+    detector = FaintLookDetector()
+    script = Scripted(fail={0})
+    confidence = lambda camera, observations, detections, curves, sampling: (  # noqa: E731
+        0.9 if detections.info.get("faint_look") or standard_placed else without_look)
+    run = TrackingRun(W, H, tmp_path / "run", RunContext(TrackingConfig(use_flow=False), detector,
+                                                         solver_factory=lambda *args: FakeSolver(),
+                                                         reinitialise=script.reinitialise, confidence=confidence))
+    for i in range(4):
+        run.process(FrameInput(i, f"{i + 1:06d}", i / 25.0, image=np.full((4, 4, 3), i, np.uint8),
+                               markings=FaintFound(i)))
+    assert run.chain.faint_look == (without_look < 0.6)
+    assert run.policy.counts["court_faint_look_used"] == (0 if standard_placed else 1)
+    summary = run.finish().summary
+    assert detector.looked == looked and summary["faint_look_frames"] == len(looked)
+    assert script.reinit_calls == []  # the court model placed the frame: no search
+    assert [(r.frame_index, r.status) for r in read_track(tmp_path / "run").records] == [
+        (0, "reinitialised"), (1, "tracked"), (2, "tracked"), (3, "tracked")]

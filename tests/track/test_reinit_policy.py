@@ -738,3 +738,40 @@ def test_a_camera_found_while_the_chain_is_not_trusted_is_named_by_where_it_stan
     policy.chain.identify("main")
     decision = _decide(policy, 5, chain_trusted=True)
     assert decision.camera is CORNER and decision.camera_id == "main"
+
+
+def test_a_court_camera_not_taken_is_looked_for_again_on_the_frame_s_faint_look_at_the_same_bar():
+    """The court model finds nothing on the markings as found and CORNER on their faint look: taken when over its bar
+    there (the decision says so: the frame's markings are the faint look's from then on), else the search decides on
+    the markings as found. No second look without a court try this frame, nor after a court camera taken."""
+    from broadtrack_graph.track.camera_ids import CameraRegistry
+
+    looked = SimpleNamespace(marking_mask=np.ones((9, 16), bool))
+
+    def run(faint_confidence, first=None, court_on=True):
+        fakes = Fakes({None: (MAIN, 0.62)})
+        seen, looks = [], []
+
+        def court(detections, frame_size, curves):
+            seen.append("faint" if detections is looked else "found")
+            camera = first if detections is not looked else CORNER
+            if camera is None:
+                return ReinitResult(None, None, "", "nothing", tried=1)
+            fakes.confidences[id(camera)] = faint_confidence if camera is CORNER else 0.9
+            return ReinitResult(camera, None, "fake court")
+
+        policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence, CameraRegistry(),
+                              court=court if court_on else None)
+        decision = _decide(policy, 0, faint_look=lambda: looks.append(0) or looked)
+        return decision, seen, len(looks), policy.counts["court_faint_look_used"]
+
+    decision, seen, looks, used = run(0.75)
+    assert decision.camera is CORNER and decision.faint_look and not decision.searched
+    assert seen == ["found", "faint"] and looks == 1 and used == 1 and "(faint look)" in decision.reason
+    decision, seen, looks, used = run(0.65)  # under the court model's bar (0.7) there too
+    assert decision.camera is MAIN and decision.searched and not decision.faint_look and used == 0
+    assert seen == ["found", "faint"]
+    decision, seen, looks, _ = run(0.75, first=MAIN)  # taken on the markings as found: no second look
+    assert decision.camera is MAIN and not decision.faint_look and seen == ["found"] and looks == 0
+    decision, seen, looks, _ = run(0.75, court_on=False)  # no court model: nothing to look again for
+    assert decision.camera is MAIN and looks == 0
