@@ -93,6 +93,10 @@ def summarise(rows: list[dict], routes: list[str], width_px: int | None = None) 
                               for name, group in groups.items()},
                            "not_determinable": route_figures(apart, route)}
     return {"determinable": len(counted), "not_determinable": len(apart),
+            # what the tracker's shot step reads as another view (it looks for no camera there; the court route does)
+            "other_view": {"determinable": sum(bool(r.get("view", {}).get("other_view")) for r in counted),
+                           **{stand: sum(bool(r.get("view", {}).get("other_view")) for r in counted
+                                         if r["class"] == stand) for stand in STANDS}},
             "not_determinable_by_stand": {stand: sum(r["class"] == stand for r in apart) for stand in STANDS},
             "render_s": _seconds([row["render_s"] for row in rows]),
             "detect_s": _seconds([row["detect_s"] for row in rows]), "by_route": by_route,

@@ -17,8 +17,10 @@ apart; the faint look the court model's second look takes, ``--no-faint-look``: 
 * ``tracker``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the court
   model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
   camera's next frames while the policy waits for them (at most ``court_agreement_frames``), as ``bench placements``
-  does;
-* ``search``: the same policy without the court model (the global search at the default positions);
+  does; a frame the tracker's shot step reads as another view (a close-up, a crowd: ``view``) gets none, as in the
+  tracker;
+* ``search``: the same policy without the court model (the global search at the default positions), after the shot
+  step too;
 * ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``) as the tracker
   takes its camera at a new shot: judged by the tracker's confidence (``frame_confidence``) against its bar, and,
   when under it, looked for again on the markings' faint look (timed with it); skipped with a note when it cannot
@@ -191,6 +193,16 @@ def _court_with_second_look(court, detections, faint_look, frame_size, pitch, cu
     return again if (again[1] or 0.0) >= again[2] else first
 
 
+def shot_step_view(image, detector):
+    """The tracker's shot step on a frame as a new shot's first (:class:`~broadtrack_graph.track.shot_stream.ShotStream`
+    with a run's settings): {"kind", "reason"} of its view; a frame it reads as another view gets no camera."""
+    from broadtrack_graph.track.inputs import FrameInput
+    from broadtrack_graph.track.shot_stream import ShotStream
+
+    shot = next(iter(ShotStream.for_run([FrameInput(0, "000001", 0.0, image=image)], True, False, detector))).shot
+    return {"kind": shot.kind, "reason": shot.reason, "other_view": bool(shot.is_other_view)}
+
+
 def _court_route():
     """(reinit_from_court, None), or (None, a one-line note) when it cannot be imported."""
     try:
@@ -259,6 +271,7 @@ def run(args) -> dict:
             detections = detector.name(found)
             detect_s = time.perf_counter() - started
             seen = determinability(truth, pitch)
+            view = shot_step_view(image, detector)
 
             def confidence_of(camera):
                 return frame_confidence(camera, FrameObservations(0, W, H), detections, curves, sampling)
@@ -282,7 +295,8 @@ def run(args) -> dict:
                    "markings_visible": shown_markings.determinable,
                    "paint_found": {"samples": paint_samples.tolist(), "found": paint_found.tolist()},
                    "contrast_found": {"samples": contrast_samples.tolist(), "found": contrast_found.tolist()},
-                   "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "routes": {}}
+                   "render_s": round(frame["render_s"], 3), "detect_s": round(detect_s, 3), "view": view,
+                   "routes": {}}
             if detections.motion_blur is not None:
                 smear_samples, smear_found = found_by_smeared_contrast(
                     truth, detections.marking_mask, detections.motion_blur, np.array(SMEARED_CONTRAST_BINS), curves,
@@ -295,7 +309,10 @@ def run(args) -> dict:
             for route in routes:
                 # The markings' faint look, taken (and timed) within the route that asks for it, as the tracker does.
                 looked = _FaintLook(detector, found) if faint_look else None
-                if route in ("tracker", "search"):
+                if route in ("tracker", "search") and view["other_view"]:
+                    # The tracker's shot step reads the frame as another view: no camera is looked for.
+                    camera, confidence, seconds, reason = None, None, 0.0, f"other view ({view['reason']})"
+                elif route in ("tracker", "search"):
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence,
                                           model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()

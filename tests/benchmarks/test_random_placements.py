@@ -69,6 +69,19 @@ def test_the_tracker_route_asks_the_policy_with_the_court_model(tmp_path):
     # camera, and whatever a route proposes for it is dropped, quickly.
     assert first["outcome"] == "found" and first["error_px"] < 1.0 and first["reason"].startswith("court model")
     assert second["outcome"] == "none" and second["seconds"] < 1.0
+    assert [row["view"]["kind"] for row in report["frames_by_index"]] == ["main", "main"]  # the shot step's reading
+    assert report["other_view"]["determinable"] == 0
+
+
+def test_a_frame_the_shot_step_reads_as_another_view_gets_no_camera_on_the_tracker_route(tmp_path, monkeypatch):
+    close_up = {"kind": "close-up", "reason": "close-up: a stand-in", "other_view": True}
+    monkeypatch.setattr(random_placements, "shot_step_view", lambda image, detector: close_up)
+    report = run_bench(tmp_path, "--routes", "tracker", "court")
+    first = report["frames_by_index"][0]
+    assert first["view"] == close_up and report["other_view"]["determinable"] == int(first["determinable"])
+    tracker = first["routes"]["tracker"]
+    assert tracker["outcome"] == "none" and tracker["seconds"] == 0.0 and tracker["reason"].startswith("other view")
+    assert first["routes"]["court"]["outcome"] == "found"  # the single-frame calibrator has no shot step
 
 
 def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path, monkeypatch):
@@ -200,7 +213,8 @@ def test_the_court_route_looks_again_on_the_faint_look_when_its_camera_is_under_
 
     def second(first_confidence, again_confidence, offered=True):
         scores = {id(found): first_confidence, id(looked): again_confidence}
-        monkeypatch.setattr(frame, "frame_confidence", lambda camera, observations, on, curves, sampling: scores[id(on)])
+        monkeypatch.setattr(frame, "frame_confidence",
+                            lambda camera, observations, on, curves, sampling: scores[id(on)])
         asked = []
         look = (lambda: asked.append(1) or looked) if offered else None
         result, confidence, bar = random_placements._court_with_second_look(
