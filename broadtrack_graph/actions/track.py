@@ -34,7 +34,7 @@ class DetectorOptions:
     segmentation_model: Path | None = None  # ONNX line-segmentation model
     keypoint_model: Path | None = None  # ONNX keypoint-heatmap model
     field_model: Path | None = None  # ONNX field model: keypoints and lines in one (not with the other two)
-    faint_look: bool = True  # weight-free: frames placed from nothing take the faint look (detect.faint_lines)
+    faint_look: bool = True  # weight-free: the court model's second look at a lost frame (detect.faint_lines)
 
 
 def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):

@@ -165,8 +165,7 @@ class _FaintLook:
     def __call__(self):
         if not self.asked:
             looked = self.detector.with_faint_lines(self.found)
-            added = len(looked.points_work_px) > len(self.found.points_work_px)
-            self.detections, self.asked = (self.detector.name(looked) if added else None), True
+            self.detections, self.asked = (self.detector.name(looked) if looked.faint_points_added else None), True
         return self.detections
 
 

@@ -53,8 +53,8 @@ def add_tracking_arguments(parser) -> None:
     parser.add_argument("--detector", choices=("weightfree", "onnx"), default=_DETECTOR.kind,
                         help=f"field detector (default {_DETECTOR.kind})")
     parser.add_argument("--no-faint-look", dest="faint_look", action="store_false",
-                        help="weight-free detector: no faint look (straight paint too faint for its threshold, found "
-                             "along its length) for the frames whose camera is looked for from nothing")
+                        help="weight-free detector: no second look of the court model at a lost frame's markings "
+                             "with the straight paint too faint for the detector's threshold, found along its length")
     parser.add_argument("--segmentation-model", type=Path, help="ONNX line-segmentation model (with its .json contract)")
     parser.add_argument("--keypoint-model", type=Path, help="ONNX keypoint-heatmap model (with its .json contract)")
     parser.add_argument("--field-model", type=Path,

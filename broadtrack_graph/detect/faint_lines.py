@@ -41,8 +41,8 @@ from dataclasses import dataclass, replace
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.found_markings import FoundMarkings, marking_map
-from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
+from broadtrack_graph.detect.found_markings import FoundMarkings, marked_points
+from broadtrack_graph.detect.point_cells import pixels_of
 from broadtrack_graph.detect.ridges import marking_channel, ridge_points_at, white
 
 
@@ -301,8 +301,7 @@ def with_faint_lines(found: FoundMarkings, tophat_kernel: np.ndarray, ridge_kern
     if not len(faint):
         return replace(found, faint=None, faint_look_of=found)
     points = np.vstack([found.points_work_px, faint])
-    detections = replace(found.detections, marking_mask=marking_map(points, found.work_size),
-                         marking_points_px=work_to_frame_px(grid_thin(points, c.point_spacing_px), found.scale))
+    detections = replace(found.detections, **marked_points(points, found.work_size, found.scale, c.point_spacing_px))
     # The wide markings' search keeps a finer level's peaked points: the faint points are not.
     wide = found.wide
     if wide is not None:

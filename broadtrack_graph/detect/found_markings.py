@@ -18,7 +18,7 @@ import numpy as np
 
 from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
-from broadtrack_graph.detect.point_cells import pixels_of
+from broadtrack_graph.detect.point_cells import grid_thin, pixels_of, work_to_frame_px
 from broadtrack_graph.detect.ridges import WideInputs
 
 
@@ -93,6 +93,11 @@ class FoundMarkings:
         feet, mask = self.bodies.to_the_feet()
         return replace(self.detections, player_boxes_px=(feet / self.scale) if len(feet) else feet, player_mask=mask)
 
+    @property
+    def faint_points_added(self) -> int:
+        """How many points its faint look added (0: none, or these markings are not a faint look's)."""
+        return 0 if self.faint_look_of is None else len(self.points_work_px) - len(self.faint_look_of.points_work_px)
+
     def find_legs(self) -> None:
         """Find the players' legs now: :attr:`unnamed` holds them from here on, and so does a copy sent after."""
         _ = self.unnamed
@@ -105,3 +110,11 @@ def marking_map(points: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     pixels = pixels_of(points, size)
     marks[pixels[:, 1], pixels[:, 0]] = True
     return marks
+
+
+def marked_points(points: np.ndarray, size: tuple[int, int], scale: float, spacing_px: float) -> dict:
+    """A frame's detections' ``marking_mask`` and ``marking_points_px`` from its centre-line points (working pixels):
+    the marking map at the working size (w, h) and the points thinned to ``spacing_px`` cells, in frame pixels
+    (``scale``: working / frame pixels)."""
+    return {"marking_mask": marking_map(points, size),
+            "marking_points_px": work_to_frame_px(grid_thin(points, spacing_px), scale)}

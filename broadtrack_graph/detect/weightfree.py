@@ -61,10 +61,10 @@ import numpy as np
 from broadtrack_graph.detect.class_points import consistent_classes
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.faint_lines import FaintLineConfig, with_faint_lines
-from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marking_map
+from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marked_points
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
 from broadtrack_graph.detect.playing_field import grass_and_field
-from broadtrack_graph.detect.point_cells import grid_thin, work_to_frame_px
+from broadtrack_graph.detect.point_cells import work_to_frame_px
 from broadtrack_graph.detect.registration import named_off_the_pitch
 from broadtrack_graph.detect.ridges import WideInputs, marking_channel, marking_ridges, white, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
@@ -342,8 +342,7 @@ class WeightFreeDetector:
             points = points[white(small, points, self.config.faint_max_chroma_rise)]
         unnamed = Detections(
             width_px=W, height_px=H, motion_blur=motion and replace(motion, length_px=motion.length_px / scale),
-            marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px), scale),
-            marking_mask=marking_map(points, (work_w, work_h)),
+            **marked_points(points, (work_w, work_h), scale, self.config.point_spacing_px),
             player_boxes_px=(boxes / scale) if len(boxes) else boxes, player_mask=player_mask > 0, field_mask=field > 0,
         )
         # The legs below the bodies are found when the detections are first read (detect.found_markings).
@@ -372,9 +371,8 @@ class WeightFreeDetector:
             if found.wide is not None and len(template.width_m_px) and \
                     template.width_m_px.max() >= self.config.wide_from_px:
                 points = self._wide_points(found.wide, points)
-                unnamed = replace(unnamed, marking_mask=marking_map(points, found.work_size),
-                                  marking_points_px=work_to_frame_px(grid_thin(points, self.config.point_spacing_px),
-                                                                     found.scale))
+                unnamed = replace(unnamed, **marked_points(points, found.work_size, found.scale,
+                                                           self.config.point_spacing_px))
             lines = self.name_points(points, predicted, found.scale, found.work_size, template)
         detect_s = found.seconds + time.perf_counter() - started
         return replace(unnamed, lines_px={name: work_to_frame_px(p, found.scale) for name, p in lines.items()},

@@ -45,6 +45,7 @@ class FrameTries:
         self.guess_schedule = TrySchedule()  # every known camera's guesses at a shot's start
         self._court_cameras: list[tuple[int, object]] = []  # (frame, camera): the stretch's court cameras
         self._first_court_frame: int | None = None  # the stretch's first frame with a court camera confident by the margin
+        self.court_ran_on: int | None = None  # the last frame the court model ran on (its schedule allowing)
 
     def new_stretch(self) -> None:
         """A cut or a view change: the shot's first frames are tried one by one."""
@@ -120,6 +121,7 @@ class FrameTries:
         if self.court is None or getattr(detections, "marking_mask", None) is None or not self.court_schedule.allows(i):
             return None
         self.counts["court_tried"] += 1
+        self.court_ran_on = i
         result, camera, twin, confidence = self._court(observations, detections, curves, score)
         if camera is None:
             if result.tried:  # a frame that formed no hypothesis cost the map's structures only: it is no try

@@ -78,9 +78,7 @@ class FrameObserver:
         if self._looked is None or self._looked[0] is not frame:
             self._looked = (frame, self.detector.with_faint_lines(frame.markings))
         looked = self._looked[1]
-        if len(looked.points_work_px) == len(frame.markings.points_work_px):
-            return None
-        return mask_graphics(looked.unnamed, frame.graphics_mask)
+        return mask_graphics(looked.unnamed, frame.graphics_mask) if looked.faint_points_added else None
 
     def take_faint_look(self, frame: FrameInput) -> None:
         """The frame's markings are their faint look's from here on (:meth:`faint_look`); nothing when the markings
@@ -92,10 +90,9 @@ class FrameObserver:
     def without_faint_look(self, frame: FrameInput) -> Detections | None:
         """The frame's unnamed detections as they were before its faint look added anything (None: it added nothing,
         or was not taken)."""
-        before = getattr(frame.markings, "faint_look_of", None)
-        if before is None or len(before.points_work_px) == len(frame.markings.points_work_px):
+        if not getattr(frame.markings, "faint_points_added", 0):
             return None
-        return mask_graphics(before.unnamed, frame.graphics_mask)
+        return mask_graphics(frame.markings.faint_look_of.unnamed, frame.graphics_mask)
 
     def observe(self, frame: FrameInput, predicted: PredictedCamera | None, previous: Camera | None,
                 faint_look: bool = False) -> tuple[FrameObservations, Detections | None]:

@@ -231,7 +231,6 @@ class ReinitPolicy:
             if candidate is not None:
                 return self._candidate_decision(candidate, False, "", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, "no refined guess of the held camera")
-        court_tries = self.counts["court_tried"]
         court = self.tries.court_camera(observations, detections, curves, score) if from_nothing else None
         if court is not None and (court.confidence >= court_accept_at(self.config, court.result, new_camera)
                                   or court.agrees):
@@ -241,7 +240,8 @@ class ReinitPolicy:
             self.counts["court_used"] += 1
             return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
                                   False, False, court.label, held, held_confidence, new_camera)
-        tried_court = self.counts["court_tried"] > court_tries  # on its schedule, this frame
+        # The second look follows a court try of this frame (on its schedule), when asked.
+        tried_court = from_nothing and self.tries.court_ran_on == i
         looked = faint_look() if tried_court and faint_look is not None else None
         if looked is not None:
             # A second look at the frame: its markings with the faint straight paint added, for the court model alone
@@ -255,7 +255,6 @@ class ReinitPolicy:
                                           self._camera_id_of(again.result, again.confidence), False, False,
                                           again.label + " (faint look)", held, held_confidence, new_camera)
                 return replace(decision, faint_look=True) if decision.camera is not None else decision
-            self._frame = (detections, curves, score)
         modelled = self.tries.model_camera(i, image, detections, curves, score) if from_nothing else None
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /

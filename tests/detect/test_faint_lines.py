@@ -130,6 +130,8 @@ def test_the_faint_look_adds_the_faint_line_to_the_markings_found_and_keeps_what
     assert looked.faint_look_of is found and looked.faint is None
     assert detector.with_faint_lines(looked) is looked  # taken once
     assert looked.unnamed.marking_mask.sum() == len(looked.points_work_px) > len(found.points_work_px)
+    assert looked.faint_points_added == len(looked.points_work_px) - len(found.points_work_px)
+    assert found.faint_points_added == 0
     # Not offered: the markings as they are.
     plain = WeightFreeDetector(config=WeightFreeConfig(faint_lines=None))
     unoffered = plain.find_markings(image)

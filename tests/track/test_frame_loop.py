@@ -425,6 +425,7 @@ class FaintFound:
         self.i, self.faint_look_of, self.seconds = i, looked_of, 0.0
         self.faint = None if looked_of is not None else "offered"
         self.points_work_px = np.zeros((20 if looked_of is None else 30, 2))
+        self.faint_points_added = 0 if looked_of is None else 10
         self.unnamed = Detections(W, H, marking_points_px=self.points_work_px, marking_mask=np.ones((9, 16), bool),
                                   info={"faint_look": looked_of is not None})
 
