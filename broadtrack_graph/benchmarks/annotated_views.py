@@ -90,7 +90,7 @@ def run(args) -> dict:
     from broadtrack_graph.metrics.soccernet import evaluate_frame
     from broadtrack_graph.reinit.court import reinit_from_court
     from broadtrack_graph.track.config import TrackingConfig
-    from broadtrack_graph.track.reinit_policy import court_accept_at
+    from broadtrack_graph.track.frame_tries import court_accept_at
 
     annotations = read_annotations(args.annotations)
     if not annotations.frames:

@@ -93,7 +93,7 @@ def summarise(rows: list[dict], routes: list[str], width_px: int | None = None) 
                               for name, group in groups.items()},
                            "not_determinable": route_figures(apart, route)}
     return {"determinable": len(counted), "not_determinable": len(apart),
-            # what the tracker's shot step reads as another view (it looks for no camera there; the court route does)
+            # what the tracker's shot step reads as another view (the court model alone looks at it there)
             "other_view": {"determinable": sum(bool(r.get("view", {}).get("other_view")) for r in counted),
                            **{stand: sum(bool(r.get("view", {}).get("other_view")) for r in counted
                                          if r["class"] == stand) for stand in STANDS}},

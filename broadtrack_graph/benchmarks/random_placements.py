@@ -17,10 +17,10 @@ apart; the faint look the court model's second look takes, ``--no-faint-look``: 
 * ``tracker``: the re-initialisation policy as the tracker asks at a new shot (``ReinitPolicy.decide``: the court
   model, the field model of ``--reinit-model``, then the global search in stages), the frame given again as a still
   camera's next frames while the policy waits for them (at most ``court_agreement_frames``), as ``bench placements``
-  does; a frame the tracker's shot step reads as another view (a close-up, a crowd: ``view``) gets none, as in the
-  tracker;
-* ``search``: the same policy without the court model (the global search at the default positions), after the shot
-  step too;
+  does; on a frame the tracker's shot step reads as another view (a close-up, a crowd: ``view``) the court model
+  alone, as in the tracker;
+* ``search``: the same policy without the court model (the global search at the default positions); none on a frame
+  read as another view;
 * ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``) as the tracker
   takes its camera at a new shot: judged by the tracker's confidence (``frame_confidence``) against its bar, and,
   when under it, looked for again on the markings' faint look (timed with it); skipped with a note when it cannot
@@ -139,17 +139,19 @@ def _median_error(estimate, truth, ground) -> float | None:
     return float(np.median(errors)) if len(errors) else None
 
 
-def still_camera_decision(policy, detections, frame_size, pitch, curves, sampling, image, faint_look=None):
+def still_camera_decision(policy, detections, frame_size, pitch, curves, sampling, image, faint_look=None,
+                          other_view: bool = False):
     """The policy's decision for a new shot's first frame, the frame given again as a still camera's next frames while
     the policy waits for them (a court camera under its bar waiting for the next frames' to agree); ``faint_look``:
-    the frame's detections with their faint look, for the court model's second look (None: none)."""
+    the frame's detections with their faint look, for the court model's second look (None: none); ``other_view``: the
+    shot step reads the frame as another view (the court model alone looks at it)."""
     from broadtrack_graph.types.observations import FrameObservations
 
     W, H = frame_size
     index = 0
     while True:
         decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling, image=image,
-                                 faint_look=faint_look)
+                                 faint_look=faint_look, other_view=other_view)
         if decision.camera is not None or not policy.tries.court_may_agree(index):
             return decision
         index += 1
@@ -174,7 +176,7 @@ def _court_with_second_look(court, detections, faint_look, frame_size, pitch, cu
     at a new shot: on the markings as found, then, when its camera is under its bar, on their faint look
     (``faint_look``: a :class:`_FaintLook`, or None: no second look), kept when over its own bar."""
     from broadtrack_graph.reinit.frame import frame_confidence
-    from broadtrack_graph.track.reinit_policy import court_accept_at
+    from broadtrack_graph.track.frame_tries import court_accept_at
     from broadtrack_graph.types.observations import FrameObservations
 
     def tried(on):
@@ -194,7 +196,8 @@ def _court_with_second_look(court, detections, faint_look, frame_size, pitch, cu
 
 def shot_step_view(image, detector):
     """The tracker's shot step on a frame as a new shot's first (:class:`~broadtrack_graph.track.shot_stream.ShotStream`
-    with a run's settings): {"kind", "reason"} of its view; a frame it reads as another view gets no camera."""
+    with a run's settings): {"kind", "reason"} of its view; on a frame it reads as another view the court model alone
+    looks for a camera."""
     from broadtrack_graph.track.inputs import FrameInput
     from broadtrack_graph.track.shot_stream import ShotStream
 
@@ -230,7 +233,8 @@ def run(args) -> dict:
         found_by_smeared_contrast,
     )
     from broadtrack_graph.track.config import TrackingConfig
-    from broadtrack_graph.track.reinit_policy import ReinitPolicy, court_accept_at
+    from broadtrack_graph.track.frame_tries import court_accept_at
+    from broadtrack_graph.track.reinit_policy import ReinitPolicy
     from broadtrack_graph.types.observations import FrameObservations
 
     W, H = args.width, args.height
@@ -308,15 +312,16 @@ def run(args) -> dict:
             for route in routes:
                 # The markings' faint look, taken (and timed) within the route that asks for it, as the tracker does.
                 looked = _FaintLook(detector, found) if faint_look else None
-                if route in ("tracker", "search") and view["other_view"]:
-                    # The tracker's shot step reads the frame as another view: no camera is looked for.
+                if route == "search" and view["other_view"]:
+                    # The tracker's shot step reads the frame as another view: the search does not look at it.
                     camera, confidence, seconds, reason = None, None, 0.0, f"other view ({view['reason']})"
                 elif route in ("tracker", "search"):
+                    # A frame read as another view: the tracker's court model alone looks at it.
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence,
                                           model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
                     decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image,
-                                                     looked)
+                                                     looked, other_view=view["other_view"])
                     seconds = time.perf_counter() - started
                     camera, confidence, reason = decision.camera, decision.confidence, decision.reason
                 else:

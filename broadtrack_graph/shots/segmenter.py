@@ -11,7 +11,8 @@ The camera of a pitch shot is not known here: the tracker finds it (its camera i
 the tripod it stands on, :mod:`broadtrack_graph.track.camera_ids`) and :func:`~broadtrack_graph.types.shot.place_shot`
 writes it into the shot: kind ``main`` (the main camera), ``other-camera`` (another pitch
 camera: behind a goal, near a corner, ...) or ``pitch`` (a pitch view no camera was
-placed for); ``close-up`` and ``crowd`` shots have no camera.
+placed for); ``close-up`` and ``crowd`` shots have no camera, unless the tracker's court model places one on their
+markings (the view kind is read from colours: a low camera's goal frame and net can read as a close-up).
 """
 
 from __future__ import annotations

@@ -99,6 +99,8 @@ class FramesAhead:
         found = None
         if self.find_markings is not None and frame.observations is None and frame.markings is None \
                 and not frame.shows_other_view:
+            # A frame the shot step reads as another view keeps its pixels instead: the loop finds its markings only
+            # on the frames the court model looks at (track.reinit_policy).
             try:
                 found = frame.markings = self.find_markings(frame.image, frame.working_bgr)  # ShotStream's image
             except ValueError:
@@ -209,11 +211,12 @@ class FramesInProcess:
 
 def without_pixels(frame: FrameInput, use_flow: bool) -> FrameInput:
     """The prepared frame with its image left out (:attr:`FrameInput.image_stayed`) when the loop reads none of its
-    pixels: its markings were found (the loop names them) and its flow frame made (or the run has no flow), or it
-    shows another view (the loop only records it). Else the frame as it is (the loop detects on the image itself)."""
+    pixels: its markings were found (the loop names them) and its flow frame made (or the run has no flow). Else the
+    frame as it is (the loop detects on the image itself: a frame the shot step reads as another view, when the court
+    model looks at it, track.reinit_policy)."""
     if frame.image is None:
         return frame
-    if frame.shows_other_view or (frame.markings is not None and (frame.flow_frame is not None or not use_flow)):
+    if frame.markings is not None and (frame.flow_frame is not None or not use_flow):
         frame.image, frame.image_stayed = None, True
     return frame
 

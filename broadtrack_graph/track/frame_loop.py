@@ -18,9 +18,9 @@ One loop serves every input (frames with a detector, a detections file, or both)
 The chain (the frames linked since a re-initialisation), its camera id and the trust it has earned have one
 owner, :class:`~broadtrack_graph.track.chain.Chain`; the policy reads it, the judge is given its trust, the loop
 tells it what happened. The shot step (:mod:`broadtrack_graph.track.shot_stream`) annotates image frames: a cut
-breaks the chain and starts a stretch whose camera is found again; a frame with no pitch (close-up, crowd) gets
-the status ``other-view`` and no camera. Each camera id has its own tripod
-(:mod:`~broadtrack_graph.track.online_tripod`). Whole runs and the offline modes:
+breaks the chain and starts a stretch whose camera is found again; a frame it reads as another view (close-up,
+crowd) gets the status ``other-view`` and no camera unless the court model, which alone looks at it, places one.
+Each camera id has its own tripod (:mod:`~broadtrack_graph.track.online_tripod`). Whole runs and the offline modes:
 :mod:`broadtrack_graph.track.passes`; the frames fed to a run, decoded and marked ahead in a background thread:
 :mod:`broadtrack_graph.track.feed`.
 """
@@ -148,10 +148,9 @@ class TrackingRun:
                 self.chain.new_stretch()  # a new shot: its camera is not known yet ...
                 self.policy.new_stretch()  # ... and searched at once
             self.shot_index = shot.shot_index
-            if shot.is_other_view:
-                self.records.emit_now(frame, FrameStatus.OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}")
-                self._end_chain()
-                return None, None
+            if shot.is_other_view and self.chain.lost and not self.policy.looks_at_other_view(frame.frame_index):
+                # Another view (close-up, crowd) with no chain, on a frame the court model does not look at.
+                return self._other_view(frame)
         lost = self.chain.lost
         predicted = None if lost else predicted_camera(self._history, self._last_std, self.W)
         try:
@@ -164,6 +163,8 @@ class TrackingRun:
             self._end_chain()
             return None, None
         if self.observer.shows_no_pitch(observations, detections):
+            if frame.shows_other_view:
+                return self._other_view(frame, detections)
             if detections is None and self._history and self.chain.carry():
                 # A detections-file frame with (almost) nothing: carried on the motion prior, no camera claimed.
                 return self._track(frame, observations, None, note=f"no detections; carried by the motion prior "
@@ -185,10 +186,13 @@ class TrackingRun:
         if self.chain.lost:
             # The court model may look again at the frame's markings with their faint look (detect.faint_lines).
             decision = self._decide(observations, detections, image=frame.image,
-                                    faint_look=lambda: self.observer.faint_look(frame))
+                                    faint_look=lambda: self.observer.faint_look(frame),
+                                    other_view=frame.shows_other_view)
             if decision.faint_look:
                 self.observer.take_faint_look(frame)  # the frame's markings are those its camera was found on
                 self.faint_look_frames += 1
+            if decision.camera is None and frame.shows_other_view:
+                return self._other_view(frame, detections, decision.reason)
             if decision.camera is None:
                 self.records.emit_now(frame, FrameStatus.UNPLACED if detections is not None else FrameStatus.NO_DETECTIONS,
                                       f"no camera found: {decision.reason}")
@@ -219,13 +223,25 @@ class TrackingRun:
         self.records.flush()
         return observations, detections
 
+    def _other_view(self, frame: FrameInput, detections: Detections | None = None, why: str | None = None
+                    ) -> tuple[None, Detections | None]:
+        """Record a frame the shot step reads as another view (close-up, crowd) that gets no camera (``why``: what the
+        court model found on it); the chain ends. Returns (no observations handed, the frame's detections)."""
+        shot = frame.shot
+        self.records.emit_now(frame, FrameStatus.OTHER_VIEW, f"other view ({shot.kind}): {shot.reason}"
+                              + (f"; {why}" if why else ""))
+        self._end_chain()
+        return None, detections
+
     def _decide(self, observations: FrameObservations, detections: Detections | None, held: Camera | None = None,
-                held_confidence: float | None = None, image=None, faint_look=None) -> ReinitDecision:
+                held_confidence: float | None = None, image=None, faint_look=None,
+                other_view: bool = False) -> ReinitDecision:
         """The re-initialisation policy's decision for this frame (its time counted; image: for the field model;
-        faint_look: the frame's detections with their faint look, when asked)."""
+        faint_look: the frame's detections with their faint look, when asked; other_view: the shot step reads the
+        frame as another view, the court model alone looks for a camera from nothing)."""
         started = time.perf_counter()
         decision = self.policy.decide(observations, detections, self.pitch, self.curves, self.sampling, held,
-                                      held_confidence, image, faint_look)
+                                      held_confidence, image, faint_look, other_view)
         self.timings["reinit_s"] += time.perf_counter() - started
         if decision.camera is not None and not self.config.estimate_k1:
             decision = replace(decision, camera=decision.camera.replace(k1=0.0))
@@ -258,7 +274,8 @@ class TrackingRun:
             verdict = judge(replace(facts, asked=True), self.config)
         if verdict.action is Action.REINITIALISE:
             # Re-initialise this frame; the next frame is linked to the camera it gets, not to the solved one.
-            decision = self._decide(observations, detections, camera, confidence, entry.frame.image)
+            decision = self._decide(observations, detections, camera, confidence, entry.frame.image,
+                                    other_view=entry.frame.shows_other_view)
             if decision.camera is not None:
                 self._start_chain(entry.frame, observations, decision)
                 self.solver.replace_last(decision.camera)

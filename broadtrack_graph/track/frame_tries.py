@@ -1,7 +1,9 @@
 """The single-frame tries of a re-initialisation: the known cameras' refined guesses, the court model and the learned
 field model, each on its own :class:`~broadtrack_graph.track.search_budget.TrySchedule` (a frame none places makes
-them wait 1, 2, 4, ... frames; a frame on which the court model forms no hypothesis is no try). Each returns its camera, refined or twinned as the run's cameras decide, with the tracker's confidence.
-The decision that takes or passes them is :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`'s. No I/O.
+them wait 1, 2, 4, ... frames; a frame on which the court model forms no hypothesis is no try, unless the shot step
+reads it as another view). Each returns its camera, refined or twinned as the run's cameras decide, with the
+tracker's confidence; :func:`court_accept_at` is the bar the court model's camera is taken at by itself. The decision
+that takes or passes them is :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy`'s. No I/O.
 """
 
 from __future__ import annotations
@@ -112,11 +114,17 @@ class FrameTries:
         self.model_schedule.tried(frame_index, confident)
         return found
 
-    def court_camera(self, observations, detections, curves, score) -> CourtCandidate | None:
+    def court_may_run(self, frame_index: int) -> bool:
+        """Whether the court model's schedule lets it run on this frame (a court model given)."""
+        return self.court is not None and self.court_schedule.allows(frame_index)
+
+    def court_camera(self, observations, detections, curves, score, every_run_counts: bool = False
+                     ) -> CourtCandidate | None:
         """The court model's camera for the frame (or its twin, when a known camera stands where the twin does), its
         confidence, and whether it agrees with the court model's camera of a frame shortly before in the stretch
         (both confident by the margin and standing in one place: ``court_agreement_frames``); None without a court
-        model or a marking map, while it backs off, or when it found nothing."""
+        model or a marking map, while it backs off, or when it found nothing. ``every_run_counts``: a frame that
+        formed no hypothesis counts as a try too."""
         i = observations.frame_index
         if self.court is None or getattr(detections, "marking_mask", None) is None or not self.court_schedule.allows(i):
             return None
@@ -124,7 +132,7 @@ class FrameTries:
         self.court_ran_on = i
         result, camera, twin, confidence = self._court(observations, detections, curves, score)
         if camera is None:
-            if result.tried:  # a frame that formed no hypothesis cost the map's structures only: it is no try
+            if result.tried or every_run_counts:  # a frame that formed no hypothesis cost the map's structures only
                 self.court_schedule.tried(i, False)
             return None
         self.court_schedule.tried(i, confidence >= self.config.confidence_threshold)
@@ -169,3 +177,13 @@ class FrameTries:
         shot's global search waits for them."""
         first = self._first_court_frame
         return first is not None and 0 <= frame_index - first < self.config.court_agreement_frames
+
+
+def court_accept_at(config: TrackingConfig, result: ReinitResult, new_camera: bool = True) -> float:
+    """The confidence the court model's camera ``result`` is taken at by itself: ``court_grid_accept_confidence`` when
+    the markings it explains hold two straight lines of each direction (``result.explained.line_grid``), else
+    ``court_accept_confidence``; never under the confidence its chain is trusted from (the threshold, and the margin
+    over it for a new camera)."""
+    grid = result.explained is not None and result.explained.line_grid
+    bar = config.court_grid_accept_confidence if grid else config.court_accept_confidence
+    return max(bar, config.confidence_threshold + (config.reinit_switch_margin if new_camera else 0.0))

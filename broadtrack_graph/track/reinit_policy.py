@@ -62,6 +62,11 @@ when the frame, refined with the focal point at that camera's position, is expla
 another stadium's camera at a similar place is not), else a new id when it is confident; provisional until its chain
 is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
 
+**A frame the shot step reads as another view** (close-up, crowd: read from colours, which a low camera's goal frame
+and net, or the stands inside the grass's outline, can fool): a camera from nothing is the court model's alone, taken
+at its bar, every run of it a try on its schedule (:meth:`ReinitPolicy._other_view_decision`); a refined guess, the
+field model or a search would lay a camera on a close-up's few markings. A chain it starts is tracked on.
+
 **One gate** for a chain's first camera (not a trusted chain's, whose frames are being written), whatever route
 gave it: on a marking map it is kept only when the markings it explains fix it
 (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check).
@@ -93,7 +98,7 @@ from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera
+from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera, court_accept_at
 from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import TrySchedule
 from broadtrack_graph.track.search_route import SearchRoute
@@ -137,7 +142,8 @@ class ReinitPolicy:
         self.search_positions = None if search_positions is None else [tuple(p) for p in search_positions]
         self._frame = None  # (detections, curves, score) of the frame decided on
         self.held_schedule = TrySchedule()  # a trusted chain's held camera under the threshold: when it is tried
-        self.counts = {"guess_used": 0, "court_used": 0, "court_faint_look_used": 0, "court_tried": 0, "model_used": 0,
+        self.counts = {"guess_used": 0, "court_used": 0, "court_faint_look_used": 0, "court_other_view_used": 0,
+                       "court_tried": 0, "model_used": 0,
                        "model_tried": 0, "global": 0, "stages": 0, "skipped_by_budget": 0}
         self.searches = SearchRoute(config, search, self.registry, self.counts)
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
@@ -175,10 +181,10 @@ class ReinitPolicy:
 
     def decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                held_confidence: float | None = None, image: np.ndarray | None = None,
-               faint_look=None) -> ReinitDecision:
+               faint_look=None, other_view: bool = False) -> ReinitDecision:
         """A camera for a frame without a trusted one (module docstring; arguments: :meth:`_decide`)."""
         decision = self._decide(observations, detections, pitch, curves, sampling, held, held_confidence, image,
-                                faint_look)
+                                faint_look, other_view)
         if held is not None and self.chain.trusted:
             self.held_schedule.tried(observations.frame_index, decision.camera is not None)
         mask = getattr(self._frame[0] if decision.faint_look else detections, "marking_mask", None)
@@ -191,7 +197,8 @@ class ReinitPolicy:
         return decision
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
-                held_confidence: float | None = None, image=None, faint_look=None) -> ReinitDecision:
+                held_confidence: float | None = None, image=None, faint_look=None,
+                other_view: bool = False) -> ReinitDecision:
         """The decision, before the held camera's schedule hears of it.
 
         Args:
@@ -202,6 +209,8 @@ class ReinitPolicy:
             image: the frame (H, W, 3) BGR, for the field model; None: no model this frame.
             faint_look: ``() -> Detections | None``: the frame's detections with their faint look (detect.faint_lines;
                 None: it adds nothing), for the court model's second look; None: no second look.
+            other_view: the shot step reads the frame as another view (a close-up, a crowd): a camera from nothing is
+                the court model's alone (:meth:`_other_view_decision`).
 
         The chain's camera id and its trust (a trusted chain's held camera costs smoothing to switch) are read from
         :attr:`chain`.
@@ -216,15 +225,18 @@ class ReinitPolicy:
         # camera refined on the map (a search at its position without a map); the single-frame calibrators, which
         # place a camera from nothing, are for a chain's start.
         from_nothing = not (held is not None and self.chain.trusted)
+        # The shot's camera not trusted yet (no id, or an untrusted first camera's): judged as at the shot's start.
+        untrusted = chain_id is None or chain_id in self.registry.untrusted
+        new_camera = untrusted and self.search_positions is None and with_map
+        if other_view and from_nothing:
+            return self._other_view_decision(observations, detections, curves, score, held, held_confidence,
+                                             new_camera)
         guess = self.tries.refined_guess(i, chain_id, detections, curves, score,
                                          held if with_map and not from_nothing else None)
         if guess is not None and guess.confidence >= threshold:
             self.counts["guess_used"] += 1
             return self._switch_or_keep(guess.result, guess.confidence, guess.camera_id, True, False, guess.label,
                                         held, held_confidence)
-        # The shot's camera not trusted yet (no id, or an untrusted first camera's): judged as at the shot's start.
-        untrusted = chain_id is None or chain_id in self.registry.untrusted
-        new_camera = untrusted and self.search_positions is None and with_map
         candidate = guess  # the best camera so far that is not confident
         if with_map and not from_nothing:
             # The held camera refined on the map stands in for the search at its position, at a tenth of its cost.
@@ -293,6 +305,25 @@ class ReinitPolicy:
         return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
                               label, held, held_confidence, new_camera)
 
+    def _other_view_decision(self, observations, detections, curves, score, held, held_confidence,
+                             new_camera: bool) -> ReinitDecision:
+        """A camera from nothing for a frame the shot step reads as another view: its markings may still place one
+        (a low camera's goal frame, or the stands inside the grass's outline, read as a close-up), the court model's
+        alone, taken at its bar; every run of it counts against its schedule (a close-up's shot is looked at on its
+        first frames, then more and more rarely). A refined guess, the field model or a search would lay a camera on a
+        close-up's few markings."""
+        court = self.tries.court_camera(observations, detections, curves, score, every_run_counts=True)
+        if court is None or court.confidence < court_accept_at(self.config, court.result, new_camera):
+            found = "no camera" if court is None else f"a camera at {court.confidence:.2f}, under its bar"
+            return ReinitDecision(None, None, None, False, False, f"court model: {found}")
+        self.counts["court_other_view_used"] += 1
+        return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
+                              False, False, court.label, held, held_confidence, new_camera)
+
+    def looks_at_other_view(self, frame_index: int) -> bool:
+        """Whether the court model looks at this frame, which the shot step reads as another view (its schedule)."""
+        return self.tries.court_may_run(frame_index)
+
     def _not_searched_because(self, frame_index: int, known: bool) -> str | None:
         """Why a frame with a marking map is not searched (the search off, or its budget spent), or None."""
         if not self.config.global_search:
@@ -358,12 +389,3 @@ class ReinitPolicy:
                                       f"kept the held camera ({held_confidence:.2f}): {reason} scored {confidence:.2f}")
         return ReinitDecision(result.camera, confidence, camera_id, from_guess, searched, reason)
 
-
-def court_accept_at(config: TrackingConfig, result: ReinitResult, new_camera: bool = True) -> float:
-    """The confidence the court model's camera ``result`` is taken at by itself: ``court_grid_accept_confidence`` when
-    the markings it explains hold two straight lines of each direction (``result.explained.line_grid``), else
-    ``court_accept_confidence``; never under the confidence its chain is trusted from (the threshold, and the margin
-    over it for a new camera)."""
-    grid = result.explained is not None and result.explained.line_grid
-    bar = config.court_grid_accept_confidence if grid else config.court_accept_confidence
-    return max(bar, config.confidence_threshold + (config.reinit_switch_margin if new_camera else 0.0))

@@ -3,7 +3,9 @@
 Found by :mod:`broadtrack_graph.shots`, named by the tracker (:func:`place_shot`), written to
 ``shots.json`` by :mod:`broadtrack_graph.io.shots_file`. A pitch shot's kind is ``main`` (the main
 camera), ``other-camera`` (another pitch camera: behind a goal, near a corner, ...) or ``pitch``
-(a pitch view no camera was placed for); ``close-up`` and ``crowd`` shots have no camera.
+(a pitch view no camera was placed for); ``close-up`` and ``crowd`` shots have no camera. A shot read as another
+view in which the tracker placed a camera anyway (its markings fix one) is a pitch shot: its ``views`` keep what the
+frames were read as.
 """
 
 from __future__ import annotations
@@ -40,8 +42,9 @@ class Shot:
 
 
 def place_shot(shot: Shot, camera_id: str | None) -> Shot:
-    """The shot with its pitch camera named (module docstring); no-pitch shots are returned as they are."""
-    if shot.kind in NO_PITCH_KINDS:
+    """The shot with its pitch camera named (module docstring); no-pitch shots without a camera are returned as they
+    are."""
+    if shot.kind in NO_PITCH_KINDS and camera_id is None:
         return replace(shot, camera_id=None)
     if camera_id is None:
         return replace(shot, kind=KIND_PITCH, camera_id=None)

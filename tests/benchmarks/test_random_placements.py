@@ -73,15 +73,18 @@ def test_the_tracker_route_asks_the_policy_with_the_court_model(tmp_path):
     assert report["other_view"]["determinable"] == 0
 
 
-def test_a_frame_the_shot_step_reads_as_another_view_gets_no_camera_on_the_tracker_route(tmp_path, monkeypatch):
+def test_a_frame_the_shot_step_reads_as_another_view_is_looked_at_by_the_court_model_alone(tmp_path, monkeypatch):
     close_up = {"kind": "close-up", "reason": "close-up: a stand-in", "other_view": True}
     monkeypatch.setattr(random_placements, "shot_step_view", lambda image, detector: close_up)
-    report = run_bench(tmp_path, "--routes", "tracker", "court")
+    report = run_bench(tmp_path, "--routes", "tracker", "search", "court")
     first = report["frames_by_index"][0]
     assert first["view"] == close_up and report["other_view"]["determinable"] == int(first["determinable"])
-    tracker = first["routes"]["tracker"]
-    assert tracker["outcome"] == "none" and tracker["seconds"] == 0.0 and tracker["reason"].startswith("other view")
-    assert first["routes"]["court"]["outcome"] == "found"  # the single-frame calibrator has no shot step
+    search = first["routes"]["search"]
+    assert search["outcome"] == "none" and search["seconds"] == 0.0 and search["reason"].startswith("other view")
+    # the tracker's court model places it as the single-frame calibrator does (the same camera, at its bar)
+    tracker, court = first["routes"]["tracker"], first["routes"]["court"]
+    assert court["outcome"] == "found" and tracker["reason"].startswith("court model")
+    assert (tracker["outcome"], tracker["error_px"]) == (court["outcome"], court["error_px"])
 
 
 def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path, monkeypatch):

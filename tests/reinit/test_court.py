@@ -283,7 +283,7 @@ def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_t
     (``track.reinit_policy.court_accept_at``) from 0.6 when the markings it explains form a grid of lines, else from
     ``court_accept_confidence``."""
     from broadtrack_graph.track.config import TrackingConfig
-    from broadtrack_graph.track.reinit_policy import court_accept_at
+    from broadtrack_graph.track.frame_tries import court_accept_at
 
     truth, det = _random_placement(index)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)

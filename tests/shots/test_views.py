@@ -105,7 +105,10 @@ def test_place_shot_names_the_pitch_camera():
     assert (place_shot(pitch, "main").kind, place_shot(pitch, "main").camera_id) == ("main", "main")
     assert place_shot(pitch, "high-corner-1").kind == "other-camera"
     assert (place_shot(pitch, None).kind, place_shot(pitch, None).camera_id) == ("pitch", None)
-    assert place_shot(Shot(10, 20, "close-up", None), "main").camera_id is None
+    assert place_shot(Shot(10, 20, "close-up", None), None) == Shot(10, 20, "close-up", None)
+    # A shot read as a close-up whose markings placed a camera anyway is a pitch shot; its views say how it was read.
+    read = Shot(10, 20, "close-up", None, views={"close-up": 10})
+    assert place_shot(read, "high-behind-1") == Shot(10, 20, "other-camera", "high-behind-1", views={"close-up": 10})
 
 
 def test_row_ends_give_the_same_filled_hull_as_every_pixel():

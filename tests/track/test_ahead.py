@@ -145,11 +145,12 @@ def test_a_frame_keeps_its_pixels_while_the_loop_may_read_them():
     assert frame(markings=found, flow_frame=flow).image is image  # untouched until asked
     kept = [without_pixels(frame(), True),  # nothing found ahead: the loop detects on the image
             without_pixels(frame(markings=found), True),  # no flow frame: the loop makes it from the image
-            without_pixels(frame(flow_frame=flow, shot=Shot(False)), True)]
+            without_pixels(frame(flow_frame=flow, shot=Shot(False)), True),
+            without_pixels(frame(shot=Shot(True)), True)]  # another view: the court model may look at it
     assert all(f.image is image and not f.image_stayed for f in kept)
     left = [without_pixels(frame(markings=found, flow_frame=flow), True),
             without_pixels(frame(markings=found), False),  # a run without flow
-            without_pixels(frame(shot=Shot(True)), True)]  # another view: only recorded
+            without_pixels(frame(markings=found, flow_frame=flow, shot=Shot(True)), True)]
     assert all(f.image is None and f.image_stayed and f.has_image for f in left)
     missing = without_pixels(FrameInput(0, "000001", 0.0, None, problem="cannot be decoded"), True)
     assert not missing.has_image and not missing.image_stayed

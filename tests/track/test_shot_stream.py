@@ -12,22 +12,22 @@ from broadtrack_graph.track.passes import run_frames
 from broadtrack_graph.track.run_context import RunContext
 
 
-class NeverCalled:
-    def detect(self, image, predicted=None):
-        raise AssertionError("no detection on other views")
-
-
 def test_a_clip_of_crowd_only_writes_no_camera_and_says_so(tmp_path):
+    """The court model looks at the frames read as another view (their markings might fix a camera): none here."""
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+
     rng = np.random.default_rng(0)
     frames = []
     for i in range(8):
         image = rng.integers(0, 255, (90, 160, 3)).astype(np.uint8)
         image[..., 1] //= 3  # stands: little green
         frames.append(FrameInput(i, f"{i + 1:06d}", i / 25.0, image=image))
-    result = run_frames(frames, 160, 90, tmp_path / "run", RunContext(TrackingConfig(mode="online"), NeverCalled(),
-                                                                      progress=False))
+    result = run_frames(frames, 160, 90, tmp_path / "run", RunContext(TrackingConfig(mode="online"),
+                                                                      WeightFreeDetector(), progress=False))
     assert result.summary["note"].startswith("no shot of a pitch camera")
     assert result.summary["status_counts"]["other-view"] == 8
+    records = [json.loads(line) for line in (tmp_path / "run" / "track.jsonl").read_text().splitlines()]
+    assert all(r["reason"].startswith("other view (crowd)") for r in records)
     assert not any((tmp_path / "run" / "cameras").glob("*.json"))
     shots = json.loads((tmp_path / "run" / "shots.json").read_text())["shots"]
     assert [(s["start"], s["end"], s["kind"], s["camera_id"]) for s in shots] == [(0, 8, "crowd", None)]
