@@ -59,7 +59,10 @@ class FrameObserver:
 
     def detect(self, frame: FrameInput, predicted: PredictedCamera | None, faint_look: bool = False) -> Detections:
         """The frame's detections without what lies under graphics; from the markings found ahead when there, with
-        their faint look when asked (:meth:`take_faint_look`)."""
+        their faint look when asked (:meth:`take_faint_look`). A frame whose markings were not found ahead (one the
+        shot step reads as another view) has them found here and kept on it, as ahead."""
+        if frame.markings is None and frame.image is not None and hasattr(self.detector, "find_markings"):
+            frame.markings = self.detector.find_markings(frame.image)
         if faint_look:
             self.take_faint_look(frame)
         if frame.markings is not None:

@@ -252,21 +252,10 @@ class ReinitPolicy:
             self.counts["court_used"] += 1
             return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
                                   False, False, court.label, held, held_confidence, new_camera)
-        # The second look follows a court try of this frame (on its schedule), when asked.
-        tried_court = from_nothing and self.tries.court_ran_on == i
-        looked = faint_look() if tried_court and faint_look is not None else None
-        if looked is not None:
-            # A second look at the frame: its markings with the faint straight paint added, for the court model alone
-            # (the rest of the decision stays on the markings as found). Its camera is taken at the same bar.
-            looked_score = lambda camera: self.confidence(camera, observations, looked, curves, sampling)  # noqa: E731
-            again = self.tries.court_camera_again(observations, looked, curves, looked_score)
-            if again is not None and again.confidence >= court_accept_at(self.config, again.result, new_camera):
-                self.counts["court_faint_look_used"] += 1
-                self._frame = (looked, curves, looked_score)
-                decision = self._decision(again.result, again.confidence,
-                                          self._camera_id_of(again.result, again.confidence), False, False,
-                                          again.label + " (faint look)", held, held_confidence, new_camera)
-                return replace(decision, faint_look=True) if decision.camera is not None else decision
+        if from_nothing:
+            again = self._second_look(observations, curves, sampling, faint_look, held, held_confidence, new_camera)
+            if again is not None:
+                return again
         modelled = self.tries.model_camera(i, image, detections, curves, score) if from_nothing else None
         if modelled is not None:
             # A new shot's camera is taken at once only when certain, as a search stage's is: a focal length /
@@ -283,7 +272,7 @@ class ReinitPolicy:
             return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
                                   f"cameras to agree ({court.confidence if court else 0.0:.2f} on this frame)")
         known = chain_id is not None and chain_id in self.registry.positions
-        why = self._not_searched_because(i, known) if with_map else None
+        why = self.searches.not_searched_because(i, known) if with_map else None
         if why is not None:
             if candidate is not None:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
@@ -305,13 +294,33 @@ class ReinitPolicy:
         return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
                               label, held, held_confidence, new_camera)
 
+    def _second_look(self, observations, curves, sampling, faint_look, held, held_confidence,
+                     new_camera: bool) -> ReinitDecision | None:
+        """The court model's second look at a frame it tried and did not place (on its schedule), when asked: its
+        markings with the faint straight paint added (``faint_look()``), for the court model alone (the rest of the
+        decision stays on the markings as found); its camera taken at the same bar (the decision: the camera, or the
+        held camera kept). None: no camera taken."""
+        looked = faint_look() if faint_look is not None and self.tries.court_ran_on == observations.frame_index \
+            else None
+        if looked is None:
+            return None
+        looked_score = lambda camera: self.confidence(camera, observations, looked, curves, sampling)  # noqa: E731
+        again = self.tries.court_camera_again(observations, looked, curves, looked_score)
+        if again is None or again.confidence < court_accept_at(self.config, again.result, new_camera):
+            return None
+        self.counts["court_faint_look_used"] += 1
+        self._frame = (looked, curves, looked_score)
+        decision = self._decision(again.result, again.confidence, self._camera_id_of(again.result, again.confidence),
+                                  False, False, again.label + " (faint look)", held, held_confidence, new_camera)
+        return replace(decision, faint_look=True) if decision.camera is not None else decision
+
     def _other_view_decision(self, observations, detections, curves, score, held, held_confidence,
                              new_camera: bool) -> ReinitDecision:
         """A camera from nothing for a frame the shot step reads as another view: its markings may still place one
         (a low camera's goal frame, or the stands inside the grass's outline, read as a close-up), the court model's
-        alone, taken at its bar; every run of it counts against its schedule (a close-up's shot is looked at on its
-        first frames, then more and more rarely). A refined guess, the field model or a search would lay a camera on a
-        close-up's few markings."""
+        alone, taken at its bar, without its second look (it would run on most tries of a close-up); every run of it
+        counts against its schedule (a close-up's shot: its first frames, then more and more rarely). A refined guess,
+        the field model or a search would lay a camera on a close-up's few markings."""
         court = self.tries.court_camera(observations, detections, curves, score, every_run_counts=True)
         if court is None or court.confidence < court_accept_at(self.config, court.result, new_camera):
             found = "no camera" if court is None else f"a camera at {court.confidence:.2f}, under its bar"
@@ -323,16 +332,6 @@ class ReinitPolicy:
     def looks_at_other_view(self, frame_index: int) -> bool:
         """Whether the court model looks at this frame, which the shot step reads as another view (its schedule)."""
         return self.tries.court_may_run(frame_index)
-
-    def _not_searched_because(self, frame_index: int, known: bool) -> str | None:
-        """Why a frame with a marking map is not searched (the search off, or its budget spent), or None."""
-        if not self.config.global_search:
-            return "no global search"
-        if not self.searches.budget.allows(frame_index, known):
-            self.counts["skipped_by_budget"] += 1
-            next_frame = self.searches.budget.next_frame(frame_index, known)
-            return f"search budget: the next global search at frame {next_frame}"
-        return None
 
     def _candidate_decision(self, candidate: Candidate, searched: bool, why: str, held, held_confidence,
                             new_camera: bool) -> ReinitDecision:

@@ -28,12 +28,12 @@ class SearchRoute:
     """The global search in stages within its budget (module docstring).
 
     Args:
-        config: ``confidence_threshold``, ``reinit_switch_margin``, ``certain_confidence``, ``search_time_share``,
-            ``search_cost_frames``, ``max_search_backoff``.
+        config: ``global_search``, ``confidence_threshold``, ``reinit_switch_margin``, ``certain_confidence``,
+            ``search_time_share``, ``search_cost_frames``, ``max_search_backoff``.
         search: one global search, ``(observations, detections, pitch, positions, curves, sampling) -> ReinitResult``
             (positions: a stage's candidate focal points, None for the default ones).
         registry: the run's cameras by id (a returning camera is recognised where it stands).
-        counts: the policy's counters (``global``, ``stages``), updated here.
+        counts: the policy's counters (``global``, ``stages``, ``skipped_by_budget``), updated here.
     """
 
     def __init__(self, config: TrackingConfig, search, registry: CameraRegistry, counts: dict) -> None:
@@ -53,6 +53,15 @@ class SearchRoute:
     def confident(self) -> None:
         """A frame whose camera the tracker trusts: the budget restarts."""
         self.budget.restart()
+
+    def not_searched_because(self, frame_index: int, known: bool) -> str | None:
+        """Why a frame with a marking map is not searched (the search off, or its budget spent), or None."""
+        if not self.config.global_search:
+            return "no global search"
+        if not self.budget.allows(frame_index, known):
+            self.counts["skipped_by_budget"] += 1
+            return f"search budget: the next global search at frame {self.budget.next_frame(frame_index, known)}"
+        return None
 
     def run(self, plan, frame_index: int, known: bool, with_map: bool, trusted_from: float, frame: tuple,
             score) -> tuple[ReinitResult | None, float, str]:

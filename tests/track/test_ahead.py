@@ -177,3 +177,29 @@ def test_the_preparing_side_starts_without_the_solver_or_scipy(clip):
                           timeout=120)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.strip() == ""
+
+
+def test_a_frame_read_as_another_view_has_its_markings_found_by_the_loop_as_ahead(recipe):
+    """The preparing side leaves a frame read as another view its pixels and no markings; the loop, when it looks at
+    it, finds them and keeps them on the frame (its faint look reads them there): the detections are those found
+    ahead."""
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.track.observe import FrameObserver
+
+    class OtherView:
+        is_other_view, cut, kind, reason = True, False, "close-up", "a stand-in"
+
+    config, detector = TrackingConfig(), WeightFreeDetector()
+    prepare = FramesAhead(config, detector.find_markings, lambda: 0)
+    with open_frames(recipe.path) as source:
+        frame = next(iter(frames_from_source(source)))
+    ahead = prepare(FrameInput(0, "000001", 0.0, frame.image.copy()))
+    frame.shot = OtherView()
+    left = without_pixels(prepare(frame), True)
+    assert left.markings is None and left.image is not None
+    observer = FrameObserver(detector, config, *SIZE, PitchTemplate(), {},
+                             {"detect_s": 0.0, "flow_s": 0.0, "markings_ahead_s": 0.0})
+    found = observer.detect(left, None)
+    assert left.markings is not None
+    assert np.array_equal(found.marking_mask, detector.name(ahead.markings).marking_mask)
+    assert np.array_equal(left.markings.points_work_px, ahead.markings.points_work_px)

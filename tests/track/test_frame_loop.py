@@ -427,7 +427,7 @@ class FaintFound:
         self.points_work_px = np.zeros((20 if looked_of is None else 30, 2))
         self.faint_points_added = 0 if looked_of is None else 10
         self.unnamed = Detections(W, H, marking_points_px=self.points_work_px, marking_mask=np.ones((9, 16), bool),
-                                  info={"faint_look": looked_of is not None})
+                                  info={"faint_look": looked_of is not None, "frame": i})
 
 
 class FaintLookDetector:
@@ -481,50 +481,47 @@ def test_the_court_model_looks_again_with_the_faint_look_and_the_chain_keeps_it_
         (0, "reinitialised"), (1, "tracked"), (2, "tracked"), (3, "tracked")]
 
 
-class CountingFound(FaintFound):
-    """A frame's markings found ahead, its index in the detections' info."""
-
-    def __init__(self, i: int) -> None:
-        super().__init__(i)
-        self.unnamed.info["frame"] = i
-
-
 def test_frames_read_as_another_view_are_looked_at_by_the_court_model_alone_and_on_its_schedule(tmp_path,
                                                                                                 monkeypatch):
-    """A shot read as a close-up: its markings place a camera from frame ``placed_from`` on (the court model's, at its
-    bar), tracked from there; the refined guesses, the field model and the search never look at it. With none
-    placed, every frame gets no camera and the court model looks at the shot's first frames, then more and more
-    rarely."""
+    """A shot read as a close-up: its markings place a camera from frame 3 on (the court model's, at its bar; not on
+    its second look's markings, which it does not take there), tracked from there; the refined guesses, the field
+    model and the search never look at it. With none placed, every frame gets no camera and the court model looks
+    at the shot's first frames, then more and more rarely."""
     from broadtrack_graph.shots.segmenter import FrameShot
     from broadtrack_graph.track import frame_loop
 
-    for placed_from, frames in ((3, 6), (None, 40)):
+    for placed_from, on_look, frames in ((3, False, 6), (3, True, 6), (None, False, 40)):
         looked = []
 
         def court(detections, frame_size, curves):
-            looked.append(detections.info["frame"])
-            if placed_from is not None and detections.info["frame"] >= placed_from:
+            i, faint = detections.info["frame"], detections.info["faint_look"]
+            looked.append((i, faint))
+            if placed_from is not None and i >= placed_from and faint == on_look:
                 return ReinitResult(reinit_camera(0), None, "court", tried=1)
             return ReinitResult(None, None, "", "no plausible camera")  # no hypothesis formed: a try all the same
 
         monkeypatch.setattr(frame_loop, "court_reinit", court)
         script = Scripted()
-        folder = tmp_path / f"run{frames}"
+        folder = tmp_path / f"run{frames}{on_look}"
         run = TrackingRun(W, H, folder, RunContext(TrackingConfig(use_flow=False), FaintLookDetector(),
                                                    solver_factory=lambda *args: FakeSolver(),
                                                    reinitialise=script.reinitialise,
                                                    confidence=lambda *args: 0.9))
         for i in range(frames):
             run.process(FrameInput(i, f"{i + 1:06d}", i / 25.0, image=np.full((4, 4, 3), i, np.uint8),
-                                   markings=CountingFound(i), shot=FrameShot(0, i == 0, "close-up", "big blob")))
+                                   markings=FaintFound(i), shot=FrameShot(0, i == 0, "close-up", "big blob")))
         run.finish()
         records = read_track(folder).records
         assert script.reinit_calls == []  # no search on a frame read as another view
-        if placed_from is not None:
+        assert not any(faint for _, faint in looked)  # no second look at a frame read as another view
+        tried = [i for i, _ in looked]
+        if placed_from is not None and not on_look:
             assert [r.status for r in records] == ["other-view"] * 3 + ["reinitialised", "tracked", "tracked"]
             assert records[0].reason.startswith("other view (close-up): big blob; court model: no camera")
-            assert looked == [0, 1, 2, 3] and run.policy.counts["court_other_view_used"] == 1
+            assert tried == [0, 1, 2, 3] and run.policy.counts["court_other_view_used"] == 1
             assert run.shot_camera_ids == {0: run.chain.camera_id} and run.chain.camera_id is not None
+        elif on_look:
+            assert all(r.status == "other-view" for r in records) and tried == list(range(6))
         else:
             assert all(r.status == "other-view" and r.camera is None for r in records)
-            assert looked == list(range(11)) + [11, 13, 17, 25, 33]  # then waits of 1, 2, 4, 8, 8 frames
+            assert tried == list(range(11)) + [11, 13, 17, 25, 33]  # then waits of 1, 2, 4, 8, 8 frames
