@@ -53,5 +53,5 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
                                        player_mask=detections.player_mask, motion_blur=detections.motion_blur)
         if best is None or confidence > best.score.jaccard:
             best = ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"refined {label}")
-    return best if best is not None else ReinitResult(None, None, "", "every refined guess stood under 1 m or on "
+    return best if best is not None else ReinitResult(None, None, "", "every refined guess stood under 3 m or on "
                                                                       "the pitch")

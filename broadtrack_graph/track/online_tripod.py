@@ -31,7 +31,7 @@ class OnlineTripod:
     frames agree where the camera stands,
     :func:`~broadtrack_graph.graph.tripod_fit.provisional_tripod_for_run`) holds the focal point in place; after
     ``tripod_fit_frames`` the fit replaces it. A fit that explains fewer than
-    ``tripod_fit_min_inliers`` of its frames, or puts the tripod under 1 m, on the pitch or out of the stadium
+    ``tripod_fit_min_inliers`` of its frames, or puts the tripod under 3 m, on the pitch or out of the stadium
     (:func:`~broadtrack_graph.reinit.frame.plausible_position`), is rejected: the older half of the frames is dropped
     and the fit is tried again once enough new ones have come.
 
