@@ -314,8 +314,8 @@ class TrackingRun:
             self.policy.tripod(self.chain.camera_id, tripod.T_w)  # the fitted tripod identifies the camera
 
     def _start_chain(self, frame: FrameInput, observations: FrameObservations, decision: ReinitDecision) -> None:
-        """A decision's camera starts the chain; the chain keeps the faint look when the frame's added markings and
-        the camera is under the bar its chain is trusted from on those found without it."""
+        """A decision's camera starts the chain; the chain keeps the faint look when the camera was found on the
+        frame's faint look and, on the markings found without it, is under the bar its chain is trusted from."""
         self.chain.start(decision)
         before = self.observer.without_faint_look(frame)
         keeps = before is not None

@@ -112,10 +112,11 @@ class FrameObserver:
         detections, grey, observations = None, None, frame.observations
         if frame.has_image:
             if observations is None:
+                found_ahead = frame.markings is not None  # else found here, within detect_s
                 started = time.perf_counter()
                 detections = self.detect(frame, predicted, faint_look)
                 self.timings["detect_s"] += time.perf_counter() - started
-                if frame.markings is not None:
+                if found_ahead:
                     self.timings["markings_ahead_s"] += frame.markings.seconds
             started = time.perf_counter()
             if self.config.use_flow:

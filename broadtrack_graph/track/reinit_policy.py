@@ -250,8 +250,7 @@ class ReinitPolicy:
             # confident by the margin on two frames that agree). Otherwise dropped, not kept as a candidate: a
             # wrong camera the solver held would block the search's.
             self.counts["court_used"] += 1
-            return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
-                                  False, False, court.label, held, held_confidence, new_camera)
+            return self._court_decision(court, court.label, held, held_confidence, new_camera)
         if from_nothing:
             again = self._second_look(observations, curves, sampling, faint_look, held, held_confidence, new_camera)
             if again is not None:
@@ -310,8 +309,7 @@ class ReinitPolicy:
             return None
         self.counts["court_faint_look_used"] += 1
         self._frame = (looked, curves, looked_score)
-        decision = self._decision(again.result, again.confidence, self._camera_id_of(again.result, again.confidence),
-                                  False, False, again.label + " (faint look)", held, held_confidence, new_camera)
+        decision = self._court_decision(again, again.label + " (faint look)", held, held_confidence, new_camera)
         return replace(decision, faint_look=True) if decision.camera is not None else decision
 
     def _other_view_decision(self, observations, detections, curves, score, held, held_confidence,
@@ -326,8 +324,13 @@ class ReinitPolicy:
             found = "no camera" if court is None else f"a camera at {court.confidence:.2f}, under its bar"
             return ReinitDecision(None, None, None, False, False, f"court model: {found}")
         self.counts["court_other_view_used"] += 1
+        return self._court_decision(court, court.label, held, held_confidence, new_camera)
+
+    def _court_decision(self, court, label: str, held, held_confidence, new_camera: bool) -> ReinitDecision:
+        """The decision for a court camera taken at its bar (a
+        :class:`~broadtrack_graph.track.reinit_decision.CourtCandidate`), named by where it stands."""
         return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
-                              False, False, court.label, held, held_confidence, new_camera)
+                              False, False, label, held, held_confidence, new_camera)
 
     def looks_at_other_view(self, frame_index: int) -> bool:
         """Whether the court model looks at this frame, which the shot step reads as another view (its schedule)."""
