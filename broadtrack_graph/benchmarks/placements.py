@@ -104,8 +104,8 @@ def run(args) -> dict:
             policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence, model=model,
                                   court=court_reinit if config.court_reinit else None)
             started = time.perf_counter()
-            decision = random_placements.still_camera_decision(policy, detector.detect(image), (W, H), pitch, curves,
-                                                               sampling, image)
+            decision = random_placements.new_shot_decision(policy, detector.detect(image), (W, H), pitch, curves,
+                                                           sampling, image)
             seconds = time.perf_counter() - started
             errors = template_errors_px(decision.camera, truth, ground) if decision.camera is not None else []
             error = float(np.median(errors)) if len(errors) else math.inf

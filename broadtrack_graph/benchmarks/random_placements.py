@@ -139,22 +139,18 @@ def _median_error(estimate, truth, ground) -> float | None:
     return float(np.median(errors)) if len(errors) else None
 
 
-def still_camera_decision(policy, detections, frame_size, pitch, curves, sampling, image, faint_look=None,
-                          other_view: bool = False):
-    """The policy's decision for a new shot's first frame, the frame given again as a still camera's next frames while
-    the policy waits for them (a court camera under its bar waiting for the next frames' to agree); ``faint_look``:
-    the frame's detections with their faint look, for the court model's second look (None: none); ``other_view``: the
-    shot step reads the frame as another view (the court model alone looks at it)."""
+def new_shot_decision(policy, detections, frame_size, pitch, curves, sampling, image, faint_look=None,
+                      other_view: bool = False):
+    """The policy's decision for a new shot's first frame (one frame: its time is a frame's); ``faint_look``: the
+    frame's detections with their faint look, for the court model's second look (None: none); ``other_view``: the
+    shot step reads the frame as another view (the court model alone looks at it). No camera is known: a court camera
+    under its bar that waits for the next frames' to agree waits for a view moved on, which a still frame's repeats
+    never show, and no search follows the wait."""
     from broadtrack_graph.types.observations import FrameObservations
 
     W, H = frame_size
-    index = 0
-    while True:
-        decision = policy.decide(FrameObservations(index, W, H), detections, pitch, curves, sampling, image=image,
-                                 faint_look=faint_look, other_view=other_view)
-        if decision.camera is not None or not policy.tries.court_may_agree(index):
-            return decision
-        index += 1
+    return policy.decide(FrameObservations(0, W, H), detections, pitch, curves, sampling, image=image,
+                         faint_look=faint_look, other_view=other_view)
 
 
 class _FaintLook:
@@ -320,7 +316,7 @@ def run(args) -> dict:
                     policy = ReinitPolicy(config, reinitialise, refine_guesses, frame_confidence,
                                           model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
-                    decision = still_camera_decision(policy, detections, (W, H), pitch, curves, sampling, image,
+                    decision = new_shot_decision(policy, detections, (W, H), pitch, curves, sampling, image,
                                                      looked, other_view=view["other_view"])
                     seconds = time.perf_counter() - started
                     camera, confidence, reason = decision.camera, decision.confidence, decision.reason

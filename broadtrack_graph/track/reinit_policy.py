@@ -51,6 +51,8 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, for a main
      camera whose chain is not trusted (a trusted chain's camera stands where its confident frames put it), the
      default positions; the first confident stage ends it.
+   * Where the court model looks at the marking map, never the default positions (it places a camera wherever it
+     stands): the known cameras' positions alone; a new shot with no camera known yet is not searched.
      A trusted chain's held camera on a marking map is not searched for: the held camera refined on the map (a
      guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
      chain ends and the next frame is placed from nothing.
@@ -271,13 +273,17 @@ class ReinitPolicy:
             return ReinitDecision(None, None, None, False, False, "court model: waiting for the next frames' court "
                                   f"cameras to agree ({court.confidence if court else 0.0:.2f} on this frame)")
         known = chain_id is not None and chain_id in self.registry.positions
-        why = self.searches.not_searched_because(i, known) if with_map else None
+        plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
+                           held_trusted=held is not None and self.chain.trusted,
+                           court_looks=self.tries.court is not None)
+        if not plan.stages:
+            why = "no search: the court model looks wherever the camera stands"
+        else:
+            why = self.searches.not_searched_because(i, known) if with_map else None
         if why is not None:
             if candidate is not None:
                 return self._candidate_decision(candidate, False, f" ({why})", held, held_confidence, new_camera)
             return ReinitDecision(None, None, None, False, False, why)
-        plan = search_plan(self.registry.positions, chain_id, self.search_positions, with_map,
-                           held_trusted=held is not None and self.chain.trusted)
         # found: a camera its chain is trusted from (a new shot's camera: by the margin)
         found, found_confidence, label = self.searches.run(
             plan, i, known, with_map, threshold + (margin if new_camera else 0.0),

@@ -2,8 +2,9 @@
 
 Used by :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy` (its module docstring says when
 each stage runs); the positions and where their numbers come from are :mod:`broadtrack_graph.reinit.positions`'.
-A search reads at most two stages: the court model places a camera wherever it stands, so the search is kept
-for the places cameras were seen at or usually stand (docs/BENCHMARKS.md, "Weak spots of re-initialisation").
+A search reads at most two stages. Where the court model looks at the marking map it places a camera wherever it
+stands, and the default positions are not searched: the known cameras' positions alone (a returning camera, a known
+camera lost mid-shot). The default positions are searched without it, and on labelled detections (no map).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ class SearchPlan(NamedTuple):
 
 
 def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool,
-                held_trusted: bool = False) -> SearchPlan:
+                held_trusted: bool = False, court_looks: bool = False) -> SearchPlan:
     """The stages of one search (the policy's module docstring says why).
 
     Args:
@@ -40,7 +41,9 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
             certain).
         held_trusted: the shot's camera holds a trusted chain (its frames are being written), dipping under the
             threshold.
+        court_looks: the court model looks at the frame's marking map: no default positions (the plan may be empty).
     """
+    defaults = [] if with_map and court_looks else [DEFAULT_STAGE]
     if search_positions is not None:
         return SearchPlan([("the given positions", search_positions)])
     if camera_id is not None and camera_id in known_positions:
@@ -50,8 +53,8 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         own_position = tuple(known_positions[camera_id])
         own = [(f"camera {camera_id}", [own_position])]
         if not held_trusted and camera_kind(own_position)[0] == MAIN_KIND:
-            own.append(DEFAULT_STAGE)
+            own += defaults
         return SearchPlan(own)
     known = [tuple(p) for p in known_positions.values()]
     first = [(KNOWN_CAMERAS, known)] if known else []
-    return SearchPlan(first + [DEFAULT_STAGE], new_shot=with_map)
+    return SearchPlan(first + defaults, new_shot=with_map)

@@ -329,7 +329,9 @@ def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_
 
     def run_with(with_map: bool, folder):
         solver = FakeSolver()
-        run = TrackingRun(W, H, folder, RunContext(TrackingConfig(use_flow=False), FakeDetector(with_map=with_map),
+        # The scripted search is the camera from nothing (with the court model on, a map's new shot is not searched).
+        config = TrackingConfig(use_flow=False, court_reinit=False)
+        run = TrackingRun(W, H, folder, RunContext(config, FakeDetector(with_map=with_map),
                                                    solver_factory=lambda *args: solver,
                                                    reinitialise=script.reinitialise, confidence=script.confidence))
         for i in range(5):

@@ -556,18 +556,36 @@ def test_a_confident_court_camera_starts_a_new_shot_without_the_search():
     assert fakes.searched == [] and calls == [(W, H)] and policy.counts["court_used"] == 1
 
 
-def test_an_unconfident_court_camera_is_dropped_and_the_search_decides():
-    fakes = Fakes({None: (MAIN, 0.62)})
-    policy, _ = _court_policy(fakes, CORNER, 0.3)
+KNOWN_MAIN = (tuple(MAIN.position_m),)  # the known main camera's position: a search stage of its own
+
+
+def _court_policy_knowing_main(fakes, court_camera, court_confidence, **config):
+    """:func:`_court_policy` with the main camera known (its guesses unconfident): a new shot's search reads the known
+    cameras' positions alone, the default positions never (the court model looks wherever the camera stands)."""
+    policy, calls = _court_policy(fakes, court_camera, court_confidence, **config)
+    policy.tripod("main", MAIN.position_m)
+    return policy, calls
+
+
+def test_an_unconfident_court_camera_is_dropped_and_the_known_cameras_search_decides():
+    fakes = Fakes({KNOWN_MAIN: (MAIN, 0.62), None: (CORNER, 0.95)}, guess_confidence=0.1)
+    policy, _ = _court_policy_knowing_main(fakes, CORNER, 0.3)
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
+    assert fakes.searched == [KNOWN_MAIN]  # the default positions are not searched where the court model looks
+    # No known camera: nothing to search.
+    fakes = Fakes({None: (MAIN, 0.95)})
+    policy, _ = _court_policy(fakes, CORNER, 0.3)
+    decision = _decide(policy, 0)
+    assert decision.camera is None and not decision.searched and fakes.searched == []
+    assert decision.reason == "no search: the court model looks wherever the camera stands"
 
 
 def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():
     config = TrackingConfig()
-    fakes = Fakes({None: (MAIN, config.confidence_threshold - 0.02)})
+    fakes = Fakes({KNOWN_MAIN: (MAIN, config.confidence_threshold - 0.02)}, guess_confidence=0.1)
     unsure = config.confidence_threshold + config.reinit_switch_margin - 0.02  # not confident by the margin
-    policy, _ = _court_policy(fakes, CORNER, unsure)
+    policy, _ = _court_policy_knowing_main(fakes, CORNER, unsure)
     decision = _decide(policy, 0)
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
     policy, _ = _court_policy(Fakes(), CORNER, 0.8, court_accept_confidence=0.85)
@@ -609,8 +627,8 @@ def test_a_court_try_that_forms_no_hypothesis_does_not_make_the_court_model_wait
 def test_a_new_shots_search_waits_for_the_next_frames_court_cameras():
     config = TrackingConfig()
     between = config.confidence_threshold + config.reinit_switch_margin + 0.02  # confident by the margin only
-    fakes = Fakes({None: (MAIN, 0.62)})
-    policy, answers = _court_policy(fakes, CORNER, between, court_agreement_frames=3)
+    fakes = Fakes({KNOWN_MAIN: (MAIN, 0.62)}, guess_confidence=0.1)
+    policy, answers = _court_policy_knowing_main(fakes, CORNER, between, court_agreement_frames=3)
     decision = _decide(policy, 0)
     assert decision.camera is None and not decision.searched and "waiting" in decision.reason
     assert fakes.searched == []
@@ -749,7 +767,7 @@ def test_a_court_camera_not_taken_is_looked_for_again_on_the_frame_s_faint_look_
     looked = SimpleNamespace(marking_mask=np.ones((9, 16), bool))
 
     def run(faint_confidence, first=None, court_on=True):
-        fakes = Fakes({None: (MAIN, 0.62)})
+        fakes = Fakes({KNOWN_MAIN: (MAIN, 0.62), None: (MAIN, 0.62)}, guess_confidence=0.1)
         seen, looks = [], []
 
         def court(detections, frame_size, curves):
@@ -760,8 +778,8 @@ def test_a_court_camera_not_taken_is_looked_for_again_on_the_frame_s_faint_look_
             fakes.confidences[id(camera)] = faint_confidence if camera is CORNER else 0.9
             return ReinitResult(camera, None, "fake court")
 
-        policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence, CameraRegistry(),
-                              court=court if court_on else None)
+        policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence,
+                              CameraRegistry(known={"main": MAIN.position_m}), court=court if court_on else None)
         decision = _decide(policy, 0, faint_look=lambda: looks.append(0) or looked)
         return decision, seen, len(looks), policy.counts["court_faint_look_used"]
 

@@ -36,3 +36,13 @@ def test_given_positions_are_searched_alone():
     given = [(1.0, 60.0, -10.0)]
     for camera_id in (None, "main"):
         assert search_plan(KNOWN, camera_id, given, with_map=True).stages == [("the given positions", given)]
+
+
+def test_where_the_court_model_looks_the_default_positions_are_not_searched():
+    plan = search_plan(KNOWN, None, None, with_map=True, court_looks=True)
+    assert plan.new_shot and _labels(plan) == [KNOWN_CAMERAS]
+    assert search_plan({}, None, None, with_map=True, court_looks=True).stages == []
+    assert _labels(search_plan(KNOWN, "main", None, with_map=True, court_looks=True)) == ["camera main"]
+    # Labelled detections have no map for it: the default positions are searched.
+    assert _labels(search_plan(KNOWN, None, None, with_map=False, court_looks=True)) == [KNOWN_CAMERAS,
+                                                                                         DEFAULT_STAGE[0]]
