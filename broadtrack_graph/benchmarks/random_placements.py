@@ -317,7 +317,7 @@ def run(args) -> dict:
                                           model=model, court=tracker_court if route == "tracker" else None)
                     started = time.perf_counter()
                     decision = new_shot_decision(policy, detections, (W, H), pitch, curves, sampling, image,
-                                                     looked, other_view=view["other_view"])
+                                                 looked, other_view=view["other_view"])
                     seconds = time.perf_counter() - started
                     camera, confidence, reason = decision.camera, decision.confidence, decision.reason
                 else:

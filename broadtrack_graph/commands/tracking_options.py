@@ -68,8 +68,8 @@ def add_tracking_arguments(parser) -> None:
                         help="do not try the court model (a camera from the markings alone, wherever it stands) "
                              "before the field model and the global search")
     parser.add_argument("--no-search", action="store_true",
-                        help="on a marking map, do not run the global search (tried last: at the known cameras' "
-                             "positions; the default positions too with --no-court)")
+                        help="on a marking map, do not run the global search (tried last: at a lost camera's own "
+                             "position; with --no-court at the known cameras' and the default positions)")
     parser.add_argument("--threads", type=int_at_least(1), default=None, metavar="N",
                         help="OpenCV threads of this process (the cameras are the same with any N; default: the cores "
                              "the tracking and decoding threads leave, at least 1)")

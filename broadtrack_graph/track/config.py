@@ -56,9 +56,9 @@ class TrackingConfig:
     # A new shot's camera this confident is certain: the search stops at it and the field model's camera is taken
     # without a search; below it, both stages are searched.
     certain_confidence: float = 0.9
-    # The global search, tried last when the guesses, the court model and the field model give no camera to take: at
-    # the known cameras' positions, and at the default ones where the court model does not look (False: not tried on a
-    # marking map; a detections file's labelled lines, with no map, are searched still)
+    # The global search, tried last when the guesses, the court model and the field model give no camera to take: at a
+    # lost camera's own position (where the court model does not look, the known cameras' and the default positions
+    # too) (False: not tried on a marking map; a detections file's labelled lines, with no map, are searched still)
     global_search: bool = True
     max_guess_age_frames: int = 750  # a confident camera is a guess for this many frames (30 s at 25 fps)
     # The global search's budget: over a stretch where nothing is found it takes about this share of the run

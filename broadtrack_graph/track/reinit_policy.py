@@ -51,11 +51,11 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    * A shot whose camera is known (mid-shot: the camera has not moved): that camera's position, then, for a main
      camera whose chain is not trusted (a trusted chain's camera stands where its confident frames put it), the
      default positions; the first confident stage ends it.
-   * Where the court model looks at the marking map, never the default positions (it places a camera wherever it
-     stands): the known cameras' positions alone; a new shot with no camera known yet is not searched.
      A trusted chain's held camera on a marking map is not searched for: the held camera refined on the map (a
      guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
      chain ends and the next frame is placed from nothing.
+   * Where the court model looks at the marking map (it places a camera wherever it stands, a returning one too): a
+     new shot is not searched, a shot whose camera is known only at that camera's position.
 
 Camera ids: a shot keeps the id of its first trusted camera; a camera found at a shot's start, or while its chain
 is not trusted yet (its id then is only a guess's), is identified by where it stands

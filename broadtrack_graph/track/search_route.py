@@ -4,8 +4,7 @@
 guesses, the court model and the field model): it runs a :class:`~broadtrack_graph.track.search_stages.SearchPlan`'s
 stages in order and keeps the best camera.
 
-Which camera a search keeps: the best of its stages' (the known cameras', the default positions' where the court
-model does not look). The search ends
+Which camera a search keeps: the best of its stages' (:mod:`~broadtrack_graph.track.search_stages`). The search ends
 at the first stage whose best camera reaches ``certain_confidence`` for a new shot (``confidence_threshold``
 mid-shot), or a known camera found at its own position confident by ``reinit_switch_margin``.
 Without a marking map (keypoints or labelled lines of a detections file) the plan is cheap and labelled: the known

@@ -3,8 +3,9 @@
 Used by :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy` (its module docstring says when
 each stage runs); the positions and where their numbers come from are :mod:`broadtrack_graph.reinit.positions`'.
 A search reads at most two stages. Where the court model looks at the marking map it places a camera wherever it
-stands, and the default positions are not searched: the known cameras' positions alone (a returning camera, a known
-camera lost mid-shot). The default positions are searched without it, and on labelled detections (no map).
+stands (a returning camera too, named by where it stands), so a new shot is not searched there and a shot whose
+camera is known only at that camera's position (a known camera lost mid-shot). The known cameras' and the default
+positions are searched without it, and on labelled detections (no map).
 """
 
 from __future__ import annotations
@@ -41,20 +42,23 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
             certain).
         held_trusted: the shot's camera holds a trusted chain (its frames are being written), dipping under the
             threshold.
-        court_looks: the court model looks at the frame's marking map: no default positions (the plan may be empty).
+        court_looks: the court model looks at the frame's marking map: the shot's own camera's position alone (a
+            new shot's plan is empty).
     """
-    defaults = [] if with_map and court_looks else [DEFAULT_STAGE]
     if search_positions is not None:
         return SearchPlan([("the given positions", search_positions)])
+    court_places = with_map and court_looks  # a new shot's camera, a returning one's too
     if camera_id is not None and camera_id in known_positions:
         # Mid-shot: the camera has not moved; its own position, then, for a main camera whose chain is not trusted,
         # the default positions (they guard against a wrong first camera's position). A trusted chain's camera
         # stands where its confident frames put it: its own position alone.
         own_position = tuple(known_positions[camera_id])
         own = [(f"camera {camera_id}", [own_position])]
-        if not held_trusted and camera_kind(own_position)[0] == MAIN_KIND:
-            own += defaults
+        if not court_places and not held_trusted and camera_kind(own_position)[0] == MAIN_KIND:
+            own.append(DEFAULT_STAGE)
         return SearchPlan(own)
+    if court_places:
+        return SearchPlan([], new_shot=True)
     known = [tuple(p) for p in known_positions.values()]
     first = [(KNOWN_CAMERAS, known)] if known else []
-    return SearchPlan(first + defaults, new_shot=with_map)
+    return SearchPlan(first + [DEFAULT_STAGE], new_shot=with_map)

@@ -556,26 +556,31 @@ def test_a_confident_court_camera_starts_a_new_shot_without_the_search():
     assert fakes.searched == [] and calls == [(W, H)] and policy.counts["court_used"] == 1
 
 
-KNOWN_MAIN = (tuple(MAIN.position_m),)  # the known main camera's position: a search stage of its own
+OWN_POSITION = (tuple(MAIN.position_m),)  # the shot's known camera's position: its search stage
 
 
-def _court_policy_knowing_main(fakes, court_camera, court_confidence, **config):
-    """:func:`_court_policy` with the main camera known (its guesses unconfident): a new shot's search reads the known
-    cameras' positions alone, the default positions never (the court model looks wherever the camera stands)."""
+def _court_policy_mid_shot(fakes, court_camera, court_confidence, untrusted=False, **config):
+    """:func:`_court_policy` on a shot whose camera is the known main camera (no guesses of it), lost: searched at its
+    own position alone, never at the default positions (the court model looks wherever the camera stands);
+    ``untrusted``: its id provisional (a new camera's, judged as a new shot's)."""
     policy, calls = _court_policy(fakes, court_camera, court_confidence, **config)
     policy.tripod("main", MAIN.position_m)
+    if untrusted:
+        policy.registry.untrusted.add("main")
+    policy.chain.identify("main")
     return policy, calls
 
 
-def test_an_unconfident_court_camera_is_dropped_and_the_known_cameras_search_decides():
-    fakes = Fakes({KNOWN_MAIN: (MAIN, 0.62), None: (CORNER, 0.95)}, guess_confidence=0.1)
-    policy, _ = _court_policy_knowing_main(fakes, CORNER, 0.3)
-    decision = _decide(policy, 0)
+def test_an_unconfident_court_camera_is_dropped_and_a_known_camera_is_searched_at_its_position():
+    fakes = Fakes({OWN_POSITION: (MAIN, 0.62), None: (CORNER, 0.95)})
+    policy, _ = _court_policy_mid_shot(fakes, CORNER, 0.3)
+    decision = _decide(policy, 5)
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
-    assert fakes.searched == [KNOWN_MAIN]  # the default positions are not searched where the court model looks
-    # No known camera: nothing to search.
-    fakes = Fakes({None: (MAIN, 0.95)})
+    assert fakes.searched == [OWN_POSITION]  # the default positions are not searched where the court model looks
+    # A new shot: nothing to search, the known cameras' positions neither (the court model places a returning camera).
+    fakes = Fakes({None: (MAIN, 0.95), OWN_POSITION: (MAIN, 0.95)}, guess_confidence=0.1)
     policy, _ = _court_policy(fakes, CORNER, 0.3)
+    policy.tripod("main", MAIN.position_m)
     decision = _decide(policy, 0)
     assert decision.camera is None and not decision.searched and fakes.searched == []
     assert decision.reason == "no search: the court model looks wherever the camera stands"
@@ -583,10 +588,10 @@ def test_an_unconfident_court_camera_is_dropped_and_the_known_cameras_search_dec
 
 def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():
     config = TrackingConfig()
-    fakes = Fakes({KNOWN_MAIN: (MAIN, config.confidence_threshold - 0.02)}, guess_confidence=0.1)
+    fakes = Fakes({OWN_POSITION: (MAIN, config.confidence_threshold - 0.02)})
     unsure = config.confidence_threshold + config.reinit_switch_margin - 0.02  # not confident by the margin
-    policy, _ = _court_policy_knowing_main(fakes, CORNER, unsure)
-    decision = _decide(policy, 0)
+    policy, _ = _court_policy_mid_shot(fakes, CORNER, unsure)
+    decision = _decide(policy, 5)
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
     policy, _ = _court_policy(Fakes(), CORNER, 0.8, court_accept_confidence=0.85)
     assert _decide(policy, 0).camera is None
@@ -624,19 +629,19 @@ def test_a_court_try_that_forms_no_hypothesis_does_not_make_the_court_model_wait
         assert len(calls) == expected_calls, (tried, len(calls))
 
 
-def test_a_new_shots_search_waits_for_the_next_frames_court_cameras():
+def test_a_provisional_camera_s_search_waits_for_the_next_frames_court_cameras():
     config = TrackingConfig()
     between = config.confidence_threshold + config.reinit_switch_margin + 0.02  # confident by the margin only
-    fakes = Fakes({KNOWN_MAIN: (MAIN, 0.62)}, guess_confidence=0.1)
-    policy, answers = _court_policy_knowing_main(fakes, CORNER, between, court_agreement_frames=3)
+    fakes = Fakes({OWN_POSITION: (MAIN, 0.62)})
+    policy, answers = _court_policy_mid_shot(fakes, CORNER, between, untrusted=True, court_agreement_frames=3)
     decision = _decide(policy, 0)
     assert decision.camera is None and not decision.searched and "waiting" in decision.reason
     assert fakes.searched == []
     policy.tries.court = lambda detections, frame_size, curves: ReinitResult(None, None, "", "nothing")
     assert _decide(policy, 1).camera is None and _decide(policy, 2).camera is None and fakes.searched == []
     decision = _decide(policy, 3)  # the window is over: the search is paid
-    assert decision.searched and decision.camera is MAIN
-    # A chain whose camera is known (mid-shot) does not wait.
+    assert decision.searched and decision.camera is MAIN and fakes.searched == [OWN_POSITION]
+    # A chain whose camera is known and trusted does not wait.
     fakes = Fakes({None: (MAIN, 0.62)})
     policy, _ = _court_policy(fakes, CORNER, between)
     policy.chain.identify("main")
@@ -767,7 +772,7 @@ def test_a_court_camera_not_taken_is_looked_for_again_on_the_frame_s_faint_look_
     looked = SimpleNamespace(marking_mask=np.ones((9, 16), bool))
 
     def run(faint_confidence, first=None, court_on=True):
-        fakes = Fakes({KNOWN_MAIN: (MAIN, 0.62), None: (MAIN, 0.62)}, guess_confidence=0.1)
+        fakes = Fakes({OWN_POSITION: (MAIN, 0.62), None: (MAIN, 0.62)})
         seen, looks = [], []
 
         def court(detections, frame_size, curves):
@@ -780,6 +785,7 @@ def test_a_court_camera_not_taken_is_looked_for_again_on_the_frame_s_faint_look_
 
         policy = ReinitPolicy(TrackingConfig(), fakes.search, fakes.refine, fakes.confidence,
                               CameraRegistry(known={"main": MAIN.position_m}), court=court if court_on else None)
+        policy.chain.identify("main")  # mid-shot, lost: searched at its position when nothing is taken
         decision = _decide(policy, 0, faint_look=lambda: looks.append(0) or looked)
         return decision, seen, len(looks), policy.counts["court_faint_look_used"]
 

@@ -38,9 +38,8 @@ def test_given_positions_are_searched_alone():
         assert search_plan(KNOWN, camera_id, given, with_map=True).stages == [("the given positions", given)]
 
 
-def test_where_the_court_model_looks_the_default_positions_are_not_searched():
-    plan = search_plan(KNOWN, None, None, with_map=True, court_looks=True)
-    assert plan.new_shot and _labels(plan) == [KNOWN_CAMERAS]
+def test_where_the_court_model_looks_a_new_shot_is_not_searched_and_a_known_camera_only_at_its_position():
+    assert search_plan(KNOWN, None, None, with_map=True, court_looks=True).stages == []
     assert search_plan({}, None, None, with_map=True, court_looks=True).stages == []
     assert _labels(search_plan(KNOWN, "main", None, with_map=True, court_looks=True)) == ["camera main"]
     # Labelled detections have no map for it: the default positions are searched.
