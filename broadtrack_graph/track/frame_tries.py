@@ -173,8 +173,8 @@ class FrameTries:
 
     def court_may_agree(self, frame_index: int) -> bool:
         """Whether a court camera confident by the margin, on this frame or one before in the stretch, can still be
-        confirmed by the next frames' (within ``court_agreement_frames`` of the stretch's first such frame): a new
-        shot's global search waits for them."""
+        confirmed by the next frames' (within ``court_agreement_frames`` of the stretch's first such frame): a
+        provisional camera's search, and a candidate, wait for them."""
         first = self._first_court_frame
         return first is not None and 0 <= frame_index - first < self.config.court_agreement_frames
 

@@ -29,7 +29,7 @@ the search place a camera from nothing, for a chain's start or a lost chain):
    (``court_agreement_view_change``: a still camera's frames show the same markings), with the id of where it stands
    (its twin when a known camera stands there); otherwise dropped. On its own
    :class:`~broadtrack_graph.track.search_budget.TrySchedule`. A new shot's court camera confident by the margin
-   defers the shot's global search for ``court_agreement_frames``: the next frames' court cameras confirm it or not.
+   defers the rest for ``court_agreement_frames``: the next frames' court cameras confirm it or not.
    A lost frame whose court camera is not taken is looked at again with its faint look (the markings with the faint
    straight paint added, :mod:`~broadtrack_graph.detect.faint_lines`): the court model's camera on those, taken at
    the same bar, and the frame's markings are those from then on; the rest of the decision stays on the markings
