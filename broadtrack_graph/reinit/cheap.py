@@ -15,7 +15,7 @@ from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.frame import plausible_position
+from broadtrack_graph.reinit.frame import MIN_CAMERA_HEIGHT_M, plausible_position
 from broadtrack_graph.reinit.mask import fit_points, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
@@ -53,5 +53,5 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
                                        player_mask=detections.player_mask, motion_blur=detections.motion_blur)
         if best is None or confidence > best.score.jaccard:
             best = ReinitResult(camera, LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), f"refined {label}")
-    return best if best is not None else ReinitResult(None, None, "", "every refined guess stood under 3 m or on "
-                                                                      "the pitch")
+    return best if best is not None else ReinitResult(None, None, "", "every refined guess stood under "
+                                                                      f"{MIN_CAMERA_HEIGHT_M:g} m or on the pitch")

@@ -51,8 +51,8 @@ def reinitialise(
     good = [replace(r, camera=_wrapped(r.camera)) for r in results
             if r.camera is not None and plausible_position(r.camera.position_m, pitch)]
     if not good and any(r.camera is not None for r in results):
-        return ReinitResult(None, None, "", "every re-initialised camera was under 3 m, on the pitch or out of the "
-                                            "stadium")
+        return ReinitResult(None, None, "", f"every re-initialised camera was under {MIN_CAMERA_HEIGHT_M:g} m, on "
+                                            "the pitch or out of the stadium")
     if not good:
         reasons = "; ".join(r.reason for r in results if r.reason) or "nothing to re-initialise from"
         return ReinitResult(None, None, "", reasons)
