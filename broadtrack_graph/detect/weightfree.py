@@ -10,7 +10,8 @@ mapped back to the frame's pixels. Pipeline:
    whole grass (green seats or a green-clad crowd are grassy but speckled: not field;
    :mod:`~broadtrack_graph.detect.playing_field`);
 2. players and clutter: non-grass blobs inside the field that survive an opening
-   larger than a line's width and look like upright bodies -> boxes and a mask
+   larger than a line's width, with a wider marking a player stands on cut off
+   (:mod:`~broadtrack_graph.detect.player_blobs`), and look like upright bodies -> boxes and a mask
    (found at half the working width); each box then runs on down its legs to the feet
    (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`); the player mask returned takes the legs
    too (:func:`~broadtrack_graph.detect.player_feet.with_legs`), but ridges are dropped on the bodies only (a
@@ -63,6 +64,7 @@ from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_
 from broadtrack_graph.detect.faint_lines import FaintLineConfig, with_faint_lines
 from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marked_points
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
+from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.point_cells import work_to_frame_px
 from broadtrack_graph.detect.registration import named_off_the_pitch
@@ -126,6 +128,11 @@ class WeightFreeConfig:
     motion_blur: MotionBlurConfig = MotionBlurConfig()
     player_open_px: int = 5  # opening that removes lines but keeps bodies
     player_min_area_px: int = 40  # smaller non-grass blobs are not players
+    # A marking wider than the opening that a player stands on is cut off the blob (detect.player_blobs): the body is
+    # its core (this share of its greatest depth D and deeper) grown back by D; pieces beyond longer than
+    # player_longest_limb D are cut.
+    player_core_share: float = 0.4
+    player_longest_limb: float = 4.0
     player_margin_px: int = 3  # ridge points this close to a player are dropped
     # A box runs on below the body the opening keeps, down its legs to the feet (detect.player_feet): rows holding a
     # pixel this much (grey levels) lighter than the grass around, or not grass, at most this share of its height.
@@ -206,6 +213,7 @@ class WeightFreeDetector:
         half = cv2.resize(non_grass, (max(1, w // 2), max(1, h // 2)), interpolation=cv2.INTER_AREA)
         half = cv2.threshold(half, 127, 255, cv2.THRESH_BINARY)[1]
         opened = cv2.morphologyEx(half, cv2.MORPH_OPEN, self._open_kernel)
+        opened = bodies_apart_from_markings(opened, c.player_core_share, c.player_longest_limb)
         count, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
         x, y, bw, bh, area = (stats[1:, i] for i in range(5))
         keep = ((4 * area >= c.player_min_area_px) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh))
