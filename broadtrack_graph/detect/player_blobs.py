@@ -38,21 +38,24 @@ def bodies_apart_from_markings(blobs: np.ndarray, core_share: float = 0.4, longe
     inside = np.flatnonzero(blobs)  # the blobs' pixels (flat indices): the few the sums below run over
     depth = cv2.distanceTransform(blobs, cv2.DIST_L2, 3).ravel()[inside]
     deepest = np.zeros(count, np.float32)
-    np.maximum.at(deepest, labels.ravel()[inside], depth)
-    reach = deepest[labels.ravel()[inside]]  # each pixel's blob's greatest depth: the body's half width
+    blob_of = labels.ravel()[inside]
+    np.maximum.at(deepest, blob_of, depth)
+    reach = deepest[blob_of]  # each pixel's blob's greatest depth: the body's half width
     not_core = np.full(blobs.size, 255, np.uint8)
     not_core[inside[depth >= core_share * reach]] = 0
     to_core = cv2.distanceTransform(not_core.reshape(blobs.shape), cv2.DIST_L2, 3).ravel()[inside]
     far = to_core > reach
     if not far.any():
         return blobs
+    far_pixels = inside[far]
     beyond = np.zeros(blobs.size, np.uint8)
-    beyond[inside[far]] = 1
+    beyond[far_pixels] = 1
     pieces, piece_labels, stats, _ = cv2.connectedComponentsWithStats(beyond.reshape(blobs.shape), connectivity=8)
+    piece_of = piece_labels.ravel()[far_pixels]
     piece_reach = np.zeros(pieces, np.float32)
-    np.maximum.at(piece_reach, piece_labels.ravel()[inside[far]], reach[far])
+    np.maximum.at(piece_reach, piece_of, reach[far])
     cut = np.maximum(stats[:, cv2.CC_STAT_WIDTH], stats[:, cv2.CC_STAT_HEIGHT]) > longest * piece_reach
     cut[0] = False  # the background
     out = blobs.copy()
-    out.ravel()[inside[far][cut[piece_labels.ravel()[inside[far]]]]] = 0
+    out.ravel()[far_pixels[cut[piece_of]]] = 0
     return out
