@@ -19,8 +19,10 @@ Finding the blur (:func:`estimate_motion_blur`):
   triangle instead). Every image's derivative has a negative lobe a few pixels out (an edge's own width, a thin
   line's two sides, the grain of a textured grass, reaching 6-8 px at the detector's working width): lengths under
   ``min_length_px`` are not told apart from it. A scene with a strong direction of its own (lines or stripes all one
-  way) pulls the structure tensor's direction off the smear's: the direction is measured again as the one within
-  ``refine_angle_deg`` whose lobe is deepest.
+  way) pulls the structure tensor's direction off the smear's, by 10-20 deg and more on rendered pans across a
+  pitch's markings: once the structure tensor's direction shows a lobe, the direction is taken again as the one
+  within ``scan_angle_deg`` of it whose lobe is deepest (on the reduced image, 1 deg apart), then within
+  ``refine_angle_deg`` of that at full size.
 * **Coherence.** A smear averages the frame's fine detail out along its direction, so the derivative along it has
   no negative lobe of its own before the smear's (from :data:`COHERENCE_LAG_PX` to half the length it stays about
   level or above: each edge spread over ``L`` pixels is alike over a few of them); a sharp frame's derivative has
@@ -28,8 +30,8 @@ Finding the blur (:func:`estimate_motion_blur`):
   smear's lobe is not told from (``min_length_px``).
 * A blur is taken when the lobe is at least ``min_length_px`` out, as deep as ``max_depth`` (half the ideal box's),
   no lobe before it (``min_coherence``) and the gradient's energy anisotropic (``max_anisotropy``).
-  It is looked for on the image reduced 2x (a quarter of the cost; every frame pays it), then measured again at
-  full size and judged there.
+  It is looked for on the image reduced 2x (a quarter of the cost; every frame pays it; a lobe at least
+  ``max_depth_reduced`` deep there is enough to look further), then measured again at full size and judged there.
 
 Undoing it (:func:`deblurred`): the Wiener filter of the segment's kernel, ``conj(K) (1 + nsr) / (|K|^2 + nsr)``
 (scaled to keep the image's level), the image mirrored at its borders first (the filter assumes a periodic image).
@@ -67,7 +69,9 @@ class MotionBlurConfig:
     # ... and, on the image reduced 2x, one pixel out at least this (the cheap first look: the reduction's own
     # smoothing adds to the likeness)
     min_coherence_reduced: float = 0.5
-    refine_angle_deg: float = 5.0  # the direction measured again at full size within this of the structure tensor's
+    max_depth_reduced: float = -0.2  # ... and its lobe at least this deep (the test at full size decides)
+    scan_angle_deg: float = 30.0  # then the deepest lobe on the reduced image looked for within this of its direction
+    refine_angle_deg: float = 5.0  # the direction measured again at full size within this of the reduced image's
     wiener_nsr: float = 0.1  # noise over signal power of the Wiener filter
 
 
@@ -102,15 +106,21 @@ def estimate_motion_blur(grey: np.ndarray, config: MotionBlurConfig = MotionBlur
     if along is None:
         return None
     k = _lobe(along, lags, config.min_length_px / 2.0)
-    if k is None or along[k] > config.max_depth or along[0] < config.min_coherence_reduced:
+    if k is None or along[k] > config.max_depth_reduced or along[0] < config.min_coherence_reduced:
         return None
-    # Measured again at full size around the reduced image's length and direction.
+    steps = np.radians(np.arange(-config.refine_angle_deg, config.refine_angle_deg + 0.01, 0.5))
+    angles = angle + steps
+    if config.scan_angle_deg > 0:
+        scanned, k = _deepest_lobe_near(gx, gy, angle, lags, k, along[k], config.scan_angle_deg,
+                                        config.min_length_px / 2.0)
+        if scanned != angle:  # both directions' neighbourhoods measured again (the reduced image's are coarse)
+            angles = np.concatenate([angles, scanned + steps])
+    # Measured again at full size around the reduced image's length and direction(s).
     gx, gy = gradients(np.asarray(grey, np.float32))
     fine = np.arange(max(1.0, 2 * lags[k] - 2), 2 * lags[k] + 3)
     maps = _DerivativeCorrelations.of(gx, gy, fine[-1])
     if maps is None:
         return None
-    angles = angle + np.radians(np.arange(-config.refine_angle_deg, config.refine_angle_deg + 0.01, 0.5))
     a = int(np.argmin(np.min(maps.along(angles, fine), axis=1)))  # the direction of the deepest lobe near it
     along = maps.along(angles[a:a + 1], np.arange(1.0, fine[-1] + 2))[0]
     j = _lobe(along, np.arange(1.0, fine[-1] + 2), config.min_length_px)
@@ -136,6 +146,26 @@ def _lobe(along: np.ndarray, lags: np.ndarray, min_lag: float) -> int | None:
     if k == len(lags) - 1 or k == 0 or along[k] >= along[k - 1]:
         return None
     return k
+
+
+def _deepest_lobe_near(gx: np.ndarray, gy: np.ndarray, angle: float, lags: np.ndarray, k: int, depth: float,
+                       span_deg: float, min_lag: float) -> tuple[float, int]:
+    """(direction in radians, lag index) of the deepest lobe (:func:`_lobe`) of the derivative's autocorrelation
+    along the directions within ``span_deg`` of ``angle`` (1 deg apart), or ``angle`` and ``k`` (its lobe of
+    ``depth``) when none is deeper."""
+    maps = _DerivativeCorrelations.of(gx, gy, float(lags[-1]))
+    if maps is None:
+        return angle, k
+    angles = angle + np.radians(np.arange(-span_deg, span_deg + 0.01, 1.0))
+    along = maps.along(angles, lags)
+    rows = np.arange(len(angles))
+    j = np.argmin(np.where(lags >= min_lag, along, np.inf), axis=1)
+    lobe = along[rows, j]
+    real = (j > 0) & (j < len(lags) - 1) & (lobe < along[rows, np.maximum(j - 1, 0)]) & (lobe < depth)
+    if not real.any():
+        return angle, k
+    best = int(np.argmin(np.where(real, lobe, np.inf)))
+    return float(angles[best]), int(j[best])
 
 
 def motion_kernel(length_px: float, angle_deg: float) -> np.ndarray:

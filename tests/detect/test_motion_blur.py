@@ -76,6 +76,32 @@ def test_a_sharp_image_shows_no_smear(seed):
     assert estimate_motion_blur(_scene(seed)) is None
 
 
+def _striped(seed: int, stripe_deg: float, h: int = 540, w: int = 960) -> np.ndarray:
+    """:func:`_scene` crossed by bright lines 60 px apart all along ``stripe_deg``: a direction of its own."""
+    image = _scene(seed, h, w).copy()
+    c, s = math.cos(math.radians(stripe_deg)), math.sin(math.radians(stripe_deg))
+    for offset in np.arange(-7, 7) * 60.0:
+        x, y = w / 2 - s * offset, h / 2 + c * offset
+        cv2.line(image, (int(x - 1200 * c), int(y - 1200 * s)), (int(x + 1200 * c), int(y + 1200 * s)), 170.0, 3,
+                 cv2.LINE_AA)
+    return image
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("length_px, stripes_off_deg", [(14.0, 25.0), (18.0, 35.0)])
+def test_a_smear_is_found_along_its_own_direction_when_the_scene_pulls_the_structure_tensor_off(
+        seed, length_px, stripes_off_deg):
+    # Lines all one way pull the gradient's least-energy direction off the smear's by more than the full-size
+    # refinement reaches: the reduced image's deepest lobe near it brings the direction back.
+    blurred = _smeared(_striped(seed, 130.0 + stripes_off_deg), length_px, 130.0)
+    found = estimate_motion_blur(blurred)
+    assert found is not None
+    assert _angle_apart(found.angle_deg, 130.0) <= 3.0
+    assert found.length_px == pytest.approx(length_px, abs=1.0)
+    assert estimate_motion_blur(blurred, MotionBlurConfig(scan_angle_deg=0.0)) is None
+    assert estimate_motion_blur(_striped(seed, 130.0 + stripes_off_deg)) is None  # the lines alone: sharp
+
+
 def test_a_smear_within_the_frame_s_own_lobe_is_not_told_apart():
     assert estimate_motion_blur(_smeared(_scene(2), 3.0, 20.0)) is None
     assert estimate_motion_blur(_smeared(_scene(2), 6.0, 20.0)) is None
