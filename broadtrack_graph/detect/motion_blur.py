@@ -20,9 +20,9 @@ Finding the blur (:func:`estimate_motion_blur`):
   line's two sides, the grain of a textured grass, reaching 6-8 px at the detector's working width): lengths under
   ``min_length_px`` are not told apart from it. A scene with a strong direction of its own (lines or stripes all one
   way) pulls the structure tensor's direction off the smear's, by 10-20 deg and more on rendered pans across a
-  pitch's markings: once the structure tensor's direction shows a lobe, the direction is taken again as the one
-  within ``scan_angle_deg`` of it whose lobe is deepest (on the reduced image, 1 deg apart), then within
-  ``refine_angle_deg`` of that at full size.
+  pitch's markings: the direction is measured again at full size as the one within ``refine_angle_deg`` whose lobe
+  is deepest, and when none there is deep enough (``max_depth``), around the direction within ``scan_angle_deg`` of
+  the structure tensor's whose lobe is deepest on the reduced image (1 deg apart) instead.
 * **Coherence.** A smear averages the frame's fine detail out along its direction, so the derivative along it has
   no negative lobe of its own before the smear's (from :data:`COHERENCE_LAG_PX` to half the length it stays about
   level or above: each edge spread over ``L`` pixels is alike over a few of them); a sharp frame's derivative has
@@ -70,8 +70,9 @@ class MotionBlurConfig:
     # smoothing adds to the likeness)
     min_coherence_reduced: float = 0.5
     max_depth_reduced: float = -0.2  # ... and its lobe at least this deep (the test at full size decides)
-    scan_angle_deg: float = 30.0  # then the deepest lobe on the reduced image looked for within this of its direction
     refine_angle_deg: float = 5.0  # the direction measured again at full size within this of the reduced image's
+    # ... and, with no lobe deep enough there, around the deepest on the reduced image within this of it (0: not)
+    scan_angle_deg: float = 30.0
     wiener_nsr: float = 0.1  # noise over signal power of the Wiener filter
 
 
@@ -109,19 +110,27 @@ def estimate_motion_blur(grey: np.ndarray, config: MotionBlurConfig = MotionBlur
     if k is None or along[k] > config.max_depth_reduced or along[0] < config.min_coherence_reduced:
         return None
     steps = np.radians(np.arange(-config.refine_angle_deg, config.refine_angle_deg + 0.01, 0.5))
-    angles = angle + steps
-    if config.scan_angle_deg > 0:
-        scanned, k = _deepest_lobe_near(gx, gy, angle, lags, k, along[k], config.scan_angle_deg,
-                                        config.min_length_px / 2.0)
-        if scanned != angle:  # both directions' neighbourhoods measured again (the reduced image's are coarse)
-            angles = np.concatenate([angles, scanned + steps])
-    # Measured again at full size around the reduced image's length and direction(s).
-    gx, gy = gradients(np.asarray(grey, np.float32))
+    # Measured again at full size around the reduced image's length and direction.
+    full_gx, full_gy = gradients(np.asarray(grey, np.float32))
     fine = np.arange(max(1.0, 2 * lags[k] - 2), 2 * lags[k] + 3)
-    maps = _DerivativeCorrelations.of(gx, gy, fine[-1])
+    maps = _DerivativeCorrelations.of(full_gx, full_gy, fine[-1])
     if maps is None:
         return None
-    a = int(np.argmin(np.min(maps.along(angles, fine), axis=1)))  # the direction of the deepest lobe near it
+    angles = angle + steps
+    lobes = np.min(maps.along(angles, fine), axis=1)
+    if config.scan_angle_deg > 0 and np.min(lobes) > config.max_depth:
+        # Too shallow along the structure tensor's direction: the deepest lobe near it on the reduced image, its
+        # neighbourhood measured at full size in turn (the reduced image's directions are coarse).
+        scanned, j = _deepest_lobe_near(gx, gy, angle, lags, k, along[k], config.scan_angle_deg,
+                                        config.min_length_px / 2.0)
+        if scanned != angle:
+            fine = np.arange(max(1.0, 2 * lags[j] - 2), 2 * lags[j] + 3)
+            maps = _DerivativeCorrelations.of(full_gx, full_gy, fine[-1])
+            if maps is None:
+                return None
+            angles = scanned + steps
+            lobes = np.min(maps.along(angles, fine), axis=1)
+    a = int(np.argmin(lobes))  # the direction of the deepest lobe near it
     along = maps.along(angles[a:a + 1], np.arange(1.0, fine[-1] + 2))[0]
     j = _lobe(along, np.arange(1.0, fine[-1] + 2), config.min_length_px)
     if j is None:

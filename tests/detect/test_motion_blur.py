@@ -92,7 +92,7 @@ def _striped(seed: int, stripe_deg: float, h: int = 540, w: int = 960) -> np.nda
 def test_a_smear_is_found_along_its_own_direction_when_the_scene_pulls_the_structure_tensor_off(
         seed, length_px, stripes_off_deg):
     # Lines all one way pull the gradient's least-energy direction off the smear's by more than the full-size
-    # refinement reaches: the reduced image's deepest lobe near it brings the direction back.
+    # refinement reaches, where no lobe is deep enough: the reduced image's deepest lobe near it brings it back.
     blurred = _smeared(_striped(seed, 130.0 + stripes_off_deg), length_px, 130.0)
     found = estimate_motion_blur(blurred)
     assert found is not None
