@@ -109,27 +109,19 @@ def estimate_motion_blur(grey: np.ndarray, config: MotionBlurConfig = MotionBlur
     k = _lobe(along, lags, config.min_length_px / 2.0)
     if k is None or along[k] > config.max_depth_reduced or along[0] < config.min_coherence_reduced:
         return None
-    steps = np.radians(np.arange(-config.refine_angle_deg, config.refine_angle_deg + 0.01, 0.5))
     # Measured again at full size around the reduced image's length and direction.
-    full_gx, full_gy = gradients(np.asarray(grey, np.float32))
-    fine = np.arange(max(1.0, 2 * lags[k] - 2), 2 * lags[k] + 3)
-    maps = _DerivativeCorrelations.of(full_gx, full_gy, fine[-1])
-    if maps is None:
-        return None
-    angles = angle + steps
-    lobes = np.min(maps.along(angles, fine), axis=1)
-    if config.scan_angle_deg > 0 and np.min(lobes) > config.max_depth:
+    full = gradients(np.asarray(grey, np.float32))
+    near = _lobes_near(full, angle, lags[k], config.refine_angle_deg)
+    if near is not None and config.scan_angle_deg > 0 and np.min(near[3]) > config.max_depth:
         # Too shallow along the structure tensor's direction: the deepest lobe near it on the reduced image, its
         # neighbourhood measured at full size in turn (the reduced image's directions are coarse).
         scanned, j = _deepest_lobe_near(gx, gy, angle, lags, k, along[k], config.scan_angle_deg,
                                         config.min_length_px / 2.0)
         if scanned != angle:
-            fine = np.arange(max(1.0, 2 * lags[j] - 2), 2 * lags[j] + 3)
-            maps = _DerivativeCorrelations.of(full_gx, full_gy, fine[-1])
-            if maps is None:
-                return None
-            angles = scanned + steps
-            lobes = np.min(maps.along(angles, fine), axis=1)
+            near = _lobes_near(full, scanned, lags[j], config.refine_angle_deg)
+    if near is None:
+        return None
+    maps, fine, angles, lobes = near
     a = int(np.argmin(lobes))  # the direction of the deepest lobe near it
     along = maps.along(angles[a:a + 1], np.arange(1.0, fine[-1] + 2))[0]
     j = _lobe(along, np.arange(1.0, fine[-1] + 2), config.min_length_px)
@@ -155,6 +147,18 @@ def _lobe(along: np.ndarray, lags: np.ndarray, min_lag: float) -> int | None:
     if k == len(lags) - 1 or k == 0 or along[k] >= along[k - 1]:
         return None
     return k
+
+
+def _lobes_near(gradients_xy: tuple[np.ndarray, np.ndarray], angle: float, lag_px: float, span_deg: float):
+    """(correlation maps, lags, directions, the least autocorrelation at those lags along each direction) of full-size
+    gradients (gx, gy) for the directions within ``span_deg`` of ``angle`` (radians; 0.5 deg apart) and the lags
+    around twice the reduced image's ``lag_px``; None when the image is too small or flat."""
+    fine = np.arange(max(1.0, 2 * lag_px - 2), 2 * lag_px + 3)
+    maps = _DerivativeCorrelations.of(*gradients_xy, fine[-1])
+    if maps is None:
+        return None
+    angles = angle + np.radians(np.arange(-span_deg, span_deg + 0.01, 0.5))
+    return maps, fine, angles, np.min(maps.along(angles, fine), axis=1)
 
 
 def _deepest_lobe_near(gx: np.ndarray, gy: np.ndarray, angle: float, lags: np.ndarray, k: int, depth: float,
