@@ -50,6 +50,14 @@ def route_figures(rows: list[dict], route: str) -> dict:
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
     out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
     right = [r["outcome"] == "found" or twin for r, twin in zip(results, twins)]
+    # The frames whose visible paint fixes the camera (the paint changes the grey level enough where it shows):
+    # found or twin, and wrong but not a twin, as shares of those.
+    visible = [bool(row.get("markings_visible")) for row in rows]
+    wrong_not_twin = [r["outcome"] == "wrong" and not twin for r, twin in zip(results, twins)]
+    for name, hits in (("found_or_twin", right), ("wrong_not_twin", wrong_not_twin)):
+        out[f"{name}_of_visible_pct"] = round(100.0 * sum(
+            hit for hit, shown in zip(hits, visible) if shown) / out["markings_visible"], 1) \
+            if out["markings_visible"] else None
     # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written.
     reachable = [bool(row.get("markings_detected")) and can for row, can in zip(rows, written)]
     out["reachable"] = sum(reachable)
@@ -128,7 +136,9 @@ def summary_table(report: dict) -> str:
         f = figures["determinable"]
         causes = ", ".join(f"{MISS_CAUSES[cause]} {count}" for cause, count in f["misses_by_cause"].items())
         lines.append(f"{route:<7} determinable misses by cause: {causes}; found or twin of the {f['reachable']} "
-                     f"reachable (markings fix the truth, truth written): {f['found_or_twin_of_reachable_pct']} %")
+                     f"reachable (markings fix the truth, truth written): {f['found_or_twin_of_reachable_pct']} %; "
+                     f"of the {f['markings_visible']} whose visible paint fixes it: found or twin "
+                     f"{f['found_or_twin_of_visible_pct']} %, wrong (not twins) {f['wrong_not_twin_of_visible_pct']} %")
     smears = report.get("smear_estimates")
     if smears:
         long, short, sharp = smears["long"], smears["short"], smears["sharp"]

@@ -1,5 +1,5 @@
 """The figures of ``bench placements --random N``'s report: outcomes and twins counted per route, each miss's cause,
-the reachable frames, and the frames counted by look."""
+the reachable frames, the frames whose visible paint fixes the camera, and the frames counted by look."""
 
 from __future__ import annotations
 
@@ -58,6 +58,10 @@ def test_each_miss_has_one_cause_and_the_reachable_frames_are_counted_apart():
     # reachable: detected and written (found, twin, none, near, wrong not a twin): 2 of those 5 found or twin
     assert (figures["reachable"], figures["found_or_twin_of_reachable_pct"]) == (5, 40.0)
     assert placement_figures.route_figures([], "court")["found_or_twin_of_reachable_pct"] is None
+    # of the 9 frames whose visible paint fixes the camera: 3 found or twin, 2 wrong and not twins
+    assert figures["markings_visible"] == 9
+    assert (figures["found_or_twin_of_visible_pct"], figures["wrong_not_twin_of_visible_pct"]) == (33.3, 22.2)
+    assert placement_figures.route_figures([], "court")["wrong_not_twin_of_visible_pct"] is None
 
 
 def test_a_true_camera_under_the_routes_own_bar_is_not_reachable_by_it():
