@@ -48,11 +48,11 @@ def route_figures(rows: list[dict], route: str) -> dict:
     written = [truth_written(row, route) for row in rows]
     out["truth_written"] = sum(written)
     out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
-    out["markings_visible"] = sum(bool(row.get("markings_visible")) for row in rows)
-    right = [r["outcome"] == "found" or twin for r, twin in zip(results, twins)]
     # The frames whose visible paint fixes the camera (the paint changes the grey level enough where it shows):
-    # found or twin, and wrong but not a twin, as shares of those.
+    # how many, and found or twin, and wrong but not a twin, as shares of those.
     visible = [bool(row.get("markings_visible")) for row in rows]
+    out["markings_visible"] = sum(visible)
+    right = [r["outcome"] == "found" or twin for r, twin in zip(results, twins)]
     wrong_not_twin = [r["outcome"] == "wrong" and not twin for r, twin in zip(results, twins)]
     for name, hits in (("found_or_twin", right), ("wrong_not_twin", wrong_not_twin)):
         out[f"{name}_of_visible_pct"] = round(100.0 * sum(

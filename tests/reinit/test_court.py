@@ -57,19 +57,6 @@ def _plain_placement(index: int):
     return frame["drawn"].camera, WeightFreeDetector(PITCH).detect(frame["image"])
 
 
-@pytest.fixture
-def one_opencv_thread():
-    """OpenCV on one thread, as ``bench placements`` runs it (with the tracker's template, ``fitting_curves``): its
-    filters' sums in another order move a marking point by a hair, which can change which of two hypotheses tied on
-    the map is fitted first."""
-    import cv2
-
-    threads = cv2.getNumThreads()
-    cv2.setNumThreads(1)
-    yield
-    cv2.setNumThreads(threads)
-
-
 def _found_or_twin_px(result, truth) -> float:
     """The court camera's median template error against the truth or its twin, whichever is nearer (inf: none)."""
     if result.camera is None:

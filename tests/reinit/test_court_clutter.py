@@ -50,7 +50,7 @@ def _cluttered(kind: str) -> np.ndarray:
 
 
 @pytest.mark.parametrize("kind", ["net", "stripes", "strokes", "rings"])
-def test_grass_full_of_lines_that_are_no_pitchs_gets_no_camera_the_tracker_takes(kind):
+def test_grass_full_of_lines_that_are_no_pitchs_gets_no_camera_the_tracker_takes(kind, one_opencv_thread):
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.reinit.court import court_reinit
     from broadtrack_graph.reinit.frame import frame_confidence
@@ -58,14 +58,9 @@ def test_grass_full_of_lines_that_are_no_pitchs_gets_no_camera_the_tracker_takes
     from broadtrack_graph.track.frame_tries import court_accept_at
     from broadtrack_graph.types.observations import FrameObservations
 
-    threads = cv2.getNumThreads()
-    cv2.setNumThreads(1)
-    try:
-        detections = WeightFreeDetector(PITCH).detect(_cluttered(kind))
-        curves = fitting_curves(PITCH)
-        result = court_reinit(detections, (W, H), curves)
-    finally:
-        cv2.setNumThreads(threads)
+    detections = WeightFreeDetector(PITCH).detect(_cluttered(kind))
+    curves = fitting_curves(PITCH)
+    result = court_reinit(detections, (W, H), curves)
     assert detections.marking_mask is not None and detections.marking_mask.any()  # the lines are taken for paint
     if result.camera is not None:
         confidence = frame_confidence(result.camera, FrameObservations(0, W, H), detections, curves,
