@@ -4,9 +4,11 @@ The ellipses of :mod:`~broadtrack_graph.detect.marking_structures` and :mod:`~br
 are fitted to the map's pixels: a marking's whole painted width, by an algebraic fit. On a short arc (a penalty arc,
 half of it at a frame's edge) the arc fixes its ellipse's position and bend well and the rest of the outline poorly,
 and those fits can end a few per cent off in size and a few degrees in angle: enough for the circle-and-line
-hypotheses of the court model, which take the ellipse as exact, to miss the camera. Here the ellipse is fitted again
-on the signed first-order distances of the markings' centre points near it (a point's error across the marking is
-then its own, not the paint's width), with a soft-L1 loss, the points gathered again around the new ellipse. The
+hypotheses of the court model, which take the ellipse as exact, to miss the camera. A whole ellipse can end as far
+off when players stand on the circle, their legs joined to its pieces (the algebraic fit counts their pixels). Here
+the ellipse is fitted again on the signed first-order distances of the markings' centre points near it (a point's
+error across the marking is then its own, not the paint's width), with a soft-L1 loss, the points gathered again
+around the new ellipse. The
 points of a straight marking across the ellipse are left out (a 16.5 m line where it meets its arc pulls the fit);
 a straight marking lying along the ellipse is a piece of the arc that the straight search took, and stays. The
 result is another estimate of the same circle's image, not a better one on every frame: the court model tries both.

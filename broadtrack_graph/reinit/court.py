@@ -5,12 +5,12 @@
 directions by vanishing point, and forms every camera that puts two lines of each direction on two
 pitch lines of that direction (:mod:`.court_lines`: one homography each, decomposed with the
 principal point at the image centre and gated on plausibility; when none explains the map well, also three lines
-of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the partial
-ellipses fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All hypotheses are
-scored at once
-on the marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template
-found in the map and the map explained by the template; coarsely first, the precision read only of those whose recall
-could rank them among the best), the best ``refit_top`` are solved again on every straight
+of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the
+ellipses and arcs fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All
+hypotheses are scored at once on the marking map
+(:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the map
+explained by the template; coarsely first, the precision read only of those whose recall could rank them among the
+best), the best ``refit_top`` are solved again on every straight
 marking each explains and join as hypotheses of their own (:mod:`.court_refit`: four lines place a narrow view's
 vanishing points poorly); the best distinct few are fitted with the label-and-fit rounds and one fit is kept and
 judged (:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a
@@ -178,7 +178,7 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
     """The hypotheses tried after the straight markings', in order, each a call (an empty set when its markings are
     missing): three lines of one direction and one across (a zoomed goal mouth), a circle with the
     line across it, the centre circle with a touchline (more hypotheses, and looser), then a circle with the line
-    across it again on the partial ellipses fitted again on the centre points."""
+    across it again on the ellipses and arcs fitted again on the centre points."""
     lines = structures.lines
 
     def pencil():
@@ -190,9 +190,9 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
         if not lines:
             return concatenate([])
         # An arc's piece fitted alone and an ellipse fitted through it and another piece are two estimates of one
-        # circle's image, a few per cent apart on a short arc: both are tried. The partial ones fitted again on the
-        # markings' centre points are a third, a source of their own (tried last: one of them scoring best on the
-        # map does not take the others' place).
+        # circle's image, a few per cent apart on a short arc: both are tried. Each fitted again on the markings'
+        # centre points is a third, a source of their own (tried last: one of them scoring best on the map does not
+        # take the others' place).
         ellipses = structures.refitted_ellipses() if refitted else (
             structures.ellipses() + structures.border_ellipses() + structures.arcs())
         return _circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)

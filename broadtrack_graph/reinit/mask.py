@@ -224,11 +224,11 @@ class MapStructures:
         return self._border
 
     def refitted_ellipses(self) -> list:
-        """The border ellipses and arcs (part of their outline in the map) fitted again on the markings' centre points
-        near them, where that moves them (:func:`~broadtrack_graph.detect.ellipse_refit.refitted_ellipse`)."""
+        """The ellipses, whole and at the border, and the arcs fitted again on the markings' centre points near them,
+        where that moves them (:func:`~broadtrack_graph.detect.ellipse_refit.refitted_ellipse`)."""
         if self._refitted is None:
             self._refitted = []
-            for ellipse in self.border_ellipses() + self.arcs():
+            for ellipse in self.ellipses() + self.border_ellipses() + self.arcs():
                 refit = refitted_ellipse(ellipse, self._points, self._W, self.lines)
                 if refit is not None and not any(same_ellipse(refit, kept, self._W) for kept in self._refitted):
                     self._refitted.append(refit)  # fits from nearby ellipses end on the same one

@@ -143,12 +143,26 @@ def test_the_centre_circle_and_its_two_lines_seen_from_a_corner_give_the_camera_
     assert result.camera is None and "do not fix it" in result.reason
 
 
-def test_an_exact_fit_under_the_exact_fit_confidence_is_fitted_again_along_its_line_of_sight():
+def test_an_exact_fit_under_the_exact_fit_confidence_is_fitted_again_along_its_line_of_sight(monkeypatch):
     """Frame 444 of ``bench placements --random --seed 3``: a 17 deg view of a penalty arc and one line in a stadium's
     shadow. The camera fitted on them (the twin, 2 px off, its focal length 6670 px for the truth's 4160 and twice as
     far back) is 0.64 confident: fixed exactly by its markings, it is not returned under ``exact_fit_confidence`` as
-    it is. Fitted again from starts along its line of sight, one lands on the truth's twin, confident enough."""
+    it is. Fitted again from starts along its line of sight, one lands on the truth's twin, confident enough. (The
+    last tier's whole ellipses fitted again on the centre points place this frame on their own: left out here.)"""
     from broadtrack_graph.reinit.court_config import CourtConfig
+    from broadtrack_graph.reinit.mask import MapStructures
+
+    with_whole = MapStructures.refitted_ellipses
+
+    def without_whole(self):
+        self.ellipses()  # found first (the border ones with them), then hidden from the refit
+        self.ellipses = lambda: []
+        try:
+            return with_whole(self)
+        finally:
+            del self.ellipses
+
+    monkeypatch.setattr(MapStructures, "refitted_ellipses", without_whole)
 
     truth, det = _random_placement(444)
     unwalked = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
