@@ -8,10 +8,10 @@ hypotheses of the court model, which take the ellipse as exact, to miss the came
 off when players stand on the circle, their legs joined to its pieces (the algebraic fit counts their pixels). Here
 the ellipse is fitted again on the signed first-order distances of the markings' centre points near it (a point's
 error across the marking is then its own, not the paint's width), with a soft-L1 loss, the points gathered again
-around the new ellipse. The
-points of a straight marking across the ellipse are left out (a 16.5 m line where it meets its arc pulls the fit);
-a straight marking lying along the ellipse is a piece of the arc that the straight search took, and stays. The
-result is another estimate of the same circle's image, not a better one on every frame: the court model tries both.
+around the new ellipse. The points of a straight marking across the ellipse are left out (a 16.5 m line where it
+meets its arc pulls the fit); a straight marking lying along the ellipse is a piece of the arc that the straight
+search took, and stays. The result is another estimate of the same circle's image, not a better one on every frame:
+the court model tries both.
 
 Sizes are pixels at 960 px wide (``RefitConfig``), scaled to the frame's width.
 """

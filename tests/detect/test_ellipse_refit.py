@@ -141,3 +141,12 @@ def test_a_whole_circle_with_players_legs_joined_to_it_comes_back_to_its_image()
         refit = refitted_ellipse(found[0], np.column_stack([xs, ys]).astype(float), W)
         back += refit is not None and error_px(refit) < 2.0
     assert off >= 6 and back >= 0.6 * off, (off, back)
+    # The court model's last tier asks for the whole ellipses' refits too (reinit.mask.MapStructures).
+    from broadtrack_graph.reinit.court_config import CourtConfig
+    from broadtrack_graph.reinit.mask import map_structures
+
+    mask = _centre_circle_with_players(3, 6)  # found 11 px off, refitted within 1 px
+    ys, xs = np.nonzero(mask)
+    structures = map_structures(mask, np.column_stack([xs, ys]).astype(float), (W, H), PITCH, CourtConfig().search)
+    assert structures.ellipses() and error_px(structures.ellipses()[0]) > 7.0
+    assert any(error_px(refit) < 2.0 for refit in structures.refitted_ellipses())
