@@ -10,7 +10,7 @@ mapped back to the frame's pixels. Pipeline:
    whole grass (green seats or a green-clad crowd are grassy but speckled: not field;
    :mod:`~broadtrack_graph.detect.playing_field`);
 2. players and clutter: non-grass blobs inside the field that survive an opening
-   larger than a line's width, with a wider marking a player stands on cut off
+   larger than a line's width, with a wider marking a player stands on cut off and a marking's own pieces left out
    (:mod:`~broadtrack_graph.detect.player_blobs`), and look like upright bodies -> boxes and a mask
    (found at half the working width); each box then runs on down its legs to the feet
    (:func:`~broadtrack_graph.detect.player_feet.boxes_to_the_feet`); the player mask returned takes the legs
@@ -64,7 +64,7 @@ from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_
 from broadtrack_graph.detect.faint_lines import FaintLineConfig, with_faint_lines
 from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marked_points
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
-from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings
+from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings, centres_inside, marking_pieces
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.point_cells import work_to_frame_px
 from broadtrack_graph.detect.registration import named_off_the_pitch
@@ -130,7 +130,8 @@ class WeightFreeConfig:
     player_min_area_px: int = 40  # smaller non-grass blobs are not players
     # A marking wider than the opening that a player stands on is cut off the blob (detect.player_blobs): the body is
     # its core (this share of its greatest depth D and deeper) grown back by D; pieces beyond longer than
-    # player_longest_limb D are cut.
+    # player_longest_limb D are cut. A short piece of a far longer blob, no more than twice as deep as what joins it
+    # there and well inside the field, is a marking's widest stretch, not a body (detect.player_blobs.marking_pieces).
     player_core_share: float = 0.4
     player_longest_limb: float = 4.0
     player_margin_px: int = 3  # ridge points this close to a player are dropped
@@ -217,6 +218,9 @@ class WeightFreeDetector:
         count, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
         x, y, bw, bh, area = (stats[1:, i] for i in range(5))
         keep = ((4 * area >= c.player_min_area_px) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh))
+        pieces = marking_pieces(opened, labels, stats, half, keep)  # a wide marking's widest stretches: not bodies,
+        if pieces.any():  # well inside the field (a crowd's specks along its edge are no marking's: they stay masked)
+            keep &= ~(pieces & centres_inside(field, stats, half.shape[::-1], c.boundary_margin_px))
         keep_lut = np.concatenate([[False], keep])
         boxes = 2.0 * np.column_stack([x, y, x + bw, y + bh])[keep]
         if not keep.any():
