@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.detect.detector import Detections, resize_mask
+from broadtrack_graph.geometry.mask_blobs import blobs_with_stats
 
 
 @dataclass(frozen=True)
@@ -112,7 +113,7 @@ class StaticGraphics:
                   & (self._samples - self._last_static <= c.recent_samples)).astype(np.uint8) * 255
         kernel = cv2.getStructuringElement(cv2.MORPH_RECT, (c.close_px, c.close_px))
         blobs = cv2.morphologyEx(static, cv2.MORPH_CLOSE, kernel)
-        count, labels, stats, _ = cv2.connectedComponentsWithStats((blobs > 0).astype(np.uint8), connectivity=8)
+        count, labels, stats, _ = blobs_with_stats(blobs > 0)
         out = blobs > 0
         for i in range(1, count):
             x, y, w, h, area = stats[i]

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from broadtrack_graph.geometry.mask_blobs import blobs_with_stats
+
 
 @dataclass(frozen=True)
 class HatchRule:
@@ -363,7 +365,7 @@ def map_pieces(marking_mask: np.ndarray, frame_width_px: int, lines: list[ImageL
             if line.support_px * to_work >= config.ellipse_cut_line_px * unit:
                 ends = [np.rint((line.centre_px + e * line.direction) * to_work).astype(int) for e in line.extent_px]
                 cv2.line(pieces_map, tuple(int(v) for v in ends[0]), tuple(int(v) for v in ends[1]), 0, thickness)
-    _, labels, stats, _ = cv2.connectedComponentsWithStats(pieces_map, connectivity=8)
+    _, labels, stats, _ = blobs_with_stats(pieces_map)
     areas = stats[1:, cv2.CC_STAT_AREA]
     pieces = [1 + int(k) for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= min_piece_px * unit]
     return marking_mask, labels, pieces, areas

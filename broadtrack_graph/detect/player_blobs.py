@@ -28,6 +28,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from broadtrack_graph.geometry.mask_blobs import blobs_with_stats
+
 
 def bodies_apart_from_markings(blobs: np.ndarray, core_share: float = 0.4, longest: float = 4.0) -> np.ndarray:
     """The blobs with the long thin pieces joined to a thicker body cut off (module docstring).
@@ -58,7 +60,7 @@ def bodies_apart_from_markings(blobs: np.ndarray, core_share: float = 0.4, longe
     far_pixels = inside[far]
     beyond = np.zeros(blobs.size, np.uint8)
     beyond[far_pixels] = 1
-    pieces, piece_labels, stats, _ = cv2.connectedComponentsWithStats(beyond.reshape(blobs.shape), connectivity=8)
+    pieces, piece_labels, stats, _ = blobs_with_stats(beyond.reshape(blobs.shape))
     piece_of = piece_labels.ravel()[far_pixels]
     piece_reach = np.zeros(pieces, np.float32)
     np.maximum.at(piece_reach, piece_of, reach[far])
@@ -92,7 +94,7 @@ def marking_pieces(opened: np.ndarray, labels: np.ndarray, stats: np.ndarray, un
     pieces = np.zeros(count, bool)
     if not asked.any():
         return pieces[1:]
-    _, blob_labels, blob_stats, _ = cv2.connectedComponentsWithStats(unopened, connectivity=8)
+    _, blob_labels, blob_stats, _ = blobs_with_stats(unopened)
     cols, rows = cv2.findNonZero(opened).reshape(-1, 2).T
     piece_of = labels[rows, cols]  # the pieces' pixels: the few the sums below run over
     blob_of_piece = np.zeros(count, np.int64)
@@ -156,3 +158,28 @@ def centres_inside(field: np.ndarray, stats: np.ndarray, size: tuple[int, int], 
     cols = np.clip(stats[1:, cv2.CC_STAT_LEFT] + stats[1:, cv2.CC_STAT_WIDTH] // 2, 0, w - 1)
     rows = np.clip(stats[1:, cv2.CC_STAT_TOP] + stats[1:, cv2.CC_STAT_HEIGHT] // 2, 0, h - 1)
     return inner[rows, cols] > 0
+
+
+def upright_bodies(opened: np.ndarray, unopened: np.ndarray, field: np.ndarray, min_area_px: int,
+                   boundary_margin_px: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The blobs the players' opening leaves that are bodies: upright, large enough, and not a marking's pieces.
+
+    Args:
+        opened: (h, w) uint8 mask after the opening (and :func:`bodies_apart_from_markings`), 255 on the blobs.
+        unopened: (h, w) uint8 mask before the opening.
+        field: uint8 map of the playing field (non-zero inside; any size of the same aspect ratio).
+        min_area_px: a body's least area in pixels at twice this mask's size (the working size: it is found at half).
+        boundary_margin_px: a marking's piece is one only this far inside the field (pixels at twice this size; a
+            crowd's specks along the field's edge are no marking's: they stay bodies, their masks hide no paint).
+
+    Returns:
+        labels: (h, w) int32 labels of ``opened`` (0: the background); stats: (K + 1, 5) their boxes and areas
+        (``cv2.CC_STAT_*``); body: (K,) bool for labels 1 .. K.
+    """
+    _, labels, stats, _ = blobs_with_stats(opened)
+    x, y, bw, bh, area = (stats[1:, i] for i in range(5))
+    body = (4 * area >= min_area_px) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh)
+    pieces = marking_pieces(opened, labels, stats, unopened, body)  # a wide marking's widest stretches
+    if pieces.any():
+        body &= ~(pieces & centres_inside(field, stats, unopened.shape[::-1], boundary_margin_px))
+    return labels, stats, body

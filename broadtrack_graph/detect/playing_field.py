@@ -16,6 +16,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from broadtrack_graph.geometry.mask_blobs import blobs_with_stats
+
 _CELL_PX = 4
 _GRASSY_LEVEL = 100  # a cell's grass share (0-255) above which it is grassy: about 40 %
 JUDGED_CELLS = 2
@@ -42,7 +44,7 @@ def grass_and_field(small_bgr: np.ndarray, hue_range: tuple[int, int], min_satur
     painted = cv2.bitwise_or(grass, cv2.inRange(hsv, *_WHITE_HSV))
     painted_share = cv2.resize(painted, share.shape[::-1], interpolation=cv2.INTER_AREA)
     grassy = (share > _GRASSY_LEVEL).astype(np.uint8)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(grassy, connectivity=8)
+    count, labels, stats, _ = blobs_with_stats(grassy)
     whole = np.bincount(labels.ravel(), weights=(painted_share >= 255 * whole_grass_share).ravel(), minlength=count)
     area = stats[:, cv2.CC_STAT_AREA]
     keep = (whole >= field_min_whole_share * area) | (area < JUDGED_CELLS)

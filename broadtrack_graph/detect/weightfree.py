@@ -64,7 +64,7 @@ from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_
 from broadtrack_graph.detect.faint_lines import FaintLineConfig, with_faint_lines
 from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marked_points
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig, deblurred, estimate_motion_blur
-from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings, centres_inside, marking_pieces
+from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings, upright_bodies
 from broadtrack_graph.detect.playing_field import grass_and_field
 from broadtrack_graph.detect.point_cells import work_to_frame_px
 from broadtrack_graph.detect.registration import named_off_the_pitch
@@ -215,12 +215,8 @@ class WeightFreeDetector:
         half = cv2.threshold(half, 127, 255, cv2.THRESH_BINARY)[1]
         opened = cv2.morphologyEx(half, cv2.MORPH_OPEN, self._open_kernel)
         opened = bodies_apart_from_markings(opened, c.player_core_share, c.player_longest_limb)
-        count, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
-        x, y, bw, bh, area = (stats[1:, i] for i in range(5))
-        keep = ((4 * area >= c.player_min_area_px) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh))
-        pieces = marking_pieces(opened, labels, stats, half, keep)  # a wide marking's widest stretches: not bodies,
-        if pieces.any():  # well inside the field (a crowd's specks along its edge are no marking's: they stay masked)
-            keep &= ~(pieces & centres_inside(field, stats, half.shape[::-1], c.boundary_margin_px))
+        labels, stats, keep = upright_bodies(opened, half, field, c.player_min_area_px, c.boundary_margin_px)
+        x, y, bw, bh = (stats[1:, i] for i in range(4))
         keep_lut = np.concatenate([[False], keep])
         boxes = 2.0 * np.column_stack([x, y, x + bw, y + bh])[keep]
         if not keep.any():

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from broadtrack_graph.geometry.mask_blobs import blobs_with_stats
+
 VIEW_MAIN = "main"
 VIEW_CLOSE_UP = "close-up"
 VIEW_CROWD = "crowd"
@@ -93,7 +95,7 @@ def classify_view(image_bgr: np.ndarray, config: ViewConfig = ViewConfig()) -> V
     if grass_share < config.min_grass_share:
         return ViewResult(VIEW_CROWD, f"grass share {grass_share:.2f} below {config.min_grass_share:.2f}",
                           grass_share, 0.0)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats((grass > 0).astype(np.uint8), connectivity=8)
+    count, labels, stats, _ = blobs_with_stats(grass > 0)
     largest = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
     hull = cv2.convexHull(row_ends(labels == largest))
     region = np.zeros_like(grass)
@@ -104,7 +106,7 @@ def classify_view(image_bgr: np.ndarray, config: ViewConfig = ViewConfig()) -> V
     hull_area = max(1, int(np.count_nonzero(region)))
     hull_other = float(np.count_nonzero(other)) / hull_area
     blob_share, blob_height = 0.0, 0.0
-    count, labels, stats, _ = cv2.connectedComponentsWithStats((other > 0).astype(np.uint8), connectivity=8)
+    count, labels, stats, _ = blobs_with_stats(other > 0)
     if count > 1:
         i = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
         blob_share = float(stats[i, cv2.CC_STAT_AREA]) / grass.size
