@@ -134,7 +134,7 @@ def test_the_centre_circle_and_its_two_lines_seen_from_a_corner_give_the_camera_
     is returned only at ``exact_fit_confidence``."""
     from broadtrack_graph.reinit.court_config import CourtConfig
 
-    monkeypatch.setattr("broadtrack_graph.detect.weightfree.marking_pieces",
+    monkeypatch.setattr("broadtrack_graph.detect.player_blobs.marking_pieces",
                         lambda opened, labels, stats, unopened, asked: np.zeros(len(stats) - 1, bool))
     truth, det = _random_placement(99)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
@@ -378,7 +378,7 @@ def test_the_specks_along_a_crowds_edge_stay_masked(one_opencv_thread, monkeypat
     truth, det = _plain_placement(419, seed=5)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert _found_or_twin_px(result, truth) < 1.0, result.reason
-    monkeypatch.setattr("broadtrack_graph.detect.weightfree.centres_inside",
+    monkeypatch.setattr("broadtrack_graph.detect.player_blobs.centres_inside",
                         lambda field, stats, size, margin_px: np.ones(len(stats) - 1, bool))
     truth, det = _plain_placement(419, seed=5)
     result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
