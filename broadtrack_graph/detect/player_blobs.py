@@ -177,9 +177,15 @@ def upright_bodies(opened: np.ndarray, unopened: np.ndarray, field: np.ndarray, 
         (``cv2.CC_STAT_*``); body: (K,) bool for labels 1 .. K.
     """
     _, labels, stats, _ = blobs_with_stats(opened)
-    x, y, bw, bh, area = (stats[1:, i] for i in range(5))
-    body = (4 * area >= min_area_px) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh)
+    body = upright_shapes(stats, min_area_px)
     pieces = marking_pieces(opened, labels, stats, unopened, body)  # a wide marking's widest stretches
     if pieces.any():
         body &= ~(pieces & centres_inside(field, stats, unopened.shape[::-1], boundary_margin_px))
     return labels, stats, body
+
+
+def upright_shapes(stats: np.ndarray, min_area_px: int) -> np.ndarray:
+    """(K,) whether each blob (``stats``' rows 1..K, found at half the working size) has a body's shape: upright (its
+    box 0.8-6 times as tall as wide), filling a quarter of its box, and at least ``min_area_px`` at the working size."""
+    _, _, bw, bh, area = (stats[1:, i] for i in range(5))
+    return (4 * area >= min_area_px) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh)

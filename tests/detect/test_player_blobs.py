@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.detect.found_markings import marking_map
-from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings, marking_pieces
+from broadtrack_graph.detect.player_blobs import bodies_apart_from_markings, marking_pieces, upright_shapes
 from broadtrack_graph.detect.weightfree import WeightFreeDetector
 from broadtrack_graph.geometry.determinable import determinability
 from broadtrack_graph.geometry.pitch import PitchTemplate
@@ -61,11 +61,10 @@ def test_a_player_standing_on_a_wide_marking_is_found_and_the_marking_beyond_it_
 def _pieces_of(unopened: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The detector's steps at half the working width: (K, 4) boxes of the blobs its shape test keeps, and which of
     them :func:`marking_pieces` calls a marking's pieces."""
-    kernel = WeightFreeDetector(PitchTemplate())._open_kernel
-    opened = bodies_apart_from_markings(cv2.morphologyEx(unopened, cv2.MORPH_OPEN, kernel))
+    detector = WeightFreeDetector(PitchTemplate())
+    opened = bodies_apart_from_markings(cv2.morphologyEx(unopened, cv2.MORPH_OPEN, detector._open_kernel))
     _, labels, stats, _ = cv2.connectedComponentsWithStats(opened, connectivity=8)
-    x, y, bw, bh, area = (stats[1:, i] for i in range(5))
-    upright = (4 * area >= 40) & (bh >= 0.8 * bw) & (bh <= 6 * bw) & (area >= 0.25 * bw * bh)
+    upright = upright_shapes(stats, detector.config.player_min_area_px)
     return stats[1:, :4][upright], marking_pieces(opened, labels, stats, unopened, upright)[upright]
 
 
