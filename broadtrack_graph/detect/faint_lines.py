@@ -5,7 +5,7 @@ a line can stand a few grey levels over the grass, under the level its texture r
 ridge detector (:mod:`~broadtrack_graph.detect.ridges`) keeps only its brightest stretches or none of it. Along its
 length it stands out all the same: hundreds of pixels a few levels brighter than the grass a few pixels beside them.
 
-Three steps, on the top-hat of the least of each pixel's three levels (white paint raises all three; the coloured
+Four steps, on the top-hat of the least of each pixel's three levels (white paint raises all three; the coloured
 lines of other sports on artificial turf leave one dark):
 
 1. *Weak ridge points.* The ridge detector's centre-line points at a low level (the field's top-hat at its
@@ -25,6 +25,17 @@ lines of other sports on artificial turf leave one dark):
    edge) has no top-hat. Points within ``gap_px`` of a marking already found are left to it (a wide line's own
    centre is not found twice), one is kept a pixel, and those more colourful than the ground around them are
    dropped (:func:`~broadtrack_graph.detect.ridges.white`).
+4. *Coarser.* A marking blurred by a soft, low-resolution camera (or smeared across by a pan: a 2 px line over 15 px
+   at a fifth of its contrast) is a band wider than the ridge detector's reach: its top-hat stands only at the
+   band's edges, if at all. The working image is looked at again reduced by each of ``coarse_factors`` (the band
+   there a few pixels wide, the noise averaged over the pixels merged), with what the finer scales found taken as
+   known, the counts and lengths along a line divided by the factor (:func:`at_factor`) and the same significance
+   asked of a line (``min_z``); its points are returned at the working size. Only on a frame read as blurred and
+   not smeared (:class:`~broadtrack_graph.detect.found_markings.FaintInputs`): on a sharp one the paint is as
+   narrow as the ridge detector's reach, and a coarser scale adds only the grass's texture, which a grazing line of
+   sight lines up into runs; on a smeared one the confidence does not expect the markings across the smear
+   (:mod:`~broadtrack_graph.reinit.confidence`), so the cameras their faint traces propose go unchecked along it
+   (docs/BENCHMARKS.md, Why the defaults).
 
 The faint look (:func:`with_faint_lines`) adds these points to a frame's markings found already. The tracker takes
 it only for the court model's second look at a lost frame whose court camera was not taken, and for the frames of a
@@ -65,6 +76,21 @@ class FaintLineConfig:
     window_px: int = 15
     min_run_px: int = 60  # ... for at least this long
     gap_px: int = 3  # points this close to a marking already found are left to it
+    # The image is looked at again reduced by each of these factors (module docstring, step 4); the counts and lengths
+    # above (votes, run, window) are working pixels, divided by the factor there, not under coarse_floor.
+    coarse_factors: tuple[int, ...] = (2, 3)
+    coarse_floor: tuple[int, int, int, int] = (10, 8, 20, 7)  # least min_votes, min_new_votes, min_run_px, window_px
+
+
+def at_factor(config: FaintLineConfig, factor: int) -> FaintLineConfig:
+    """``config`` for the working image reduced ``factor`` times: its counts and lengths along a line divided by
+    ``factor`` (a line there holds that many times fewer pixels), not under ``coarse_floor``."""
+    if factor == 1:
+        return config
+    votes, new_votes, run, window = config.coarse_floor
+    return replace(config, min_votes=max(votes, config.min_votes // factor),
+                   min_new_votes=max(new_votes, config.min_new_votes // factor),
+                   min_run_px=max(run, config.min_run_px // factor), window_px=max(window, config.window_px // factor))
 
 
 def weak_level(tophat: np.ndarray, allowed01: np.ndarray, config: FaintLineConfig) -> float:
@@ -251,7 +277,8 @@ def unknown_map(known: np.ndarray, size: tuple[int, int], gap_px: int) -> np.nda
 
 def faint_line_points(colour_bgr: np.ndarray, allowed: np.ndarray, known: np.ndarray, tophat_kernel: np.ndarray,
                       ridge_kernel: np.ndarray, c, config: FaintLineConfig = FaintLineConfig()) -> np.ndarray:
-    """The faint straight markings' centre points the ridge detector did not find (module docstring).
+    """The faint straight markings' centre points the ridge detector did not find (module docstring), at the working
+    size and at each of ``coarse_factors`` coarser.
 
     Args:
         colour_bgr: (h, w, 3) uint8 working image.
@@ -263,6 +290,40 @@ def faint_line_points(colour_bgr: np.ndarray, allowed: np.ndarray, known: np.nda
     Returns:
         (M, 2) working pixels.
     """
+    size = (colour_bgr.shape[1], colour_bgr.shape[0])
+    found = [_points_at_scale(colour_bgr, allowed, known, tophat_kernel, ridge_kernel, c, config)]
+    for factor in config.coarse_factors:
+        coarse_size = (size[0] // factor, size[1] // factor)
+        if min(coarse_size) < 4 * tophat_kernel.shape[0]:
+            continue
+        # A coarse pixel holds the factor x factor working pixels from factor times its index: its centre is
+        # (factor - 1) / 2 on from there.
+        rows, cols = coarse_size[1] * factor, coarse_size[0] * factor
+        colour = cv2.resize(colour_bgr[:rows, :cols], coarse_size, interpolation=cv2.INTER_AREA)
+        # A coarse pixel may hold a marking where all its working pixels may.
+        inside = cv2.resize((allowed[:rows, :cols] > 0).astype(np.float32), coarse_size,
+                            interpolation=cv2.INTER_AREA) > 1.0 - 1e-6
+        centre = (factor - 1) / 2.0
+        # What a finer scale found is known here: a line shown there is not traced again, less precisely.
+        known_here = np.vstack([known] + found)
+        points = _points_at_scale(colour, inside.astype(np.uint8), (known_here - centre) / factor, tophat_kernel,
+                                  ridge_kernel, c, at_factor(config, factor))
+        found.append(points * factor + centre)
+    found = np.vstack(found)
+    # One point a pixel: the candidates of one line pivot on it (its points' normals scatter) and trace it again, and
+    # so does a line shown at two scales.
+    unknown = unknown_map(known, size, config.gap_px)
+    pixel = pixels_of(found, size)
+    _, first = np.unique(pixel[:, 1] * size[0] + pixel[:, 0], return_index=True)
+    first = first[unknown[pixel[first, 1], pixel[first, 0]] > 0]
+    found = found[np.sort(first)]
+    return found[white(colour_bgr, found, c.faint_max_chroma_rise)]
+
+
+def _points_at_scale(colour_bgr: np.ndarray, allowed: np.ndarray, known: np.ndarray, tophat_kernel: np.ndarray,
+                     ridge_kernel: np.ndarray, c, config: FaintLineConfig) -> np.ndarray:
+    """Steps 1-3 of the module docstring on one image: (M, 2) the shown stretches' points, pixels of that image
+    (``known``: the points found already, in them too)."""
     tophat = cv2.morphologyEx(marking_channel(colour_bgr, "min"), cv2.MORPH_TOPHAT, tophat_kernel)
     allowed01 = cv2.threshold(allowed, 0, 1, cv2.THRESH_BINARY)[1]
     # The top-hat's border is the image's edge, not grass: a faint run along it is the opening's, not paint's.
@@ -275,13 +336,7 @@ def faint_line_points(colour_bgr: np.ndarray, allowed: np.ndarray, known: np.nda
     unknown = unknown_map(known, size, config.gap_px)
     pixel = pixels_of(points, size)
     new = unknown[pixel[:, 1], pixel[:, 0]] > 0
-    found = shown_stretches(tophat, allowed01, candidate_lines(points, normals, allowed01, config, new), config)
-    pixel = pixels_of(found, size)
-    # One point a pixel: the candidates of one line pivot on it (its points' normals scatter) and trace it again.
-    _, first = np.unique(pixel[:, 1] * size[0] + pixel[:, 0], return_index=True)
-    first = first[unknown[pixel[first, 1], pixel[first, 0]] > 0]
-    found = found[np.sort(first)]
-    return found[white(colour_bgr, found, c.faint_max_chroma_rise)]
+    return shown_stretches(tophat, allowed01, candidate_lines(points, normals, allowed01, config, new), config)
 
 
 def with_faint_lines(found: FoundMarkings, tophat_kernel: np.ndarray, ridge_kernel: np.ndarray, c,
@@ -296,6 +351,8 @@ def with_faint_lines(found: FoundMarkings, tophat_kernel: np.ndarray, ridge_kern
     """
     if found.faint is None:
         return found
+    if not found.faint.blurred:  # module docstring, step 4
+        config = replace(config, coarse_factors=())
     faint = faint_line_points(found.faint.colour_bgr, found.faint.allowed, found.points_work_px, tophat_kernel,
                               ridge_kernel, c, config)
     if not len(faint):

@@ -356,7 +356,8 @@ class WeightFreeDetector:
         # The legs below the bodies are found when the detections are first read (detect.found_markings).
         bodies = BodiesToFeet(boxes, player_mask, grey, grass, self.config.feet_contrast, self.config.feet_max_share,
                               self.config.player_margin_px)
-        faint = None if self.config.faint_lines is None else FaintInputs(small, allowed)
+        faint = None if self.config.faint_lines is None else FaintInputs(
+            small, allowed, motion is None and blur >= self.config.blurred_from)
         return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide, bodies,
                              faint)
 

@@ -3,11 +3,14 @@ whose top-hat reaches 6 grey levels at its 90th percentile, and lines a few leve
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import cv2
 import numpy as np
 
 from broadtrack_graph.detect.faint_lines import (
     FaintLineConfig,
+    at_factor,
     candidate_lines,
     faint_line_points,
     shown_stretches,
@@ -33,11 +36,11 @@ def _with_line(image: np.ndarray, level: float, colour=(1.0, 1.0, 1.0), width_px
     return image + level * np.asarray(colour)[None, None, :] * cover[..., None]
 
 
-def _faint(image: np.ndarray, known=np.zeros((0, 2)), allowed=None) -> np.ndarray:
+def _faint(image: np.ndarray, known=np.zeros((0, 2)), allowed=None, config=FaintLineConfig()) -> np.ndarray:
     detector = WeightFreeDetector()
     allowed = np.full((H, W), 255, np.uint8) if allowed is None else allowed
     return faint_line_points(np.clip(image, 0, 255).astype(np.uint8), allowed, known, detector._tophat_kernel,
-                             detector._ridge_kernel, detector.config)
+                             detector._ridge_kernel, detector.config, config)
 
 
 def _off_line_px(points: np.ndarray) -> np.ndarray:
@@ -56,6 +59,32 @@ def test_a_line_a_few_levels_over_the_texture_is_found_along_its_length_and_gras
         # Most of the line's length (it crosses the image, about 490 px) is found.
         along = np.unique(np.round(points[off < 1.0, 0]))
         assert len(along) > 0.8 * W
+
+
+def test_a_line_smeared_wide_and_faint_is_found_at_a_coarser_scale_and_on_it():
+    # A soft, low-resolution camera spreads a 2 px line over 8 px: 6 levels over grass with sensor noise, a band the
+    # working size's step does not see as a line.
+    for seed in (3, 5, 7):
+        noisy = _grass(seed) + np.random.default_rng(seed + 1).normal(0, 3.0, (H, W, 1))
+        smeared = _with_line(noisy, 6.0, width_px=8.0)
+        assert len(_faint(smeared, config=replace(FaintLineConfig(), coarse_factors=()))) == 0
+        points = _faint(smeared)
+        off = _off_line_px(points)
+        # Found along a good part of its length, at its centre to within a coarse pixel, and nothing else.
+        assert len(points) >= 100 and np.count_nonzero(off < 2.0) >= 0.75 * len(points)
+        assert len(np.unique(np.round(points[off < 2.0, 0]))) > 0.25 * W
+        assert np.median(off[off < 2.0]) < 1.0
+        assert len(_faint(noisy)) == 0
+
+
+def test_at_factor_divides_the_counts_and_lengths_along_a_line_down_to_the_floor():
+    config = FaintLineConfig()
+    assert at_factor(config, 1) is config
+    half = at_factor(config, 2)
+    assert (half.min_votes, half.min_new_votes, half.min_run_px, half.window_px) == (15, 10, 30, 7)
+    third = at_factor(config, 3)
+    assert (third.min_votes, third.min_new_votes, third.min_run_px, third.window_px) == (10, 8, 20, 7)
+    assert third.min_z == config.min_z  # the significance asked of a line is the same at every scale
 
 
 def test_coloured_lines_and_the_markings_already_found_are_left_alone():
@@ -136,3 +165,16 @@ def test_the_faint_look_adds_the_faint_line_to_the_markings_found_and_keeps_what
     plain = WeightFreeDetector(config=WeightFreeConfig(faint_lines=None))
     unoffered = plain.find_markings(image)
     assert unoffered.faint is None and plain.with_faint_lines(unoffered) is unoffered
+
+
+def test_the_faint_look_takes_the_coarser_scales_only_on_a_frame_read_as_blurred():
+    # The frame is enlarged 2x to the working width: the 4 px band is 8 px wide there, as in the test above.
+    noisy = _grass(3) + np.random.default_rng(4).normal(0, 3.0, (H, W, 1))
+    image = np.clip(_with_line(noisy, 6.0, width_px=4.0), 0, 255).astype(np.uint8)
+    detector = WeightFreeDetector()
+    found = detector.find_markings(image)
+    assert not found.faint.blurred  # the grass is sharp: the band does not make the frame read as blurred
+    assert detector.with_faint_lines(found).faint_points_added == 0
+    blurred = replace(found, faint=replace(found.faint, blurred=True))
+    points = detector.name(detector.with_faint_lines(blurred)).marking_points_px
+    assert len(points) >= 50 and np.median(_off_line_px(points)) < 1.0
