@@ -17,7 +17,9 @@ judged (:mod:`.court_fit`): it is returned with its confidence when the markings
 constraint to spare, counted on the map, and a camera fixed exactly (a circle and a line) only at
 ``exact_fit_confidence``: laid on them, a wrong camera explains them as well. A narrow view's camera returned under
 ``narrow_view_walk_below`` confident is fitted again from starts along its line of sight and the most confident fit
-kept (:mod:`.court_depth`: its distance and focal length trade off). Every hypothesis has a twin turned half
+kept (:mod:`.court_depth`: its distance and focal length trade off). A camera returned ``polish_from`` confident is
+fitted once more on up to ``polish_points`` of the markings' points (the fits take fewer, for their speed) and
+judged again. Every hypothesis has a twin turned half
 round the centre spot that explains the map as well; the main camera's side (y > 0) is kept
 (:func:`~broadtrack_graph.reinit.court_fit.main_side`) and ``ReinitResult.twin`` carries the other.
 
@@ -54,7 +56,7 @@ from broadtrack_graph.reinit.court_lines import (
 )
 from broadtrack_graph.reinit.court_pencil import pencil_hypotheses
 from broadtrack_graph.reinit.court_refit import pitch_lines, refit_on_lines
-from broadtrack_graph.reinit.mask import fit_points, map_structures
+from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import ReinitResult
 
@@ -154,6 +156,14 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         if other is not None:
             deeper = judged(other, marking_mask, pitch, config, confidence_of)
             result = deeper if deeper.camera is not None else result
+    if result.camera is not None and result.score.jaccard >= config.polish_from:
+        # The camera returned, fitted on more of the markings' points than the hypotheses' fits take; only one confident
+        # enough to be taken at any bar, and kept when it still is (the polish moves no camera over a bar).
+        camera, more = result.camera, replace(config.search, max_fit_points=config.polish_points)
+        polished = refine_on_map(camera, fit_points(points_px, more), camera.position_m, curves, config.search,
+                                 config.polish_schedule)
+        again = judged(main_side(polished, config.twin_tie_m), marking_mask, pitch, config, confidence_of)
+        result = again if again.camera is not None and again.score.jaccard >= config.polish_from else result
     return replace(result, tried=len(hypotheses))
 
 

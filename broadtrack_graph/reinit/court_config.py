@@ -9,7 +9,7 @@ from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
 from broadtrack_graph.reinit.court_circle import CourtCircleConfig
 from broadtrack_graph.reinit.court_families import CourtLineConfig
 from broadtrack_graph.reinit.court_pencil import CourtPencilConfig
-from broadtrack_graph.reinit.mask_config import MaskSearchConfig
+from broadtrack_graph.reinit.mask_config import MaskSearchConfig, RefineSchedule
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,12 @@ class CourtConfig:
     narrow_view_focal_per_width: float = 1.5
     narrow_view_walk_below: float = 0.9
     narrow_view_depth_factors: tuple[float, ...] = (0.69, 0.83, 1.2, 1.44)
+    # the camera returned, when polish_from confident (the tracker's court bar: taken at any bar), fitted once more
+    # on up to polish_points marking points (the hypotheses' fits take search.max_fit_points), with labelling gates
+    # for a camera already within a few pixels; kept when judged as every camera is and still polish_from confident
+    polish_from: float = 0.7
+    polish_points: int = 1500
+    polish_schedule: RefineSchedule = RefineSchedule((0.006, 0.004, 0.003), 20)
     refit_top: int = 32  # the best hypotheses solved again on every straight marking they explain ...
     refit_min_lines: int = 4  # ... when they explain this many (both directions among them) ...
     refit_gate_per_width: float = 0.02  # ... each with both ends within this share of the width of its pitch line

@@ -373,13 +373,33 @@ def test_a_view_whose_markings_the_players_opening_left_in_pieces_gives_its_came
 def test_the_specks_along_a_crowds_edge_stay_masked(one_opencv_thread, monkeypatch):
     """Plain frame 419 of seed 5: a camera 5 m up, 48 m back from the near touchline, looking across the pitch at
     20 deg, the crowd meeting the grass with no boards between on both sides. Pieces of its specks along the field's
-    edge pass for a marking's pieces too; taken for paint, their ridges pull the fit 21 px off. Only pieces well
-    inside the field are a marking's: the camera within a pixel."""
+    edge pass for a marking's pieces too; taken for paint, their ridges pull the fits 21 px off (the polish of the
+    camera returned, on more points with tight gates, brings it back; left out here). Only pieces well inside the
+    field are a marking's: the camera within a pixel."""
+    from broadtrack_graph.reinit.court_config import CourtConfig
+    from broadtrack_graph.reinit.mask_config import RefineSchedule
+
+    unpolished = CourtConfig(polish_schedule=RefineSchedule((), 0))
     truth, det = _plain_placement(419, seed=5)
-    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
-    assert _found_or_twin_px(result, truth) < 1.0, result.reason
+    args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert _found_or_twin_px(reinit_from_court(*args), truth) < 1.0
+    assert _found_or_twin_px(reinit_from_court(*args, config=unpolished), truth) < 1.0
     monkeypatch.setattr("broadtrack_graph.detect.player_blobs.centres_inside",
                         lambda field, stats, size, margin_px: np.ones(len(stats) - 1, bool))
     truth, det = _plain_placement(419, seed=5)
-    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
-    assert _found_or_twin_px(result, truth) > 10.0
+    args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert _found_or_twin_px(reinit_from_court(*args, config=unpolished), truth) > 10.0
+
+
+def test_the_camera_returned_is_fitted_once_more_on_more_of_the_markings_points(one_opencv_thread):
+    """Synthetic frame 39 of seed 3: a shadowed 11 deg view from behind a goal. Its fits on 400 of the markings'
+    points stop 3 px off the truth; fitted once more on up to 1500 of them it is under half a pixel off, and that
+    polish is what it returns (with the polish left out, 3 px)."""
+    from broadtrack_graph.reinit.court_config import CourtConfig
+    from broadtrack_graph.reinit.mask_config import RefineSchedule
+
+    truth, det = _random_placement(39)
+    args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert _found_or_twin_px(reinit_from_court(*args), truth) < 0.5
+    rough = CourtConfig(polish_schedule=RefineSchedule((), 0))
+    assert _found_or_twin_px(reinit_from_court(*args, config=rough), truth) > 2.0
