@@ -377,9 +377,8 @@ def test_the_specks_along_a_crowds_edge_stay_masked(one_opencv_thread, monkeypat
     camera returned, on more points with tight gates, brings it back; left out here). Only pieces well inside the
     field are a marking's: the camera within a pixel."""
     from broadtrack_graph.reinit.court_config import CourtConfig
-    from broadtrack_graph.reinit.mask_config import RefineSchedule
 
-    unpolished = CourtConfig(polish_schedule=RefineSchedule((), 0))
+    unpolished = CourtConfig(polish_from=math.inf)
     truth, det = _plain_placement(419, seed=5)
     args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert _found_or_twin_px(reinit_from_court(*args), truth) < 1.0
@@ -396,10 +395,9 @@ def test_the_camera_returned_is_fitted_once_more_on_more_of_the_markings_points(
     points stop 3 px off the truth; fitted once more on up to 1500 of them it is under half a pixel off, and that
     polish is what it returns (with the polish left out, 3 px)."""
     from broadtrack_graph.reinit.court_config import CourtConfig
-    from broadtrack_graph.reinit.mask_config import RefineSchedule
 
     truth, det = _random_placement(39)
     args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert _found_or_twin_px(reinit_from_court(*args), truth) < 0.5
-    rough = CourtConfig(polish_schedule=RefineSchedule((), 0))
+    rough = CourtConfig(polish_from=math.inf)
     assert _found_or_twin_px(reinit_from_court(*args, config=rough), truth) > 2.0
