@@ -30,12 +30,12 @@ lines of other sports on artificial turf leave one dark):
    band's edges, if at all. The working image is looked at again reduced by each of ``coarse_factors`` (the band
    there a few pixels wide, the noise averaged over the pixels merged), with what the finer scales found taken as
    known, the counts and lengths along a line divided by the factor (:func:`at_factor`) and the same significance
-   asked of a line (``min_z``); its points are returned at the working size. Only on a frame read as blurred and
-   not smeared (:class:`~broadtrack_graph.detect.found_markings.FaintInputs`): on a sharp one the paint is as
+   asked of a line (``min_z``); its points are returned at the working size. Only on a frame read as blurred or
+   smeared (:class:`~broadtrack_graph.detect.found_markings.FaintInputs`): on a sharp one the paint is as
    narrow as the ridge detector's reach, and a coarser scale adds only the grass's texture, which a grazing line of
-   sight lines up into runs; on a smeared one the confidence does not expect the markings across the smear
-   (:mod:`~broadtrack_graph.reinit.confidence`), so the cameras their faint traces propose go unchecked along it
-   (docs/BENCHMARKS.md, Why the defaults).
+   sight lines up into runs. On a smeared one the cameras the faint traces propose are checked across the smear by
+   the smeared image itself (:mod:`~broadtrack_graph.detect.smeared_markings`, asked by
+   :mod:`~broadtrack_graph.reinit.confidence`; docs/BENCHMARKS.md, Why the defaults).
 
 The faint look (:func:`with_faint_lines`) adds these points to a frame's markings found already. The tracker takes
 it only for the court model's second look at a lost frame whose court camera was not taken, and for the frames of a
@@ -351,7 +351,7 @@ def with_faint_lines(found: FoundMarkings, tophat_kernel: np.ndarray, ridge_kern
     """
     if found.faint is None:
         return found
-    if not found.faint.blurred:  # module docstring, step 4
+    if not found.faint.coarse:  # module docstring, step 4
         config = replace(config, coarse_factors=())
     faint = faint_line_points(found.faint.colour_bgr, found.faint.allowed, found.points_work_px, tophat_kernel,
                               ridge_kernel, c, config)

@@ -51,14 +51,14 @@ class FaintInputs:
     """What the faint look (:func:`~broadtrack_graph.detect.faint_lines.with_faint_lines`) needs of a frame.
 
     colour_bgr: (h, w, 3) uint8 colour working image; allowed: (h, w) uint8, non-zero where markings may be (the
-    field inside its edge, off the players' bodies); blurred: the frame reads as blurred and not smeared by a pan (a
-    soft or low-resolution camera: its markings spread wider than the ridge detector's reach; the look is taken at
-    coarser scales too).
+    field inside its edge, off the players' bodies); coarse: the look is taken at coarser scales too, on a frame read
+    as blurred (a soft or low-resolution camera: its markings spread wider than the ridge detector's reach) or smeared
+    by a pan (the markings across the smear spread over its length).
     """
 
     colour_bgr: np.ndarray
     allowed: np.ndarray
-    blurred: bool = False
+    coarse: bool = False
 
 
 @dataclass(frozen=True)

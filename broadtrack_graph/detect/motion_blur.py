@@ -45,12 +45,13 @@ Pixels are (x right, y down); angles in degrees from +x towards +y, in [0, 180).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
 
 from broadtrack_graph.detect.sharpness import gradients
+from broadtrack_graph.detect.smeared_markings import SmearedImage
 
 COHERENCE_LAG_PX = 2.0
 """The first lag of the coherence: the first clear of the derivative filter's own reach (the 3x3 Sobel spreads a step
@@ -79,13 +80,16 @@ class MotionBlurConfig:
 @dataclass(frozen=True)
 class MotionBlur:
     """A straight motion blur: its length (pixels), direction (degrees, [0, 180)), the autocorrelation's depth at the
-    length, the gradient's anisotropy and the derivative's coherence along the smear (module docstring)."""
+    length, the gradient's anisotropy and the derivative's coherence along the smear (module docstring); ``image``:
+    the frame's marking channel as the smear left it, when the detector keeps it (to ask whether a camera's markings
+    across the smear show there: :mod:`.smeared_markings`), or None."""
 
     length_px: float
     angle_deg: float
     depth: float
     anisotropy: float
     coherence: float = 1.0  # the autocorrelation's least value between COHERENCE_LAG_PX and half the length
+    image: SmearedImage | None = field(default=None, compare=False, repr=False)
 
 
 def estimate_motion_blur(grey: np.ndarray, config: MotionBlurConfig = MotionBlurConfig()) -> MotionBlur | None:

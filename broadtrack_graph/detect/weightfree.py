@@ -70,6 +70,7 @@ from broadtrack_graph.detect.point_cells import work_to_frame_px
 from broadtrack_graph.detect.registration import named_off_the_pitch
 from broadtrack_graph.detect.ridges import WideInputs, marking_channel, marking_ridges, white, wide_points
 from broadtrack_graph.detect.sharpness import blur_factor
+from broadtrack_graph.detect.smeared_markings import SmearedImage
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import ImageTemplate, TemplateCurves, project_template
@@ -321,6 +322,7 @@ class WeightFreeDetector:
         H, W = image.shape[:2]
         small, grey, scale = self.working_images(image, working_bgr)
         motion = estimate_motion_blur(grey, self.config.motion_blur)
+        smeared = grey
         if motion is not None:  # a pan's smear across the markings, undone first (detect.motion_blur)
             grey = deblurred(grey, motion, self.config.motion_blur.wiener_nsr)
         work_h, work_w = grey.shape
@@ -349,7 +351,8 @@ class WeightFreeDetector:
             points, wide = self._wide_points(wide, points, blur), None
             points = points[white(small, points, self.config.faint_max_chroma_rise)]
         unnamed = Detections(
-            width_px=W, height_px=H, motion_blur=motion and replace(motion, length_px=motion.length_px / scale),
+            width_px=W, height_px=H, motion_blur=motion and replace(
+                motion, length_px=motion.length_px / scale, image=SmearedImage(smeared, allowed > 0, scale)),
             **marked_points(points, (work_w, work_h), scale, self.config.point_spacing_px),
             player_boxes_px=(boxes / scale) if len(boxes) else boxes, player_mask=player_mask > 0, field_mask=field > 0,
         )
@@ -357,7 +360,7 @@ class WeightFreeDetector:
         bodies = BodiesToFeet(boxes, player_mask, grey, grass, self.config.feet_contrast, self.config.feet_max_share,
                               self.config.player_margin_px)
         faint = None if self.config.faint_lines is None else FaintInputs(
-            small, allowed, motion is None and blur >= self.config.blurred_from)
+            small, allowed, motion is not None or blur >= self.config.blurred_from)
         return FoundMarkings(unnamed, points, (work_w, work_h), scale, time.perf_counter() - started, wide, bodies,
                              faint)
 

@@ -39,7 +39,11 @@ A frame smeared by the camera's motion (the detector's :class:`~broadtrack_graph
 leaves a marking that crosses the smear a share ``paint / smear`` of its contrast, where ``paint`` is its painted
 width and ``smear`` the blur's length across it (both in pixels): the template where that share is under
 ``min_smeared_contrast`` is not expected either, and joins the template too thin to expect (counted as far as the map
-shows it). The lines along the smear stay sharp and are expected as on any frame.
+shows it). The lines along the smear stay sharp and are expected as on any frame. Where the detector keeps the frame's
+smeared image (``MotionBlur.image``), a marking across the smear left ``min_checked_smeared_contrast`` or more of its
+contrast is asked of that image instead (:func:`~broadtrack_graph.detect.smeared_markings.shown_across_smear`: its
+band brighter than the grass beyond both edges, along its length): expected, and found where its band shows, so a
+camera is checked across the smear too; a camera that lays those markings on grass loses their recall.
 
 In a fast sweep the tracker also asks :func:`recall_across_motion`: the recall of the template that crosses the
 image's motion, the only part that checks a camera along it. No I/O.
@@ -54,6 +58,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.detect.motion_blur import MotionBlur
+from broadtrack_graph.detect.smeared_markings import SmearCheckConfig, shown_across_smear
 from broadtrack_graph.detect.weightfree import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
@@ -83,6 +88,10 @@ class ConfidenceConfig:
     # a marking across a motion blur left under this share of its contrast (its painted width over the blur's length
     # across it) is not expected (module docstring; 0: every one is)
     min_smeared_contrast: float = 0.075
+    # ... and one left this share or more, under min_smeared_contrast, is asked of the smeared image itself where the
+    # detector keeps it (MotionBlur.image; detect.smeared_markings): expected, and found where its band shows (1: never)
+    min_checked_smeared_contrast: float = 0.03
+    smear_check: SmearCheckConfig = SmearCheckConfig()
     min_template_px: int = 150  # recall denominator floor (samples, about pixels of template)
     # the precision reads only the marking map's pieces at least this long (working pixels; frame_maps.long_pieces):
     # specks of grass texture are no camera's markings (0: every piece)
@@ -118,9 +127,9 @@ def confidence_parts(camera: Camera, marking_mask: np.ndarray, curves: TemplateC
     marking_pixels = int(np.count_nonzero(marks))
     recall = precision = 0.0
     expected = int(np.count_nonzero(detectable))
-    if len(uv) and marking_pixels:
+    if len(uv) and (marking_pixels or compared.shown.any()):
         near, pixel = pixels_within(uv, (w, h), config.tolerance_px)
-        found = found_near(marks, near, pixel)
+        found = found_near(marks, near, pixel) | compared.shown
         thin_expected, thin_found = _thin_markings_seen(found, detectable, config)
         recall = float((np.count_nonzero(found & detectable) + thin_found) /
                        max(expected + thin_expected, config.min_template_px))
@@ -224,7 +233,7 @@ def found_near(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.nda
 class ComparedSets:
     """What a camera is compared with (module docstring), at the working size: the marking map (h, w) bool, the
     template samples kept (N, 2) with their detectable flags, classes and painted widths (working pixels), the field
-    map (or None), (w, h)."""
+    map (or None), (w, h); and (N,) the samples across a smear the smeared image shows (found whatever the map)."""
 
     marks: np.ndarray
     pieces: np.ndarray
@@ -234,6 +243,7 @@ class ComparedSets:
     paint_px: np.ndarray
     field: np.ndarray | None
     size: tuple[int, int]
+    shown: np.ndarray
 
 
 def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurves, config: ConfidenceConfig,
@@ -258,9 +268,10 @@ def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurv
     detectable = (template.width_m_px >= config.min_line_width_px * enlarged) & (
         template.paint_width_px >= config.min_paint_width_px * enlarged)
     uv, class_index, paint = template.uv_px, template.class_index, template.paint_width_px
+    unsmeared = detectable  # expected but for a smear
     if motion_blur is not None and config.min_smeared_contrast > 0 and len(uv):
         smear = replace(motion_blur, length_px=motion_blur.length_px * w / camera.width_px)
-        detectable &= smeared_contrast(uv, class_index, paint, smear) >= config.min_smeared_contrast
+        detectable = detectable & (smeared_contrast(uv, class_index, paint, smear) >= config.min_smeared_contrast)
     field = None if field_mask is None else _resized(field_mask, w, h)
     players = None if player_mask is None else _resized(player_mask, w, h)
     if len(uv) and (field is not None or players is not None):
@@ -270,10 +281,12 @@ def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurv
         if field is not None:
             keep &= field[row, col]
             # Not expected in the band along the field's edge; a marking found there is still explained by them.
-            detectable = detectable & inside_field_edge(field, config.field_edge_px)[row, col]
+            edge = inside_field_edge(field, config.field_edge_px)[row, col]
+            detectable, unsmeared = detectable & edge, unsmeared & edge
         if players is not None:
             keep &= ~players[row, col]
         uv, detectable, class_index, paint = uv[keep], detectable[keep], class_index[keep], paint[keep]
+        unsmeared = unsmeared[keep]
     if field is not None:
         marks = marks & field
     if players is not None:
@@ -283,9 +296,42 @@ def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurv
         if len(uv):
             outside = ~goals[np.clip(np.round(uv[:, 1]).astype(int), 0, h - 1), np.clip(np.round(uv[:, 0]).astype(int), 0, w - 1)]
             uv, detectable, class_index, paint = uv[outside], detectable[outside], class_index[outside], paint[outside]
+            unsmeared = unsmeared[outside]
         marks = marks & ~goals
+    shown = np.zeros(len(uv), bool)
+    if motion_blur is not None and motion_blur.image is not None and len(uv):
+        checked, shown = _checked_across_smear(uv, class_index, paint, unsmeared & ~detectable, motion_blur, camera,
+                                               (w, h), config)
+        detectable = detectable | checked
     return ComparedSets(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index,
-                        paint, field, (w, h))
+                        paint, field, (w, h), shown)
+
+
+def _checked_across_smear(uv, class_index, paint, candidates, motion_blur: MotionBlur, camera: Camera, size,
+                          config: ConfidenceConfig) -> tuple[np.ndarray, np.ndarray]:
+    """((N,) the samples asked of the smeared image, (N,) of them those it shows): of ``candidates`` (expected but for
+    the smear), those the smear leaves ``min_checked_smeared_contrast`` or more (module docstring)."""
+    image = motion_blur.image
+    to_image = image.channel.shape[1] / size[0]  # the confidence's working pixels -> the smeared image's
+    smear = replace(motion_blur, length_px=motion_blur.length_px * size[0] / camera.width_px)
+    share = smeared_contrast(uv, class_index, paint, smear)
+    asked = candidates & (share >= config.min_checked_smeared_contrast)
+    checked, shown = np.zeros(len(uv), bool), np.zeros(len(uv), bool)
+    if not asked.any():
+        return checked, shown
+    direction, length = _sample_directions(uv, class_index)
+    unit = direction / np.maximum(length, 1e-9)[:, None]
+    angle = math.radians(motion_blur.angle_deg)
+    band = np.maximum(smear.length_px * np.abs(unit[:, 0] * math.sin(angle) - unit[:, 1] * math.cos(angle)), paint)
+    # a run: consecutive samples of one class about a pixel apart (a piece of one marking in view)
+    step = np.linalg.norm(np.diff(uv, axis=0), axis=1)
+    run = np.cumsum(np.r_[0, (class_index[1:] != class_index[:-1]) | (step > 3.0 * config.template_spacing_px)])
+    index = np.flatnonzero(asked & (length > 0))
+    normal = np.column_stack([-unit[index, 1], unit[index, 0]])
+    on, seen = shown_across_smear(image, uv[index] * to_image, run[index], normal, band[index] * to_image,
+                                  config.smear_check)
+    checked[index], shown[index] = on, seen
+    return checked, shown
 
 
 def field_coverage(camera: Camera, field_mask: np.ndarray, pitch, margin_m: float = 10.0, grid_px: int = 8) -> float:

@@ -167,14 +167,14 @@ def test_the_faint_look_adds_the_faint_line_to_the_markings_found_and_keeps_what
     assert unoffered.faint is None and plain.with_faint_lines(unoffered) is unoffered
 
 
-def test_the_faint_look_takes_the_coarser_scales_only_on_a_frame_read_as_blurred():
+def test_the_faint_look_takes_the_coarser_scales_only_on_a_frame_read_as_blurred_or_smeared():
     # The frame is enlarged 2x to the working width: the 4 px band is 8 px wide there, as in the test above.
     noisy = _grass(3) + np.random.default_rng(4).normal(0, 3.0, (H, W, 1))
     image = np.clip(_with_line(noisy, 6.0, width_px=4.0), 0, 255).astype(np.uint8)
     detector = WeightFreeDetector()
     found = detector.find_markings(image)
-    assert not found.faint.blurred  # the grass is sharp: the band does not make the frame read as blurred
+    assert not found.faint.coarse  # the grass is sharp: the band does not make the frame read as blurred
     assert detector.with_faint_lines(found).faint_points_added == 0
-    blurred = replace(found, faint=replace(found.faint, blurred=True))
+    blurred = replace(found, faint=replace(found.faint, coarse=True))
     points = detector.name(detector.with_faint_lines(blurred)).marking_points_px
     assert len(points) >= 50 and np.median(_off_line_px(points)) < 1.0

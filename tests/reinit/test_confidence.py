@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import cv2
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.motion_blur import MotionBlur
+from broadtrack_graph.detect.motion_blur import MotionBlur, motion_kernel
+from broadtrack_graph.detect.smeared_markings import SmearedImage
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, project_template
@@ -252,3 +255,37 @@ def test_the_markings_a_smear_wipes_out_are_not_expected_and_the_ones_along_it_s
         pytest.approx(told, abs=0.01)
     off = camera.replace(tilt_rad=camera.tilt_rad + 15.0 / camera.focal_px)
     assert camera_confidence(off, marks, CURVES, field_mask=grass, motion_blur=smear) < 0.5
+
+
+def test_the_markings_across_a_smear_are_asked_of_the_smeared_image_where_the_detector_keeps_it():
+    # The true camera's markings drawn 2 px wide, 120 levels over the grass, then smeared 60 px along x (a fast pan):
+    # the marking map keeps only those the smear leaves 0.075 of their contrast or more. Asked of the smeared image,
+    # the markings across the smear with less (0.05 or more) show as their bands for the true camera; a camera off
+    # across the smear by more than half a band (40 px: its lines along the smear still on the map's) lays them on
+    # grass or a band's edge.
+    camera = TRUTH
+    full, grass = _maps(camera)
+    template = project_template(camera, CURVES, W, H, 1.0, paint_widths=True)
+    blur = _smear(60.0, 0.0)
+    share = smeared_contrast(template.uv_px, template.class_index, template.paint_width_px, blur)
+    wiped = np.zeros((H, W), np.uint8)
+    gone = np.round(template.uv_px[share < 0.075]).astype(int)
+    wiped[gone[:, 1], gone[:, 0]] = 1
+    marks = full & ~(cv2.dilate(wiped, np.ones((7, 7), np.uint8)) > 0)
+    assert ((share >= 0.05) & (share < 0.075)).sum() > 200
+    painted = np.where(full, 200.0, 80.0).astype(np.float32)
+    smeared = cv2.filter2D(painted, -1, motion_kernel(60.0, 0.0), borderType=cv2.BORDER_REFLECT)
+    smeared = np.clip(smeared + np.random.default_rng(5).normal(0.0, 2.0, smeared.shape), 0, 255).astype(np.uint8)
+    told = replace(blur, image=SmearedImage(smeared, grass, 1.0))
+    off = camera.replace(pan_rad=camera.pan_rad + 40.0 / camera.focal_px)
+    for cam in (camera, off):
+        assert confidence_parts(cam, marks, CURVES, field_mask=grass, motion_blur=told)["template_samples"] > \
+            confidence_parts(cam, marks, CURVES, field_mask=grass, motion_blur=blur)["template_samples"]
+    # The true camera stays confident; the camera off across the smear loses the markings it lays there.
+    assert camera_confidence(camera, marks, CURVES, field_mask=grass, motion_blur=told) > 0.9
+    assert camera_confidence(off, marks, CURVES, field_mask=grass, motion_blur=told) < \
+        camera_confidence(off, marks, CURVES, field_mask=grass, motion_blur=blur) - 0.1
+    # Asked of nothing: as before.
+    assert camera_confidence(off, marks, CURVES, ConfidenceConfig(min_checked_smeared_contrast=1.0), field_mask=grass,
+                             motion_blur=told) == camera_confidence(off, marks, CURVES, field_mask=grass,
+                                                                    motion_blur=blur)
