@@ -50,3 +50,15 @@ def test_a_step_of_light_is_not_a_band_and_samples_off_the_field_are_not_checked
     checked, shown = shown_across_smear(image, *_vertical(100.0))
     assert not shown[15:-15].any()
     assert not checked[:80].any() and checked[81:].all()  # a side off the field: no answer there (y < 100)
+
+
+def test_many_samples_are_read_at_once():
+    # A wide view asks tens of thousands of samples (three image values each): read in rows, not one map too wide.
+    grass = np.full((SIZE, SIZE), 80.0)
+    grass[:, 99:102] += 120.0
+    image = SmearedImage(_smeared(grass), np.ones((SIZE, SIZE), bool), 1.0)
+    uv, run, normal, band = _vertical(100.0)
+    many = 80
+    checked, shown = shown_across_smear(image, np.tile(uv, (many, 1)), np.repeat(np.arange(many), len(uv)),
+                                        np.tile(normal, (many, 1)), np.tile(band, many))
+    assert len(shown) == many * len(uv) > 12000 and checked.all() and shown.all()
