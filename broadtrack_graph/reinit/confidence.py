@@ -215,12 +215,22 @@ def smeared_contrast(uv: np.ndarray, class_index: np.ndarray, paint_px: np.ndarr
     """(N,) the share of its contrast a motion blur leaves each template sample's marking: its painted width over the
     blur's length across the marking's image direction, at most 1 (1 along the smear, and where the direction is
     unknown). Pixels: uv, paint_px and the blur's length at one scale."""
+    return _contrast_left(_smear_across(uv, class_index, blur)[0], paint_px)
+
+
+def _smear_across(uv: np.ndarray, class_index: np.ndarray, blur: MotionBlur) -> tuple[np.ndarray, np.ndarray]:
+    """((N,) the blur's length across each template sample's marking (its image direction's), (N, 2) that unit
+    direction, zero where unknown). Pixels: uv and the blur's length at one scale."""
     direction, length = _sample_directions(uv, class_index)
+    unit = direction / np.maximum(length, 1e-9)[:, None]
     angle = math.radians(blur.angle_deg)
-    across = blur.length_px * np.abs(direction[:, 0] * math.sin(angle) - direction[:, 1] * math.cos(angle)) \
-        / np.maximum(length, 1e-9)
+    return blur.length_px * np.abs(unit[:, 0] * math.sin(angle) - unit[:, 1] * math.cos(angle)), unit
+
+
+def _contrast_left(across_px: np.ndarray, paint_px: np.ndarray) -> np.ndarray:
+    """(N,) painted width over the smear's length across, at most 1 (:func:`smeared_contrast`)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(across > paint_px, paint_px / across, 1.0)
+        return np.where(across_px > paint_px, paint_px / across_px, 1.0)
 
 
 def found_near(marks: np.ndarray, near: np.ndarray, pixel: np.ndarray) -> np.ndarray:
@@ -314,19 +324,16 @@ def _checked_across_smear(uv, class_index, paint, candidates, motion_blur: Motio
     image = motion_blur.image
     to_image = image.channel.shape[1] / size[0]  # the confidence's working pixels -> the smeared image's
     smear = replace(motion_blur, length_px=motion_blur.length_px * size[0] / camera.width_px)
-    share = smeared_contrast(uv, class_index, paint, smear)
-    asked = candidates & (share >= config.min_checked_smeared_contrast)
+    across, unit = _smear_across(uv, class_index, smear)
+    asked = candidates & (_contrast_left(across, paint) >= config.min_checked_smeared_contrast)
     checked, shown = np.zeros(len(uv), bool), np.zeros(len(uv), bool)
     if not asked.any():
         return checked, shown
-    direction, length = _sample_directions(uv, class_index)
-    unit = direction / np.maximum(length, 1e-9)[:, None]
-    angle = math.radians(motion_blur.angle_deg)
-    band = np.maximum(smear.length_px * np.abs(unit[:, 0] * math.sin(angle) - unit[:, 1] * math.cos(angle)), paint)
+    band = np.maximum(across, paint)
     # a run: consecutive samples of one class about a pixel apart (a piece of one marking in view)
     step = np.linalg.norm(np.diff(uv, axis=0), axis=1)
     run = np.cumsum(np.r_[0, (class_index[1:] != class_index[:-1]) | (step > 3.0 * config.template_spacing_px)])
-    index = np.flatnonzero(asked & (length > 0))
+    index = np.flatnonzero(asked & np.any(unit != 0.0, axis=1))
     normal = np.column_stack([-unit[index, 1], unit[index, 0]])
     on, seen = shown_across_smear(image, uv[index] * to_image, run[index], normal, band[index] * to_image,
                                   config.smear_check)
