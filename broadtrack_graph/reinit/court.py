@@ -1,26 +1,26 @@
 """A camera from one frame's marking map, wherever the camera stands: court-model hypotheses, scored, then fitted.
 
 :func:`reinit_from_court` assumes no camera position. It takes the straight markings of the map
-(:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two
-directions by vanishing point, and forms every camera that puts two lines of each direction on two
-pitch lines of that direction (:mod:`.court_lines`: one homography each, decomposed with the
-principal point at the image centre and gated on plausibility; when none explains the map well, also three lines
-of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the
-ellipses and arcs fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All
-hypotheses are scored at once on the marking map
-(:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the map
-explained by the template; coarsely first, the precision read only of those whose recall could rank them among the
-best), the best ``refit_top`` are solved again on every straight
-marking each explains and join as hypotheses of their own (:mod:`.court_refit`: four lines place a narrow view's
-vanishing points poorly); the best distinct few are fitted with the label-and-fit rounds and one fit is kept and
-judged (:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a
-constraint to spare, counted on the map, and a camera fixed exactly (a circle and a line) only at
-``exact_fit_confidence``: laid on them, a wrong camera explains them as well. A narrow view's camera returned under
-``narrow_view_walk_below`` confident is fitted again from starts along its line of sight and the most confident fit
-kept (:mod:`.court_depth`: its distance and focal length trade off). A camera returned ``polish_from`` confident is
-fitted once more on up to ``polish_points`` of the markings' points (the fits take fewer, for their speed) and
-judged again. Every hypothesis has a twin turned half
-round the centre spot that explains the map as well; the main camera's side (y > 0) is kept
+(:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two directions by
+vanishing point, and forms every camera that puts two lines of each direction on two pitch lines of that direction
+(:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
+plausibility; when none explains the map well, also three lines of one direction with one across,
+:mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the
+markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All hypotheses are scored at once on the
+marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the
+map explained by the template; coarsely first, the precision read only of those whose recall could rank them among
+the best), the best ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of
+their own (:mod:`.court_refit`: four lines place a narrow view's vanishing points poorly); the best distinct few are
+fitted with the label-and-fit rounds (with no camera kept of them, or no fit explaining the map well, the tiers left
+and the best of each source not fitted are fitted too; for a camera under ``look_further_below`` confident the tiers
+left, their fit replacing it when more confident by ``confidence_margin``) and one fit is kept and judged
+(:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a constraint to
+spare, counted on the map, and a camera fixed exactly (a circle and a line) only at ``exact_fit_confidence``: laid on
+them, a wrong camera explains them as well. A narrow view's camera returned under ``narrow_view_walk_below``
+confident is fitted again from starts along its line of sight and the most confident fit kept (:mod:`.court_depth`:
+its distance and focal length trade off). A camera returned ``polish_from`` confident is fitted once more on up to
+``polish_points`` of the markings' points (the fits take fewer, for their speed) and judged again. Every hypothesis
+has a twin turned half round the centre spot that explains the map as well; the main camera's side (y > 0) is kept
 (:func:`~broadtrack_graph.reinit.court_fit.main_side`) and ``ReinitResult.twin`` carries the other.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down. No I/O.
@@ -127,27 +127,39 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
 
     fits = fitted(np.arange(len(costs)))
     result = kept_and_judged(fits)
-    if result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score:
+    poor = result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score
+    if poor or result.score.jaccard < config.look_further_below:
         # No camera, or none of the fits explains the map well: the tiers left join and their best are fitted, and
         # so are the best of each source none of whose hypotheses was fitted (at most unfitted_sources, the best
         # scoring first). One reading of the markings can score a little better on the map than the right reading of
         # another (an arc's ellipse taken as the centre circle beside a touchline, against the same arc with its
         # 16.5 m line across it) and take every fit. One fit is kept of them all, else of the new ones alone (the
-        # rejected ones would be chosen again).
+        # rejected ones would be chosen again). A camera kept that is not confident enough to settle the frame has
+        # the tiers left fitted too (a narrow view's penalty arc and 16.5 m line fitted at a third of its distance,
+        # the centre circle beside a touchline not joined while that arc's hypothesis explained the map well), and
+        # only a fit more confident by confidence_margin replaces it: the map's score ranks fits a few pixels apart
+        # well, wrong fits poorly (kept_camera).
         starts = [0] + ends[:-1]
         unfitted = sorted((costs[a:b].min(), a, b) for a, b in zip(starts, ends)
                           if b > a and np.isfinite(costs[a:b]).any() and not any(a <= fit.index < b for fit in fits))
-        more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))]
+        more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))] \
+            if poor else []
         first = len(costs)
         for tier in tiers:
             hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
         if len(costs) > first:
             more += fitted(np.arange(first, len(costs)))
-        for candidates in ([fits + more, more] if fits else [more]) if more else []:  # each list judged once
-            later = kept_and_judged(candidates)
-            if later.camera is not None:
-                result = later
-                break
+        if poor:
+            for candidates in ([fits + more, more] if fits else [more]) if more else []:  # each list judged once
+                later = kept_and_judged(candidates)
+                if later.camera is not None:
+                    result = later
+                    break
+        else:  # a camera kept but not settled: only a fit more confident by confidence_margin replaces it
+            confident = max(more, key=lambda fit: fit.confidence, default=None)
+            if confident is not None and confident.confidence >= result.score.jaccard + config.confidence_margin:
+                later = kept_and_judged([confident])
+                result = later if later.camera is not None else result
     if (result.camera is not None and result.score.jaccard < config.narrow_view_walk_below
             and result.camera.focal_px >= config.narrow_view_focal_per_width * W):
         # A narrow view's depth along its line of sight: the most confident of the fits from starts along it, judged

@@ -42,6 +42,9 @@ class CourtConfig:
     unfitted_sources: int = 3  # with no camera returned, or no fit scoring search.accept_fit_score: the best
     #                            hypotheses of at most this many sources (the straight markings, each later tier, the
     #                            refits) none of which was fitted, fitted too
+    look_further_below: float = 0.9  # a camera kept under this (the tracker's certain_confidence) does not settle the
+    #                                  frame: the later tiers not joined yet are fitted too, and a fit of theirs more
+    #                                  confident by confidence_margin replaces it
     confidence_margin: float = 0.1  # a fit this much more confident than the best scoring one replaces it (the
     #                                 margin a new camera needs to replace a chain's:
     #                                 TrackingConfig.reinit_switch_margin)
