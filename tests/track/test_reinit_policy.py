@@ -799,3 +799,15 @@ def test_a_court_camera_not_taken_is_looked_for_again_on_the_frame_s_faint_look_
     assert decision.camera is MAIN and not decision.faint_look and seen == ["found"] and looks == 0
     decision, seen, looks, _ = run(0.75, court_on=False)  # no court model: nothing to look again for
     assert decision.camera is MAIN and looks == 0
+
+
+def test_the_court_models_settings_that_mirror_the_trackers_agree_with_them():
+    """The court model (a lower layer: it does not read the tracker's settings) keeps its own copies of three of the
+    tracker's: the bar its camera is polished from (the court bar), the confidence that settles a frame (a new shot's
+    certain camera) and the margin a more confident fit needs (a new camera replacing a chain's)."""
+    from broadtrack_graph.reinit.court_config import CourtConfig
+
+    court, tracker = CourtConfig(), TrackingConfig()
+    assert court.polish_from == tracker.court_accept_confidence
+    assert court.look_further_below == tracker.certain_confidence
+    assert court.confidence_margin == tracker.reinit_switch_margin
