@@ -139,11 +139,12 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         # the centre circle beside a touchline not joined while that arc's hypothesis explained the map well), and
         # only a fit more confident by confidence_margin replaces it: the map's score ranks fits a few pixels apart
         # well, wrong fits poorly (kept_camera).
-        starts = [0] + ends[:-1]
-        unfitted = sorted((costs[a:b].min(), a, b) for a, b in zip(starts, ends)
-                          if b > a and np.isfinite(costs[a:b]).any() and not any(a <= fit.index < b for fit in fits))
-        more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))] \
-            if poor else []
+        more = []
+        if poor:
+            starts = [0] + ends[:-1]
+            unfitted = sorted((costs[a:b].min(), a, b) for a, b in zip(starts, ends) if b > a and np.isfinite(
+                costs[a:b]).any() and not any(a <= fit.index < b for fit in fits))
+            more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))]
         first = len(costs)
         for tier in tiers:
             hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
