@@ -279,8 +279,9 @@ def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurv
         template.paint_width_px >= config.min_paint_width_px * enlarged)
     uv, class_index, paint = template.uv_px, template.class_index, template.paint_width_px
     unsmeared = detectable  # expected but for a smear
-    if motion_blur is not None and config.min_smeared_contrast > 0 and len(uv):
-        smear = replace(motion_blur, length_px=motion_blur.length_px * w / camera.width_px)
+    # the blur at these working pixels
+    smear = None if motion_blur is None else replace(motion_blur, length_px=motion_blur.length_px * w / camera.width_px)
+    if smear is not None and config.min_smeared_contrast > 0 and len(uv):
         detectable = detectable & (smeared_contrast(uv, class_index, paint, smear) >= config.min_smeared_contrast)
     field = None if field_mask is None else _resized(field_mask, w, h)
     players = None if player_mask is None else _resized(player_mask, w, h)
@@ -309,21 +310,20 @@ def compared_sets(camera: Camera, marking_mask: np.ndarray, curves: TemplateCurv
             unsmeared = unsmeared[outside]
         marks = marks & ~goals
     shown = np.zeros(len(uv), bool)
-    if motion_blur is not None and motion_blur.image is not None and len(uv):
-        checked, shown = _checked_across_smear(uv, class_index, paint, unsmeared & ~detectable, motion_blur, camera,
-                                               (w, h), config)
+    if smear is not None and smear.image is not None and len(uv):
+        checked, shown = _checked_across_smear(uv, class_index, paint, unsmeared & ~detectable, smear, (w, h), config)
         detectable = detectable | checked
     return ComparedSets(marks, marks & long_pieces(whole, config.min_piece_length_px), uv, detectable, class_index,
                         paint, field, (w, h), shown)
 
 
-def _checked_across_smear(uv, class_index, paint, candidates, motion_blur: MotionBlur, camera: Camera, size,
+def _checked_across_smear(uv, class_index, paint, candidates, smear: MotionBlur, size,
                           config: ConfidenceConfig) -> tuple[np.ndarray, np.ndarray]:
     """((N,) the samples asked of the smeared image, (N,) of them those it shows): of ``candidates`` (expected but for
-    the smear), those the smear leaves ``min_checked_smeared_contrast`` or more (module docstring)."""
-    image = motion_blur.image
+    the smear), those the smear (its length at the working size ``size``) leaves ``min_checked_smeared_contrast`` or
+    more (module docstring)."""
+    image = smear.image
     to_image = image.channel.shape[1] / size[0]  # the confidence's working pixels -> the smeared image's
-    smear = replace(motion_blur, length_px=motion_blur.length_px * size[0] / camera.width_px)
     across, unit = _smear_across(uv, class_index, smear)
     asked = candidates & (_contrast_left(across, paint) >= config.min_checked_smeared_contrast)
     checked, shown = np.zeros(len(uv), bool), np.zeros(len(uv), bool)
