@@ -68,7 +68,8 @@ def track_clip(clip: Path, run_dir: Path, config, reuse: bool = False, progress:
     never reached count as frames without a camera).
 
     Returns:
-        {"wall_s": seconds of this call's tracking (None when reused), "reused": bool,
+        {"wall_s": seconds of this call's tracking, to 0.1 ms (None when reused; a run of a few frames can take under
+         5 ms, which 0.01 s would round to no time), "reused": bool,
          "summary": the run's summary.json ({} when it crashed), "error": None or
          "<exception type>: <first line>", "frames_written": records in track.jsonl}.
     """
@@ -85,9 +86,9 @@ def track_clip(clip: Path, run_dir: Path, config, reuse: bool = False, progress:
         message = next((line.strip() for line in str(exc).splitlines() if line.strip()), "")
         written = RunFolder(run_dir).count_track_lines()
         log.error("%s: tracking raised %s: %s (after %d frames)", run_dir, type(exc).__name__, message, written)
-        return {"wall_s": round(time.perf_counter() - started, 2), "reused": False, "summary": {},
+        return {"wall_s": round(time.perf_counter() - started, 4), "reused": False, "summary": {},
                 "error": f"{type(exc).__name__}: {message}", "frames_written": written}
-    return {"wall_s": round(time.perf_counter() - started, 2), "reused": False, "summary": result.summary,
+    return {"wall_s": round(time.perf_counter() - started, 4), "reused": False, "summary": result.summary,
             "error": None, "frames_written": result.summary.get("frames_written")}
 
 
