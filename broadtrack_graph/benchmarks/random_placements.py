@@ -26,7 +26,7 @@ apart; the faint look the court model's second look takes, ``--no-faint-look``: 
   when under it, looked for again on the markings' faint look (timed with it); skipped with a note when it cannot
   be imported.
 
-Per route and frame: **written** = a camera at least ``confidence_threshold + reinit_switch_margin`` confident (what
+Per route and frame, its camera (written or not: focal point and focal length, ``camera``), and: **written** = a camera at least ``confidence_threshold + reinit_switch_margin`` confident (what
 a new shot's chain needs to be written; the court route: at least the bar the tracker takes its camera at,
 ``track.reinit_policy.court_accept_at``); **found** = written and its ground template within ``--success-px``
 (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of those, within
@@ -333,7 +333,8 @@ def run(args) -> dict:
                 result_row = {"outcome": outcome(confidence, error, bar, args.success_px),
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason,
-                              "truth_written": (truth_confidence or 0.0) >= truth_bar}
+                              "truth_written": (truth_confidence or 0.0) >= truth_bar,
+                              "camera": _camera_summary(camera)}
                 if camera is not None and error is not None and error > args.success_px:
                     from broadtrack_graph.reinit.court_fit import twin_camera  # only here: the route may be skipped
 
@@ -359,6 +360,14 @@ def run(args) -> dict:
               **summarise(rows, routes, W), "frames_by_index": rows}
     print(summary_table(report), file=sys.stderr)
     return report
+
+
+def _camera_summary(camera) -> dict | None:
+    """A route's camera, written or not, as a row keeps it: its focal point (metres, pitch frame, z down) and focal
+    length (pixels of the frame); None without one."""
+    if camera is None:
+        return None
+    return {"position_m": [round(float(v), 2) for v in camera.position_m], "focal_px": round(float(camera.focal_px), 1)}
 
 
 def _round(value, digits: int):

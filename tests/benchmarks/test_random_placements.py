@@ -105,6 +105,9 @@ def test_the_court_route_gets_the_marking_map_and_its_camera_is_judged(tmp_path,
     for row in report["frames_by_index"]:
         court = row["routes"]["court"]
         assert court["error_px"] == 0.0 and court["confidence"] == row["truth_confidence"]
+        truth = truths[report["frames_by_index"].index(row)]
+        assert court["camera"]["position_m"] == [round(float(v), 2) for v in truth.position_m]
+        assert court["camera"]["focal_px"] == round(float(truth.focal_px), 1)
         # the stand-in's camera explains no markings: taken at the court bar without a grid of lines
         assert court["outcome"] == ("found" if court["confidence"] >= TrackingConfig().court_accept_confidence
                                     else "none")
