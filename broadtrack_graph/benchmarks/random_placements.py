@@ -26,8 +26,9 @@ apart; the faint look the court model's second look takes, ``--no-faint-look``: 
   when under it, looked for again on the markings' faint look (timed with it); skipped with a note when it cannot
   be imported.
 
-Per route and frame, its camera (written or not: focal point and focal length, ``camera``), and: **written** = a camera at least ``confidence_threshold + reinit_switch_margin`` confident (what
-a new shot's chain needs to be written; the court route: at least the bar the tracker takes its camera at,
+Per route and frame, its camera (written or not: focal point and focal length, ``camera``), and: **written** = a
+camera at least ``confidence_threshold + reinit_switch_margin`` confident (what a new shot's chain needs to be
+written; the court route: at least the bar the tracker takes its camera at,
 ``track.reinit_policy.court_accept_at``); **found** = written and its ground template within ``--success-px``
 (median) of the truth's; **wrong-written** = written and over :data:`WRONG_PX` off (``twin``: of those, within
 ``--success-px`` of the truth's half turn about the centre spot, the view the markings cannot tell apart);
