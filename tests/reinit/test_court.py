@@ -374,7 +374,6 @@ def test_the_specks_along_a_crowds_edge_stay_masked(one_opencv_thread, monkeypat
     edge pass for a marking's pieces too; taken for paint, their ridges pull the fits 21 px off (the polish of the
     camera returned, on more points with tight gates, brings it back; left out here). Only pieces well inside the
     field are a marking's: the camera within a pixel."""
-
     unpolished = CourtConfig(polish_from=math.inf)
     truth, det = _plain_placement(419, seed=5)
     args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
@@ -391,7 +390,6 @@ def test_the_camera_returned_is_fitted_once_more_on_more_of_the_markings_points(
     """Synthetic frame 39 of seed 3: a shadowed 11 deg view from behind a goal. Its fits on 400 of the markings'
     points stop 3 px off the truth; fitted once more on up to 1500 of them it is under half a pixel off, and that
     polish is what it returns (with the polish left out, 3 px)."""
-
     truth, det = _random_placement(39)
     args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert _found_or_twin_px(reinit_from_court(*args), truth) < 0.5
