@@ -24,7 +24,9 @@ apart; the faint look the court model's second look takes, ``--no-faint-look``: 
 * ``court``: the single-frame court calibrator (``broadtrack_graph.reinit.court.reinit_from_court``) as the tracker
   takes its camera at a new shot: judged by the tracker's confidence (``frame_confidence``) against its bar, and,
   when under it, looked for again on the markings' faint look (timed with it); skipped with a note when it cannot
-  be imported.
+  be imported;
+* ``clip`` (asked only when named): the whole tracker, online, on a short pan from the frame's camera
+  (:mod:`.random_clips`), every camera it writes judged against its own frame's truth.
 
 Per route and frame, its camera (written or not: focal point and focal length, ``camera``), and: **written** = a
 camera at least ``confidence_threshold + reinit_switch_margin`` confident (what a new shot's chain needs to be
@@ -75,8 +77,12 @@ from broadtrack_graph.benchmarks.placement_found import (
     marking_contrast,
 )
 from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
+from broadtrack_graph.benchmarks.random_clips import CLIP_FRAMES, clip_result
 
 ROUTES = ("tracker", "search", "court")
+CLIP_ROUTE = "clip"
+"""The route that tracks a short pan from each camera with the whole tracker (:mod:`.random_clips`); asked only when
+named."""
 WRONG_PX = 10.0
 """Written cameras further off than this (median template error, pixels) are wrong."""
 
@@ -88,8 +94,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--random", type=int_at_least(1), default=None, metavar="N",
                         help="instead of the halfway-line grid: N cameras drawn anywhere around the pitch under random "
                              "looks, each asked of every route (see docs/BENCHMARKS.md)")
-    parser.add_argument("--routes", nargs="+", choices=ROUTES, default=list(ROUTES),
-                        help="with --random: the single-frame routes asked (default: tracker search court)")
+    parser.add_argument("--routes", nargs="+", choices=ROUTES + (CLIP_ROUTE,), default=list(ROUTES),
+                        help="with --random: the routes asked (default: the single-frame ones, tracker search "
+                             "court; clip: the whole tracker online on a short pan from each camera)")
+    parser.add_argument("--clip-frames", type=int_at_least(1), default=CLIP_FRAMES, metavar="K",
+                        help=f"with --routes clip: frames of each camera's pan (default {CLIP_FRAMES})")
     parser.add_argument("--looks", nargs="+", choices=LOOK_NAMES, default=list(LOOK_NAMES),
                         help="with --random: the looks drawn from (default: all)")
     parser.add_argument("--renderer", choices=RENDERERS, default="synth",
@@ -243,8 +252,9 @@ def run(args) -> dict:
     written_at = config.confidence_threshold + config.reinit_switch_margin
     # The court model's camera is taken by the tracker only from its own bar (court_accept_at: by the markings it
     # explains); the report states the bar without a grid of lines.
-    written_at_by_route = {"tracker": written_at, "search": written_at,
+    written_at_by_route = {"tracker": written_at, "search": written_at, CLIP_ROUTE: written_at,
                            "court": max(written_at, config.court_accept_confidence)}
+    clip_config = TrackingConfig(mode="online", reinit_model=args.reinit_model)
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
     routes, skipped = list(dict.fromkeys(args.routes)), {}
     model = model_reinit_for(config.reinit_model) if {"tracker", "search"} & set(routes) else None
@@ -307,6 +317,11 @@ def run(args) -> dict:
             if args.renderer == "plain":  # its look drawn per frame: blur, noise, compression (synth.plain)
                 row["plain_look"] = {k: np.round(v, 3).tolist() for k, v in vars(frame["look"]).items() if k != "seed"}
             for route in routes:
+                if route == CLIP_ROUTE:
+                    row["routes"][route] = {**clip_result(args.seed, index, frame, args.clip_frames, clip_config,
+                                                          ground, args.success_px, WRONG_PX),
+                                            "truth_written": (truth_confidence or 0.0) >= written_at}
+                    continue
                 # The markings' faint look, taken (and timed) within the route that asks for it, as the tracker does.
                 looked = _FaintLook(detector, found) if faint_look else None
                 if route == "search" and view["other_view"]:

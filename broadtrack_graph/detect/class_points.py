@@ -1,4 +1,5 @@
-"""The weight-free detector's naming rule: which points named after a class stay, and their cell means. No I/O.
+"""The weight-free detector's naming rule: the markings points are named after, which points named after a class stay,
+and their cell means. No I/O.
 
 A predicted camera's error shifts a whole marking about equally, so the points named after one class lie at about
 the same distance from its predicted marking; points much nearer or farther are other markings or clutter.
@@ -11,6 +12,21 @@ import numpy as np
 
 from broadtrack_graph.detect.point_cells import capped_cell_means
 from broadtrack_graph.geometry.pitch import LINE_CLASSES
+
+
+def seen_markings(width_at_scale_px: np.ndarray, paint_width_px: np.ndarray | None, min_width_px: float,
+                  min_paint_px: float) -> np.ndarray:
+    """(K,) bool: the projected template samples points may be named after: a marking at least ``min_width_px`` wide
+    at its scale (its width seen face on), or whose paint is at least ``min_paint_px`` across its image (None: not
+    asked). A wide view's far lines, thin by their distance, are seen face on; a low camera's far touchline, its paint
+    foreshortened to a tenth of a pixel beside the boards' base, is neither (the boards' base would be named).
+
+    Args:
+        width_at_scale_px: (K,) a marking's width at each sample's scale; paint_width_px: (K,) its paint across the
+            image (``geometry.template.ImageTemplate``, both in the same pixels as the thresholds).
+    """
+    seen = np.asarray(width_at_scale_px) >= min_width_px
+    return seen if paint_width_px is None else seen | (np.asarray(paint_width_px) >= min_paint_px)
 
 
 def _group_medians(values: np.ndarray, starts: np.ndarray, counts: np.ndarray) -> np.ndarray:

@@ -32,7 +32,8 @@ mapped back to the frame's pixels. Pipeline:
    (:func:`~broadtrack_graph.geometry.template.project_template`); where it draws a marking wider than the
    working level resolves (``wide_from_px``: a zoomed view, a low camera's near lines), the wide markings are found
    first on the reduced levels and the frame's marking map is theirs too; every ridge point takes the class of the
-   nearest projected sample (k-d tree) when within ``gate_px + gate_sigmas * uncertainty``, except those named
+   nearest projected sample (k-d tree) of a marking that can be seen (:func:`~.class_points.seen_markings`) when
+   within ``gate_px + gate_sigmas * uncertainty``, except those named
    after a touchline or a goal line that lie beyond the pitch's outline once the template is registered on the named
    points (a turn and a zoom of the prediction: :mod:`~broadtrack_graph.detect.registration`; the boards' edge
    beside a far touchline the frame does not show);
@@ -59,7 +60,7 @@ from dataclasses import dataclass, replace
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.class_points import consistent_classes
+from broadtrack_graph.detect.class_points import consistent_classes, seen_markings
 from broadtrack_graph.detect.detector import Detections, PredictedCamera, check_image
 from broadtrack_graph.detect.faint_lines import FaintLineConfig, with_faint_lines
 from broadtrack_graph.detect.found_markings import BodiesToFeet, FaintInputs, FoundMarkings, marked_points
@@ -150,10 +151,9 @@ class WeightFreeConfig:
     point_spacing_px: float = 3.0  # named points are averaged per cell of this size (working pixels)
     max_points_per_class: int = 250  # more cells: the class is averaged on coarser cells (solver cost ~ points; fewer bias the tripod)
     template_spacing_px: float = 0.5  # densified projected template for naming (working pixels)
-    # Points are named only after template parts that can be seen: a marking at least this wide (working pixels,
-    # the confidence's detectability, reinit.confidence.ConfidenceConfig.min_line_width_px) and outside the
-    # goals (posts and net are thin white lines too).
-    min_named_width_px: float = 1.4  # at REFERENCE_WIDTH_PX
+    # Named only outside the goals (posts and net are thin white lines too), after markings that can be seen (step 4):
+    min_named_width_px: float = 1.4  # at REFERENCE_WIDTH_PX and in a narrower frame's pixels (as the confidence)
+    min_named_paint_px: float = 0.25  # working pixels: three quarters of clean paint found (docs/BENCHMARKS.md)
     goal_depth_m: float = 2.5  # the goals' region left out of naming (geometry.goals.goal_region); 0: not left out
     goal_margin_m: float = 0.5
 
@@ -239,17 +239,16 @@ class WeightFreeDetector:
 
         Args:
             points_px: (N, 2) working pixels; scale: working / frame pixels; size: (w, h) working size.
-            template: the predicted camera's template at the working size, when already projected.
+            template: the predicted camera's template at the working size with its paint widths, when projected.
         """
         c = self.config
         w, h = size
         if not len(points_px):
             return {}
         if template is None:
-            template = project_template(predicted.camera, self.curves, w, h, c.template_spacing_px)
-        # min_named_width_px is at the reference width, for a frame at least that wide (as the confidence's rule).
-        seen = template.width_m_px >= c.min_named_width_px * (w / REFERENCE_WIDTH_PX) * max(
-            1.0, REFERENCE_WIDTH_PX / predicted.camera.width_px)
+            template = project_template(predicted.camera, self.curves, w, h, c.template_spacing_px, paint_widths=True)
+        seen = seen_markings(template.width_m_px, template.paint_width_px, c.min_named_width_px * (
+            w / REFERENCE_WIDTH_PX) * max(1.0, REFERENCE_WIDTH_PX / predicted.camera.width_px), c.min_named_paint_px)
         goals = goal_region(predicted.camera, w, h, self.pitch, c.goal_depth_m, c.goal_margin_m)
         if goals is not None and len(points_px):
             points_px = points_px[~goals[np.clip(points_px[:, 1].astype(int), 0, h - 1),
@@ -379,7 +378,8 @@ class WeightFreeDetector:
         unnamed, points, lines = found.unnamed, found.points_work_px, {}
         if predicted is not None:
             w, h = found.work_size
-            template = project_template(predicted.camera, self.curves, w, h, self.config.template_spacing_px)
+            template = project_template(predicted.camera, self.curves, w, h, self.config.template_spacing_px,
+                                        paint_widths=True)
             if found.wide is not None and len(template.width_m_px) and \
                     template.width_m_px.max() >= self.config.wide_from_px:
                 points = self._wide_points(found.wide, points)

@@ -125,10 +125,14 @@ def ground_of_pixels(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
     return np.where(hits, ground[:, 0], np.inf).reshape(H, W), np.where(hits, ground[:, 1], np.inf).reshape(H, W)
 
 
-def render_plain(camera: Camera, look: PlainLook,
-                 ground: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+def render_plain(camera: Camera, look: PlainLook, ground: tuple[np.ndarray, np.ndarray] | None = None,
+                 frame: int = 0, players_around_m: np.ndarray | None = None) -> np.ndarray:
     """(H, W, 3) uint8 BGR image of the pitch through ``camera`` (at its own resolution) under ``look``; ``ground``:
-    the camera's :func:`ground_of_pixels` when already computed (rendering one view twice, with and without paint)."""
+    the camera's :func:`ground_of_pixels` when already computed (rendering one view twice, with and without paint).
+
+    A clip's frames: ``frame`` > 0 draws the noise afresh (frame 0: the look's own), and ``players_around_m`` (2,),
+    the ground point the players stand around (None: where the camera looks), keeps them where frame 0 put them
+    while the camera moves. The crowd's blocks stay where the image has them."""
     rng = np.random.default_rng(look.seed)
     W, H = camera.width_px, camera.height_px
     x, y = ground if ground is not None else ground_of_pixels(camera)
@@ -158,7 +162,7 @@ def render_plain(camera: Camera, look: PlainLook,
         cover = np.clip(0.5 + (half - distance) / step, 0.0, 1.0) - np.clip(0.5 - (half + distance) / step, 0.0, 1.0)
         cover[~grass] = 0.0
         image = image * (1.0 - cover[..., None]) + np.array(look.paint_bgr) * cover[..., None]
-    image = _players(image, camera, rng, look.players)
+    image = _players(image, camera, rng, look.players, players_around_m)
     if look.lens_blur_px > 0:
         image = cv2.GaussianBlur(image, (0, 0), look.lens_blur_px)
     if look.motion_blur_px > 1:
@@ -168,17 +172,26 @@ def render_plain(camera: Camera, look: PlainLook,
                                        look.motion_angle_deg, 1.0)
         kernel = cv2.warpAffine(kernel, turn, kernel.shape[::-1])
         image = cv2.filter2D(image, -1, kernel / max(kernel.sum(), 1e-6))
-    image = np.clip(image + rng.normal(0.0, look.noise_sigma, image.shape), 0, 255).astype(np.uint8)
+    noise = rng if frame == 0 else np.random.default_rng([look.seed, frame])
+    image = np.clip(image + noise.normal(0.0, look.noise_sigma, image.shape), 0, 255).astype(np.uint8)
     if look.jpeg_quality:
         image = cv2.imdecode(cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, look.jpeg_quality])[1],
                              cv2.IMREAD_COLOR)
     return image
 
 
-def _players(image: np.ndarray, camera: Camera, rng: np.random.Generator, count: int) -> np.ndarray:
-    """Upright ellipses 1.8 m tall in two teams' colours, standing on the pitch where the camera looks."""
+def players_centre_m(camera: Camera) -> np.ndarray:
+    """(2,) the ground point the players of a view stand around: where the camera looks (the centre spot when its
+    axis misses the ground)."""
     aim, hits = camera.ground_intersection(np.array([[camera.width_px / 2.0, camera.height_px / 2.0]]))
-    centre = aim[0, :2] if hits[0] else np.zeros(2)
+    return aim[0, :2] if hits[0] else np.zeros(2)
+
+
+def _players(image: np.ndarray, camera: Camera, rng: np.random.Generator, count: int,
+             around_m: np.ndarray | None = None) -> np.ndarray:
+    """Upright ellipses 1.8 m tall in two teams' colours, standing on the pitch around ``around_m`` (None: where the
+    camera looks)."""
+    centre = players_centre_m(camera) if around_m is None else np.asarray(around_m, float)
     teams = rng.uniform(0, 255, (2, 3))
     out = np.ascontiguousarray(image)
     for _ in range(count):

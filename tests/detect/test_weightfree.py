@@ -194,9 +194,50 @@ def test_no_point_is_named_inside_a_goal_or_after_a_marking_too_thin_to_see():
     assert not goals[np.clip(np.round(named_all[:, 1]).astype(int), 0, 539),
                      np.clip(np.round(named_all[:, 0]).astype(int), 0, 959)].any()
     assert {"Side line right", "Big rect. right main"} <= set(named)
-    # A marking thinner than min_named_width_px (a far line at a grazing angle) names nothing.
-    thin = WeightFreeDetector(PITCH, WeightFreeConfig(min_named_width_px=50.0))
+    # A marking thinner than min_named_width_px at its scale and min_named_paint_px across names nothing.
+    thin = WeightFreeDetector(PITCH, WeightFreeConfig(min_named_width_px=50.0, min_named_paint_px=50.0))
     assert thin.name_points(points, PredictedCamera(camera, 1.0), 1.0, (960, 540)) == {}
+
+
+def test_a_wide_views_far_lines_are_named_and_a_low_cameras_foreshortened_far_touchline_is_not():
+    from broadtrack_graph.geometry.pitch import LINE_CLASSES
+    from broadtrack_graph.geometry.template import project_template
+
+    detector = WeightFreeDetector(PITCH)
+    config = detector.config
+
+    def points_on(camera, classes):
+        points = []
+        for name in classes:
+            uv, front = camera.project(FINE.samples_w[name])
+            points.append(uv[front & camera.in_image(uv)])
+        return np.vstack(points)
+
+    def widths(camera, name):  # (at its scale, its paint across) of a class's projected samples, working pixels
+        template = project_template(camera, detector.curves, 960, 540, 0.5, paint_widths=True)
+        of = template.class_index == LINE_CLASSES.index(name)
+        return template.width_m_px[of], template.paint_width_px[of]
+
+    # A camera 48 m up, 110 m from the centre spot and 60 deg wide: the lines under 1.4 px wide at their scale, their
+    # paint 0.29 px and more across the image, seen face on: named (by their paint alone).
+    far = Camera.from_degrees(830.0, 0.0, -30.0, 64.0, 0.0, (55.0, 95.0, -48.0), 960, 540)
+    classes = ("Middle line", "Circle central", "Big rect. left main")
+    for name in classes:
+        at_scale, paint = widths(far, name)
+        assert len(at_scale) > 50 and at_scale.max() < config.min_named_width_px
+        assert paint.min() >= config.min_named_paint_px
+    points = points_on(far, classes)
+    assert set(classes) <= set(detector.name_points(points, PredictedCamera(far, 1.0), 1.0, (960, 540)))
+    by_scale_only = WeightFreeDetector(PITCH, WeightFreeConfig(min_named_paint_px=50.0))
+    assert by_scale_only.name_points(points, PredictedCamera(far, 1.0), 1.0, (960, 540)) == {}
+    # A camera 5.5 m up, 7 m behind the near touchline: the far touchline under 1.4 px at its scale and its paint,
+    # foreshortened, a tenth of a pixel across: not named (a ridge there is the boards' base), the halfway line is.
+    low = Camera.from_degrees(800.0, 0.0, 0.0, 85.0, 0.0, (0.0, 41.0, -5.5), 960, 540)
+    at_scale, paint = widths(low, "Side line top")
+    assert len(at_scale) > 100 and at_scale.max() < config.min_named_width_px and paint.max() < 0.15
+    named = detector.name_points(points_on(low, ("Side line top", "Middle line")), PredictedCamera(low, 1.0), 1.0,
+                                 (960, 540))
+    assert "Middle line" in named and "Side line top" not in named
 
 
 def test_the_working_image_made_ahead_gives_the_same_markings():

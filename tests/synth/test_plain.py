@@ -64,3 +64,30 @@ def test_a_look_renders_the_same_image_every_time_and_varies_between_looks():
     assert len({look.grass_bgr for look in looks}) == 6 and any(look.motion_blur_px for look in looks)
     blurred = replace(LOOK, motion_blur_px=15, motion_angle_deg=30.0)
     assert not np.array_equal(render_plain(camera, blurred), render_plain(camera, LOOK))
+
+
+def test_a_clips_next_frames_keep_the_players_on_the_pitch_and_draw_their_noise_afresh():
+    from broadtrack_graph.synth.plain import players_centre_m
+
+    camera = _camera()
+    look = replace(LOOK, players=12, noise_sigma=3.0)
+    first = render_plain(camera, look)
+    # Frame 0 with the players around where the camera looks is frame 0 as a single frame renders it.
+    assert np.array_equal(first, render_plain(camera, look, frame=0, players_around_m=players_centre_m(camera)))
+    again = render_plain(camera, look, frame=1)
+    assert not np.array_equal(first, again)
+    difference = first.astype(float) - again.astype(float)
+    assert abs(difference.std() - np.sqrt(2.0) * 3.0) < 0.6  # two draws of the noise, nothing else changed
+    # Panned 2 deg, the players stay on the ground point frame 0 put them around: drawn in the same place as on the
+    # noiseless frame 0 once the view is turned back (their pixels in the turned view against the first one's).
+    quiet = replace(look, noise_sigma=0.0)
+    panned = camera.replace(pan_rad=camera.pan_rad + np.radians(2.0))
+    around = players_centre_m(camera)
+    with_players = render_plain(panned, quiet, frame=1, players_around_m=around)
+    bare = render_plain(panned, replace(quiet, players=0), frame=1)
+    drawn = np.abs(with_players.astype(float) - bare.astype(float)).sum(axis=2) > 30
+    following = render_plain(panned, quiet, frame=1)  # the players around where the panned camera looks
+    moved = np.abs(following.astype(float) - bare.astype(float)).sum(axis=2) > 30
+    assert drawn.sum() > 200 and not np.array_equal(drawn, moved)
+    ground, hits = panned.ground_intersection(np.argwhere(drawn)[:, ::-1].astype(float))
+    assert hits.all() and np.median(np.hypot(*(ground[:, :2] - around).T)) < 30.0
