@@ -26,7 +26,7 @@ def _record(index: int, camera, confidence: float | None = 0.9) -> TrackRecord:
 def test_the_pan_moves_the_image_centre_by_its_drawn_speed_every_frame():
     truth = draw_frame(SEED, 0, WIDTH, HEIGHT, ["clean"], "plain")["drawn"].camera
     cameras = pan_cameras(truth, 5, np.random.default_rng(1))
-    assert len(cameras) == 5 and cameras[0] is truth or np.allclose(cameras[0].to_vector(), truth.to_vector())
+    assert len(cameras) == 5 and np.allclose(cameras[0].to_vector(), truth.to_vector())
     centre = truth.backproject(np.array([[WIDTH / 2.0, HEIGHT / 2.0]]))[0] * 100.0 + truth.position_m
     shifts = [np.linalg.norm(c.project(centre[None])[0][0] - (WIDTH / 2.0, HEIGHT / 2.0)) for c in cameras]
     steps = np.diff(shifts)
