@@ -124,6 +124,14 @@ def template_errors_px(estimate, truth, points_w: np.ndarray) -> np.ndarray:
     return d
 
 
+def median_template_error_px(estimate, truth, points_w: np.ndarray) -> float | None:
+    """Median of :func:`template_errors_px` (None: no estimate, or the truth sees none of the points)."""
+    if estimate is None:
+        return None
+    errors = template_errors_px(estimate, truth, points_w)
+    return float(np.median(errors)) if len(errors) else None
+
+
 def noisy_keypoint_records(keypoints_by_frame: list[dict], frame_ids: list[str], width_px: int, height_px: int,
                            pitch, noise_px: float, mislabel: float, seed: int) -> tuple[list[dict], dict]:
     """Detections-file records of noisy, partly mislabelled keypoints (see the module docstring).

@@ -79,7 +79,7 @@ def judged_clip(records: list, cameras: list, ground_w: np.ndarray, success_px: 
     "written", "right", "near", "wrong"}. The outcome: ``wrong`` when a written camera is over ``wrong_px`` off both,
     else ``near`` when one is over ``success_px``, else ``found`` (or ``wrong`` with ``twin`` when every written
     camera is the twin's), else ``none``."""
-    from broadtrack_graph.benchmarks.detections import template_errors_px
+    from broadtrack_graph.benchmarks.detections import median_template_error_px
     from broadtrack_graph.reinit.court_fit import twin_camera
 
     errors, twins, first, confidence = [], [], None, None
@@ -87,10 +87,8 @@ def judged_clip(records: list, cameras: list, ground_w: np.ndarray, success_px: 
         if record.camera is None or not 0 <= record.frame_index < len(cameras):
             continue
         truth = cameras[record.frame_index]
-        to_truth, to_twin = (template_errors_px(record.camera, camera, ground_w)
-                             for camera in (truth, twin_camera(truth)))
-        median_truth = float(np.median(to_truth)) if len(to_truth) else np.inf
-        median_twin = float(np.median(to_twin)) if len(to_twin) else np.inf
+        median_truth, median_twin = (np.inf if e is None else e for e in (
+            median_template_error_px(record.camera, camera, ground_w) for camera in (truth, twin_camera(truth))))
         errors.append(min(median_truth, median_twin))
         twins.append(median_twin < median_truth)
         if first is None:

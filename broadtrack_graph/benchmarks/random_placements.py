@@ -69,6 +69,7 @@ import time
 
 import numpy as np
 
+from broadtrack_graph.benchmarks.detections import median_template_error_px
 from broadtrack_graph.benchmarks.placement_figures import summarise, summary_table
 from broadtrack_graph.benchmarks.placement_found import (
     PAINT_WIDTH_BINS_PX,
@@ -138,15 +139,6 @@ def _camera_info(drawn) -> dict:
             "tilt_deg": round(camera.tilt_deg, 2), "roll_deg": round(camera.roll_deg, 2),
             "hfov_deg": round(drawn.hfov_deg, 2), "focal_px": round(camera.focal_px, 1), "k1": round(camera.k1, 4),
             "aim_w": [round(float(v), 2) for v in drawn.aim_w[:2]], "pitch_share": round(drawn.pitch_share, 3)}
-
-
-def _median_error(estimate, truth, ground) -> float | None:
-    from broadtrack_graph.benchmarks.detections import template_errors_px
-
-    if estimate is None:
-        return None
-    errors = template_errors_px(estimate, truth, ground)
-    return float(np.median(errors)) if len(errors) else None
 
 
 def new_shot_decision(policy, detections, frame_size, pitch, curves, sampling, image, faint_look=None,
@@ -342,7 +334,7 @@ def run(args) -> dict:
                                                                       curves, sampling, config)
                     seconds = time.perf_counter() - started
                     camera, reason = result.camera, result.reason
-                error = _median_error(camera, truth, ground)
+                error = median_template_error_px(camera, truth, ground)
                 bar = bar if route == "court" else written_at_by_route[route]
                 truth_bar = court_accept_at(config, ReinitResult(truth, None, "", explained=found_markings)) \
                     if route == "court" else written_at_by_route[route]
@@ -354,7 +346,7 @@ def run(args) -> dict:
                 if camera is not None and error is not None and error > args.success_px:
                     from broadtrack_graph.reinit.court_fit import twin_camera  # only here: the route may be skipped
 
-                    twin_error = _median_error(camera, twin_camera(truth), ground)
+                    twin_error = median_template_error_px(camera, twin_camera(truth), ground)
                     result_row["twin_error_px"] = _round(twin_error, 2)  # written or not
                     if result_row["outcome"] == "wrong":
                         result_row["outcome"], result_row["twin"] = twin_outcome("wrong", twin_error, args.success_px)
