@@ -3,9 +3,9 @@ random camera, from nothing, as a user tracks a new shot.
 
 Frame 0 of a camera's clip is the single-frame bench's frame (the same camera, look and image); each next frame pans
 the camera on by a rate drawn per camera (:data:`PAN_PX_PER_FRAME`, in pixels at the image centre, either way), the
-look held: the players stay where frame 0 put them on the pitch, and the plain renderer draws each frame's noise
-afresh (the synthetic renderer keeps frame 0's noise and graphics; the plain renderer's crowd blocks stay where the
-image has them). The frames go to ``track`` (``track_input``, online, as a folder of images) and every camera it
+look held: the players stay where frame 0 put them on the pitch, each frame's sensor noise is drawn afresh, the
+synthetic renderer's graphics stay where the image has them (an overlay) and the plain renderer's crowd stays where
+it stands in the world (its blocks where frame 0 saw them). The frames go to ``track`` (``track_input``, online, as a folder of images) and every camera it
 writes is judged against its frame's truth as the single-frame routes' are (:func:`judged_clip`).
 """
 
@@ -40,14 +40,15 @@ def clip_images(frame: dict, cameras: list) -> list[np.ndarray]:
         from broadtrack_graph.synth.plain import players_centre_m, render_plain
 
         around = players_centre_m(cameras[0])
-        images += [render_plain(camera, frame["look"], frame=k, players_around_m=around)
+        images += [render_plain(camera, frame["look"], frame=k, players_around_m=around, crowd_camera=cameras[0])
                    for k, camera in enumerate(cameras[1:], start=1)]
         return images
     from broadtrack_graph.synth.field_samples import render_look
     from broadtrack_graph.synth.named_looks import named_look
 
     settings = named_look(frame["look_name"])
-    images += [render_look(camera, frame["players"], frame["look"], settings).image for camera in cameras[1:]]
+    images += [render_look(camera, frame["players"], frame["look"], settings, frame=k).image
+               for k, camera in enumerate(cameras[1:], start=1)]
     return images
 
 

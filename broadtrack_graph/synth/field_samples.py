@@ -170,7 +170,7 @@ class LookRender:
 
 
 def render_look(camera: Camera, players: PlayerTrack | None, look: Look,
-                config: SampleConfig = SampleConfig()) -> LookRender:
+                config: SampleConfig = SampleConfig(), frame: int = 0) -> LookRender:
     """One frame of a camera under a drawn look: the samples' rendering, reusable for any camera.
 
     The frame is rendered at the look's render size (the camera's size when the look has none), with the
@@ -182,6 +182,8 @@ def render_look(camera: Camera, players: PlayerTrack | None, look: Look,
         players: the players to draw (frame 0 of the track), or None.
         look: the appearance (:func:`broadtrack_graph.synth.field_look.draw_look` with the same config).
         config: the switches the look was drawn with (which ground shading, which renderer effects).
+        frame: a clip's frame under the same look: frame 0 the look's own noise, each later frame its own draw (a
+            sensor's noise is new every frame; the scene, the grass and the graphics are the look's).
     """
     width_px, height_px = camera.width_px, camera.height_px
     render_w, render_h = render_size(width_px, height_px, look.render_height_px)
@@ -198,7 +200,8 @@ def render_look(camera: Camera, players: PlayerTrack | None, look: Look,
                                background_shader=shader)
     image, labels = rendered.image, rendered.labels
     if look.tone is not None or look.noise_sigma:
-        image = tone_and_noise(image, look, np.random.default_rng([look.detail_seed, 6]))
+        noise_seed = [look.detail_seed, 6] if frame == 0 else [look.detail_seed, 6, frame]
+        image = tone_and_noise(image, look, np.random.default_rng(noise_seed))
     hidden = draw_broadcast_graphics(image, np.random.default_rng([look.detail_seed, 7])) if look.graphics else None
     if look.jpeg_quality is not None:
         image = jpeg_round_trip(image, look.jpeg_quality)

@@ -126,13 +126,16 @@ def ground_of_pixels(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
 
 
 def render_plain(camera: Camera, look: PlainLook, ground: tuple[np.ndarray, np.ndarray] | None = None,
-                 frame: int = 0, players_around_m: np.ndarray | None = None) -> np.ndarray:
+                 frame: int = 0, players_around_m: np.ndarray | None = None,
+                 crowd_camera: Camera | None = None) -> np.ndarray:
     """(H, W, 3) uint8 BGR image of the pitch through ``camera`` (at its own resolution) under ``look``; ``ground``:
     the camera's :func:`ground_of_pixels` when already computed (rendering one view twice, with and without paint).
 
     A clip's frames: ``frame`` > 0 draws the noise afresh (frame 0: the look's own), and ``players_around_m`` (2,),
     the ground point the players stand around (None: where the camera looks), keeps them where frame 0 put them
-    while the camera moves. The crowd's blocks stay where the image has them."""
+    while the camera moves, and ``crowd_camera``, frame 0's camera (it must stand where ``camera`` stands), keeps the
+    crowd's blocks where frame 0 saw them while the camera turns (None: the blocks are laid out on this camera's
+    image)."""
     rng = np.random.default_rng(look.seed)
     W, H = camera.width_px, camera.height_px
     x, y = ground if ground is not None else ground_of_pixels(camera)
@@ -141,7 +144,10 @@ def render_plain(camera: Camera, look: PlainLook, ground: tuple[np.ndarray, np.n
     block = look.crowd_block_px
     blocks = ((H + block - 1) // block, (W + block - 1) // block)
     crowd = rng.uniform(25, 150, blocks + (1,)) + rng.normal(0.0, 25.0, blocks + (3,))
-    image = np.kron(crowd, np.ones((block, block, 1)))[:H, :W]
+    if crowd_camera is None:
+        image = np.kron(crowd, np.ones((block, block, 1)))[:H, :W]
+    else:
+        image = crowd[_crowd_blocks(camera, crowd_camera, block, blocks)]
     stripe = np.where(np.floor(np.where(grass, x, 0.0) / look.stripe_m) % 2 == 0, 1.0, 1.0 - look.stripe_contrast)
     image = np.where(grass[..., None], np.array(look.grass_bgr) * stripe[..., None], image)
     if look.line_width_m > 0:
@@ -178,6 +184,22 @@ def render_plain(camera: Camera, look: PlainLook, ground: tuple[np.ndarray, np.n
         image = cv2.imdecode(cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, look.jpeg_quality])[1],
                              cv2.IMREAD_COLOR)
     return image
+
+
+def _crowd_blocks(camera: Camera, crowd_camera: Camera, block_px: int, blocks: tuple[int, int]):
+    """(rows, columns), each (H, W) int: the crowd block each pixel of ``camera`` sees, the blocks laid out
+    ``block_px`` apart on ``crowd_camera``'s image (the same focal point) and repeated beyond it: a crowd far away
+    that stays put in the world while the camera turns."""
+    W, H = camera.width_px, camera.height_px
+    us, vs = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
+    rays_w = camera.backproject(np.column_stack([us.ravel(), vs.ravel()]))
+    uv, front = crowd_camera.project(crowd_camera.position_m + rays_w)
+    uv = np.where(front[:, None], uv, 0.0)
+    # A pixel's own block on crowd_camera's image: its index over the block size (0.5 in from its edge, so that a
+    # pixel mapped onto itself up to rounding keeps its block).
+    columns = np.floor((uv[:, 0] + 0.5) / block_px).astype(int) % blocks[1]
+    rows = np.floor((uv[:, 1] + 0.5) / block_px).astype(int) % blocks[0]
+    return rows.reshape(H, W), columns.reshape(H, W)
 
 
 def players_centre_m(camera: Camera) -> np.ndarray:

@@ -50,3 +50,21 @@ def test_a_camera_renders_under_every_look_at_its_size():
     again = render_look(camera, None, draw_named_look("blur", np.random.default_rng(1), AIM), named_look("blur"))
     assert np.array_equal(again.image, images["blur"]), "the same look renders the same frame"
     assert not np.array_equal(images["clean"], images["shadows"])
+
+
+def test_a_clips_later_frame_draws_its_noise_afresh_and_nothing_else():
+    W, H = 320, 180
+    position = np.array([0.0, 60.0, -18.0])
+    pan, tilt = aim_angles(position, AIM)
+    camera = Camera(W / 2 / math.tan(math.radians(40) / 2), 0.0, pan, tilt, 0.0, position, W, H)
+    look = draw_named_look("clean", np.random.default_rng(1), AIM)
+    first = render_look(camera, None, look, named_look("clean")).image
+    assert np.array_equal(first, render_look(camera, None, look, named_look("clean"), frame=0).image)
+    later = render_look(camera, None, look, named_look("clean"), frame=1).image
+    assert np.array_equal(later, render_look(camera, None, look, named_look("clean"), frame=1).image)
+    difference = first.astype(float) - later.astype(float)
+    # Two draws of the sensor noise: independent, so their difference spreads sqrt(2) times the noise's sigma (the
+    # grey levels clipped at 0 and 255 aside); the scene under it is the same.
+    assert look.noise_sigma > 0.5
+    assert abs(difference.std() - math.sqrt(2.0) * look.noise_sigma) < 0.35 * look.noise_sigma
+    assert abs(difference.mean()) < 0.2

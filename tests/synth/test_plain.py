@@ -91,3 +91,25 @@ def test_a_clips_next_frames_keep_the_players_on_the_pitch_and_draw_their_noise_
     assert drawn.sum() > 200 and not np.array_equal(drawn, moved)
     ground, hits = panned.ground_intersection(np.argwhere(drawn)[:, ::-1].astype(float))
     assert hits.all() and np.median(np.hypot(*(ground[:, :2] - around).T)) < 30.0
+
+
+def test_a_clips_crowd_stays_put_in_the_world_while_the_camera_turns():
+    # Looking up over the far touchline: the crowd's blocks fill the top of the image.
+    camera = Camera.from_degrees(900.0, 0.0, -10.0, 80.0, 0.0, (0.0, 79.0, -20.0), W, H)
+    look = replace(LOOK, crowd_block_px=6)
+    first = render_plain(camera, look)
+    assert np.array_equal(first, render_plain(camera, look, crowd_camera=camera))  # frame 0 as a single frame
+    # Turned by 12 px at the image centre: the crowd's pixels are frame 0's moved 12 px across the image (the pan
+    # is about the vertical; near the image centre's row it moves the image along the row).
+    shift = 12
+    panned = camera.replace(pan_rad=camera.pan_rad + shift / camera.focal_px)
+    turned = render_plain(panned, look, frame=1, crowd_camera=camera)
+    rows = slice(H // 2 - 40, H // 2 - 20)
+    assert not (first[rows, 100:-100] == np.array(LOOK.grass_bgr, np.uint8)).all(axis=2).any()  # crowd, no grass
+    best = min(range(-20, 21), key=lambda s: np.abs(turned[rows, 100 + s:W - 100 + s].astype(float)
+                                                    - first[rows, 100:-100].astype(float)).mean())
+    assert abs(abs(best) - shift) <= 1
+    assert np.abs(turned[rows, 100 + best:W - 100 + best].astype(float) - first[rows, 100:-100].astype(float)).mean() < 5
+    # Without crowd_camera the blocks stay where the image has them.
+    still = render_plain(panned, look, frame=1)
+    assert np.array_equal(still[rows, 100:-100], first[rows, 100:-100])
