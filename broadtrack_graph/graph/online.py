@@ -155,6 +155,20 @@ class OnlineTracker:
         step = self.insert(observations, initial_guess, trust_previous)
         return self.estimate(step, observations.frame_index)
 
+    def last_motion(self) -> np.ndarray | None:
+        """(8,) the last frame's state minus the one before it, both as the smoother estimates them now (state order);
+        None unless the last frame is linked to the one before (flow and motion prior).
+
+        The motion of the camera between the two frames: when a new frame moves the chain as a whole (a view that
+        leaves focal length against distance, or pan against a sideways step, barely told apart), the previous
+        frame's estimate moves with it, and only the difference of the two as they stand now is the motion."""
+        if self._linked_steps < 2:
+            return None
+        last = self._smoother.calculateEstimateVector(camera_key(self._step))
+        before = self._smoother.calculateEstimateVector(camera_key(self._step - 1))
+        motion = last - before
+        return motion if np.all(np.isfinite(motion)) else None
+
     def estimate(self, step: int, frame_index: int) -> FrameEstimate:
         """Current estimate of an internal step (from :meth:`insert`) still inside the window.
 
@@ -166,10 +180,12 @@ class OnlineTracker:
         active = self._active.get(step, {})
         if not np.all(np.isfinite(state)) or state[0] <= 0:
             return FrameEstimate(frame_index, None, None, active, reason="solver produced a non-finite camera")
-        std = None
+        std = covariance = None
         if self.config.solver.compute_uncertainty:
-            std = np.sqrt(np.clip(np.diag(self._smoother.marginalCovariance(key)), 0.0, None))
-        return FrameEstimate(frame_index, Camera.from_vector(state, self.width_px, self.height_px), std, active)
+            covariance = np.asarray(self._smoother.marginalCovariance(key), float)
+            std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+        return FrameEstimate(frame_index, Camera.from_vector(state, self.width_px, self.height_px), std, active,
+                             covariance=covariance)
 
     # ----------------------------------------------------------------- internals
 
