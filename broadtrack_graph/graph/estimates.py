@@ -22,8 +22,6 @@ class FrameEstimate:
         priors: 1).
     reinitialised: set by the tracking loop when the frame was re-initialised by the front end.
     reason: why camera is None (or a note), else None.
-    covariance: (8, 8) marginal covariance in state order (``std`` is the root of its diagonal), or None when not
-        computed (the batch solver gives the standard deviations alone).
     """
 
     frame_index: int
@@ -32,7 +30,6 @@ class FrameEstimate:
     active_factors: dict[str, int] = field(default_factory=dict)
     reinitialised: bool = False
     reason: str | None = None
-    covariance: np.ndarray | None = None
 
     def std_dict(self) -> dict[str, float] | None:
         """Standard deviations by name (pan/tilt/roll in degrees as ``*_deg``), or None."""

@@ -180,12 +180,10 @@ class OnlineTracker:
         active = self._active.get(step, {})
         if not np.all(np.isfinite(state)) or state[0] <= 0:
             return FrameEstimate(frame_index, None, None, active, reason="solver produced a non-finite camera")
-        std = covariance = None
+        std = None
         if self.config.solver.compute_uncertainty:
-            covariance = np.asarray(self._smoother.marginalCovariance(key), float)
-            std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
-        return FrameEstimate(frame_index, Camera.from_vector(state, self.width_px, self.height_px), std, active,
-                             covariance=covariance)
+            std = np.sqrt(np.clip(np.diag(self._smoother.marginalCovariance(key)), 0.0, None))
+        return FrameEstimate(frame_index, Camera.from_vector(state, self.width_px, self.height_px), std, active)
 
     # ----------------------------------------------------------------- internals
 

@@ -80,8 +80,6 @@ class TrackingRun:
         self.pitch = context.pitch
         self.graph_config = context.graph()
         self.curves = fitting_curves(self.pitch)
-        self._ground_points = np.vstack([p for name, p in self.curves.samples_w.items()
-                                         if self.pitch.is_on_ground(name)])  # the prediction's markings
         self.sampling = TemplateSampling(self.pitch)
         self.confidence = context.confidence
         use_tripod_now = context.tripod if config.use_tripod else None
@@ -101,7 +99,6 @@ class TrackingRun:
         self.kept: dict[int, FrameObservations] = {}
         self._history: deque[Camera] = deque(maxlen=2)
         self._last_std: np.ndarray | None = None
-        self._last_covariance: np.ndarray | None = None
         self.cuts = 0  # cuts that broke the chain
         self.faint_look_frames = 0  # frames whose markings took the faint look (a second look, a chain needing it)
         self.shot_index: int | None = None  # the current shot (None: no shot information)
@@ -157,8 +154,7 @@ class TrackingRun:
         lost = self.chain.lost
         # The motion into the last frame as the solver now has it (the last two frames of the chain, linked).
         motion = self.solver.last_motion() if not lost and len(self._history) >= 2 else None
-        predicted = None if lost else predicted_camera(self._history, self._last_std, self.W, motion,
-                                                       self._last_covariance, self._ground_points)
+        predicted = None if lost else predicted_camera(self._history, self._last_std, self.W, motion)
         try:
             # A chain whose camera needed the faint look (detect.faint_lines) keeps it.
             self.faint_look_frames += self.chain.faint_look
@@ -303,7 +299,7 @@ class TrackingRun:
             if replaced and not self.chain.continued:
                 self._history.clear()  # a new chain: the replaced chain's motion is not its motion
             self._history.append(camera)
-            self._last_std, self._last_covariance = current.std, current.covariance
+            self._last_std = current.std
             self.chain.goes_on()
             if verdict.trusted:
                 self.chain.trust(entry.frame.frame_index)
