@@ -155,20 +155,6 @@ class OnlineTracker:
         step = self.insert(observations, initial_guess, trust_previous)
         return self.estimate(step, observations.frame_index)
 
-    def last_motion(self) -> np.ndarray | None:
-        """(8,) the last frame's state minus the one before it, both as the smoother estimates them now (state order);
-        None unless the last frame is linked to the one before (flow and motion prior).
-
-        The motion of the camera between the two frames: when a new frame moves the chain as a whole (a view that
-        leaves focal length against distance, or pan against a sideways step, barely told apart), the previous
-        frame's estimate moves with it, and only the difference of the two as they stand now is the motion."""
-        if self._linked_steps < 2:
-            return None
-        last = self._smoother.calculateEstimateVector(camera_key(self._step))
-        before = self._smoother.calculateEstimateVector(camera_key(self._step - 1))
-        motion = last - before
-        return motion if np.all(np.isfinite(motion)) else None
-
     def estimate(self, step: int, frame_index: int) -> FrameEstimate:
         """Current estimate of an internal step (from :meth:`insert`) still inside the window.
 

@@ -90,11 +90,6 @@ class StreamingSolver:
         (:meth:`~broadtrack_graph.graph.online.OnlineTracker.hold_position_next`)."""
         self.tracker.hold_position_next()
 
-    def last_motion(self):
-        """(8,) the camera's motion into the last frame as the solver estimates it now, or None
-        (:meth:`~broadtrack_graph.graph.online.OnlineTracker.last_motion`)."""
-        return self.tracker.last_motion()
-
     def replace_last(self, camera: Camera) -> None:
         """The last frame's camera, re-initialised after its update: the next frame is linked to it
         (:meth:`~broadtrack_graph.graph.online.OnlineTracker.replace_last`)."""

@@ -152,9 +152,7 @@ class TrackingRun:
                 # Another view (close-up, crowd) with no chain, on a frame the court model does not look at.
                 return self._other_view(frame)
         lost = self.chain.lost
-        # The motion into the last frame as the solver now has it (the last two frames of the chain, linked).
-        motion = self.solver.last_motion() if not lost and len(self._history) >= 2 else None
-        predicted = None if lost else predicted_camera(self._history, self._last_std, self.W, motion)
+        predicted = None if lost else predicted_camera(self._history, self._last_std, self.W)
         try:
             # A chain whose camera needed the faint look (detect.faint_lines) keeps it.
             self.faint_look_frames += self.chain.faint_look

@@ -11,14 +11,11 @@ from broadtrack_graph.detect.detector import PredictedCamera
 from broadtrack_graph.geometry.camera import Camera
 
 
-def predicted_camera(history: deque, std: np.ndarray | None, width_px: int,
-                     motion: np.ndarray | None = None) -> PredictedCamera | None:
+def predicted_camera(history: deque, std: np.ndarray | None, width_px: int) -> PredictedCamera | None:
     """The previous camera moved by the last inter-frame motion, with a pixel uncertainty.
 
-    The motion is the change of focal length, pan, tilt and roll into the last camera (k1 and the focal point are
-    held): ``motion`` when given (the solver's, between its current estimates of the last two frames), else the
-    difference of the last two cameras as they were written (a chain that moved as a whole on the last frame moved
-    the last camera but not the one before: that is no motion of the camera). The uncertainty (pixels, 1 sigma, at most
+    The motion is the change of focal length, pan, tilt and roll between the last two
+    cameras (k1 and the focal point are held). The uncertainty (pixels, 1 sigma, at most
     60) is ``3 + 0.5 * motion`` with ``motion = (|d pan| + |d tilt|) * f + 0.5 * |d f|``,
     plus, with finite marginal standard deviations, ``hypot(std_pan * f, std_tilt * f)
     + 0.5 * std_f / max(f, 1) * width_px`` (f: the predicted focal length).
@@ -27,7 +24,6 @@ def predicted_camera(history: deque, std: np.ndarray | None, width_px: int,
         history: the last one or two trusted cameras, oldest first (empty: no prediction).
         std: (8,) marginal standard deviations of the last camera in state order, or None.
         width_px: image width in pixels.
-        motion: (8,) state change into the last camera (state order), or None.
 
     Returns:
         PredictedCamera (camera at the last camera's resolution), or None without history.
@@ -38,8 +34,8 @@ def predicted_camera(history: deque, std: np.ndarray | None, width_px: int,
     last = history[-1]
     state = last.to_vector()
     motion_px = 0.0
-    if motion is not None or len(history) >= 2:
-        velocity = np.array(motion, float) if motion is not None else state - history[-2].to_vector()
+    if len(history) >= 2:
+        velocity = state - history[-2].to_vector()
         velocity[1] = 0.0
         velocity[5:] = 0.0
         state = state + velocity

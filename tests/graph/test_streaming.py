@@ -163,23 +163,3 @@ def test_fixed_lag_releases_late_and_after_a_failure_releases_the_old_window(cli
     assert after == [[], [4], [5]]
     assert [e.frame_index for e in solver.finish()] == [6, 7]
     assert solver.finish() == []
-
-
-def test_the_last_motion_is_the_difference_of_the_last_two_frames_as_estimated_now(clip):
-    pitch, truth, frames = clip
-    solver = OnlineStreamingSolver(W, H, pitch, GraphConfig(), None)
-    solver.push(frames[0], truth[0], False)
-    assert solver.last_motion() is None  # one frame: no motion
-    written = [solver.push(frames[1], None, True)[0].camera]
-    for i in (2, 3):
-        current, _ = solver.push(frames[i], None, True)
-        motion = solver.last_motion()
-        now = [solver.tracker.estimate(solver.tracker.last_step - k, 0).camera.to_vector() for k in (1, 0)]
-        np.testing.assert_allclose(motion, now[1] - now[0], rtol=0, atol=1e-9)
-        # The true motion of the clip's camera, within what eight simulated frames tell.
-        np.testing.assert_allclose(motion[2:5], truth[i].to_vector()[2:5] - truth[i - 1].to_vector()[2:5], atol=2e-4)
-        written.append(current.camera)
-    solver.reset(truth[3])
-    solver.push(frames[4], None, True)
-    assert solver.last_motion() is None  # a restarted frame is linked to nothing
-    assert written[-1] is not None

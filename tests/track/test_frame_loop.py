@@ -73,9 +73,6 @@ class FakeSolver:
     def hold_position_next(self):
         self.holds.append(len(self.pushed))  # the index of the next push
 
-    def last_motion(self):
-        return None  # the prediction takes the difference of the last two cameras written
-
     def finish(self):
         out = [self._released(e) for e in self.held]
         self.held = []

@@ -56,12 +56,3 @@ def test_an_invalid_extrapolation_falls_back_to_the_last_camera():
     assert predicted.camera is wider
     # motion = (0 + 0) * (-20) + 0.5 * 60 = 30 px
     assert predicted.uncertainty_px == pytest.approx(3.0 + 0.5 * 30.0, abs=1e-12)
-
-
-def test_the_motion_given_replaces_the_difference_of_the_written_cameras():
-    # The solver's motion into B (its estimates of A and B as they stand now): a pan of 0.002 rad, nothing else.
-    motion = np.array([0.0, 0.5, 0.002, 0.0, 0.0, 3.0, 3.0, 3.0])
-    predicted = predicted_camera(deque([A, B]), None, W, motion)
-    # k1 and the focal point held; the angles and the zoom moved by the motion.
-    np.testing.assert_allclose(predicted.camera.to_vector(), B.to_vector() + [0, 0, 0.002, 0, 0, 0, 0, 0], atol=1e-12)
-    assert predicted.uncertainty_px == pytest.approx(3.0 + 0.5 * 0.002 * 1010.0, abs=1e-9)
