@@ -5,8 +5,9 @@ Frame 0 of a camera's clip is the single-frame bench's frame (the same camera, l
 the camera on by a rate drawn per camera (:data:`PAN_PX_PER_FRAME`, in pixels at the image centre, either way), the
 look held: the players stay where frame 0 put them on the pitch, each frame's sensor noise is drawn afresh, the
 synthetic renderer's graphics stay where the image has them (an overlay) and the plain renderer's crowd stays where
-it stands in the world (its blocks where frame 0 saw them). The frames go to ``track`` (``track_input``, online, as a folder of images) and every camera it
-writes is judged against its frame's truth as the single-frame routes' are (:func:`judged_clip`).
+it stands in the world (its blocks where frame 0 saw them). The frames go to ``track`` (``track_input``, online, as a
+folder of images) and every camera it writes is judged against its frame's truth as the single-frame routes' are
+(:func:`judged_clip`).
 """
 
 from __future__ import annotations
