@@ -117,11 +117,16 @@ def marking_distance_m(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.nda
     return best, normal
 
 
+def _every_pixel(camera: Camera) -> np.ndarray:
+    """(H * W, 2) the pixel coordinates of the camera's image, row by row."""
+    us, vs = np.meshgrid(np.arange(camera.width_px, dtype=float), np.arange(camera.height_px, dtype=float))
+    return np.column_stack([us.ravel(), vs.ravel()])
+
+
 def ground_of_pixels(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
     """(x, y): (H, W) metres where each pixel's ray meets the ground (inf where it does not)."""
     W, H = camera.width_px, camera.height_px
-    us, vs = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
-    ground, hits = camera.ground_intersection(np.column_stack([us.ravel(), vs.ravel()]))
+    ground, hits = camera.ground_intersection(_every_pixel(camera))
     return np.where(hits, ground[:, 0], np.inf).reshape(H, W), np.where(hits, ground[:, 1], np.inf).reshape(H, W)
 
 
@@ -191,8 +196,7 @@ def _crowd_blocks(camera: Camera, crowd_camera: Camera, block_px: int, blocks: t
     ``block_px`` apart on ``crowd_camera``'s image (the same focal point) and repeated beyond it: a crowd far away
     that stays put in the world while the camera turns."""
     W, H = camera.width_px, camera.height_px
-    us, vs = np.meshgrid(np.arange(W, dtype=float), np.arange(H, dtype=float))
-    rays_w = camera.backproject(np.column_stack([us.ravel(), vs.ravel()]))
+    rays_w = camera.backproject(_every_pixel(camera))
     uv, front = crowd_camera.project(crowd_camera.position_m + rays_w)
     uv = np.where(front[:, None], uv, 0.0)
     # A pixel's own block on crowd_camera's image: its index over the block size (0.5 in from its edge, so that a
