@@ -41,7 +41,8 @@ def make_detector(options: DetectorOptions, pitch: PitchTemplate | None = None):
     """The detector described by the options (ONNX models are checked against their contract)."""
     if options.kind == "weightfree":
         from broadtrack_graph.detect.faint_lines import FaintLineConfig
-        from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+        from broadtrack_graph.detect.weightfree import WeightFreeDetector
+        from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 
         faint = FaintLineConfig() if options.faint_look else None
         return WeightFreeDetector(pitch, WeightFreeConfig(faint_lines=faint))

@@ -79,7 +79,7 @@ def smear_estimates(rows: list[dict], width_px: int) -> dict:
     y down): its direction in the detector's convention (degrees from +x towards +y) is ``-motion_angle_deg``.
     """
     from broadtrack_graph.detect.motion_blur import MotionBlurConfig
-    from broadtrack_graph.detect.weightfree import REFERENCE_WIDTH_PX
+    from broadtrack_graph.detect.weightfree_config import REFERENCE_WIDTH_PX
 
     plain = [row for row in rows if "plain_look" in row]
     if not plain:

@@ -63,7 +63,7 @@ def visible_paint(frame: dict, work_width_px: int | None = None) -> np.ndarray:
     compared after both are reduced to the working width (the detector's, by default; at most the frame's own)."""
     import dataclasses
 
-    from broadtrack_graph.detect.weightfree import REFERENCE_WIDTH_PX
+    from broadtrack_graph.detect.weightfree_config import REFERENCE_WIDTH_PX
     from broadtrack_graph.shots.repeats import reduced_grey
 
     work_width_px = work_width_px or REFERENCE_WIDTH_PX

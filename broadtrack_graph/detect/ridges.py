@@ -56,7 +56,7 @@ def marking_ridges(grey: np.ndarray, allowed: np.ndarray, grass: np.ndarray | No
         grass: (h, w) uint8 grass mask, or None; the threshold adapts to the top-hat of grass texture and noise there.
         tophat_kernel: the top-hat's structuring element (``tophat_kernel_px`` square).
         ridge_kernel: the 1-D float32 Gaussian of the Hessian's scale (``ridge_sigma_px``), applied along both axes.
-        c: the detector's settings (:class:`~broadtrack_graph.detect.weightfree.WeightFreeConfig`: its threshold,
+        c: the detector's settings (:class:`~broadtrack_graph.detect.weightfree_config.WeightFreeConfig`: its threshold,
             support, curvature and wide-marking fields).
         follow_faint: join to the candidates the pixels over the weak level (``faint_threshold``, or the grass
             texture's) 8-connected to them (hysteresis; a blurred frame's: its markings are smeared to a fraction of

@@ -59,7 +59,7 @@ import numpy as np
 
 from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.detect.smeared_markings import SmearCheckConfig, shown_across_smear
-from broadtrack_graph.detect.weightfree import WeightFreeConfig
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.goals import goal_region
 from broadtrack_graph.geometry.pixel_neighbours import pixels_within

@@ -16,7 +16,8 @@ from broadtrack_graph.detect.faint_lines import (
     shown_stretches,
     unknown_map,
 )
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 
 W, H = 480, 270
 SLOPE, CROSSING = 0.25, 130.0  # the line drawn: y = CROSSING + SLOPE (x - W / 2)

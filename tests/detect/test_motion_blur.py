@@ -139,7 +139,8 @@ def test_the_detector_finds_a_smeared_frame_s_markings_again():
     detector finds (a blurred frame's, wide ones with them) do not fix the camera and the true camera explains less
     than half of them; with the smear undone they fix it and it explains most."""
     from broadtrack_graph.benchmarks.placement_frames import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
     from broadtrack_graph.geometry.determinable import determinability
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateCurves
@@ -171,7 +172,8 @@ def test_a_sharp_real_looking_frame_is_left_as_it_is():
     """The project's own renderer's sharp frames (a `clean` look) show no smear: the detector's markings are those
     found with the search switched off."""
     from broadtrack_graph.benchmarks.placement_frames import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 
     frame = draw_frame(3, 0, 1280, 720, ["clean"])
     found = WeightFreeDetector().find_markings(frame["image"])

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.detect.player_feet import boxes_to_the_feet, with_legs
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
 W, H = 640, 360

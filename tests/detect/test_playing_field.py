@@ -6,7 +6,8 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.detect.playing_field import grass_and_field
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 
 W, H = 640, 360
 BOARDS = 140  # the boards' top row; the crowd above, the pitch below

@@ -7,7 +7,8 @@ from scipy.spatial import cKDTree
 
 from broadtrack_graph.detect.detector import PredictedCamera
 from broadtrack_graph.detect.registration import register_template
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline, project_template

@@ -8,7 +8,8 @@ import numpy as np
 
 from broadtrack_graph.detect.ridge_sides import grass_beside
 from broadtrack_graph.detect.ridges import marking_ridges
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 
 W, H = 200, 120
 

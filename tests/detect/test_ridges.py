@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.detect.ridges import marking_channel, marking_ridges, white, wide_ridges
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 
 W, H = 320, 200
 

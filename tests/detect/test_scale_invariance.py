@@ -8,7 +8,8 @@ import pytest
 
 from broadtrack_graph.detect.detector import PredictedCamera
 from broadtrack_graph.detect.point_cells import capped_cell_means
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline
 from broadtrack_graph.synth.clip import render_clip

@@ -11,7 +11,8 @@ from broadtrack_graph.detect.flow import FlowConfig, flow_candidates, grid_flow,
 from broadtrack_graph.detect.meanshift import mean_shift_thin
 from broadtrack_graph.detect.motion_blur import MotionBlurConfig
 from broadtrack_graph.detect.template_raster import template_mask
-from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+from broadtrack_graph.detect.weightfree import WeightFreeDetector
+from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, distances_to_polyline

@@ -40,7 +40,8 @@ def _random_placement(index: int, **detector_settings):
     """(true camera, weight-free detections) of frame ``index`` of ``bench placements --random --seed 3`` (1280x720),
     the detector's settings changed by ``detector_settings``."""
     from broadtrack_graph.benchmarks.placement_frames import draw_frame
-    from broadtrack_graph.detect.weightfree import WeightFreeConfig, WeightFreeDetector
+    from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.detect.weightfree_config import WeightFreeConfig
     from broadtrack_graph.synth.named_looks import LOOK_NAMES
 
     frame = draw_frame(3, index, 1280, 720, list(LOOK_NAMES))
