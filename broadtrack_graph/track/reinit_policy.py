@@ -59,7 +59,8 @@ the search place a camera from nothing, for a chain's start or a lost chain):
 
 Camera ids: a shot keeps the id of its first trusted camera; a camera found at a shot's start, or while its chain
 is not trusted yet (its id then is only a guess's), is identified by where it stands
-(:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight): a known camera's id
+(:mod:`~broadtrack_graph.track.camera_naming`; :class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and
+across its line of sight): a known camera's id
 when the frame, refined with the focal point at that camera's position, is explained within the margin (a tripod;
 another stadium's camera at a similar place is not), else a new id when it is confident; provisional until its chain
 is trusted (till then judged as a new shot's camera; forgotten at the next cut otherwise).
@@ -98,6 +99,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.camera_naming import CameraNaming
 from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera, court_accept_at
@@ -149,6 +151,7 @@ class ReinitPolicy:
                        "model_tried": 0, "global": 0, "stages": 0, "skipped_by_budget": 0}
         self.searches = SearchRoute(config, search, self.registry, self.counts)
         self.tries = FrameTries(config, self.registry, refine, model, court, self.counts)
+        self.naming = CameraNaming(config, self.registry, self.chain, refine)
 
     # ----------------------------------------------------------------- what the loop tells
 
@@ -221,7 +224,7 @@ class ReinitPolicy:
         i = observations.frame_index
         threshold, margin = self.config.confidence_threshold, self.config.reinit_switch_margin
         score = lambda camera: self.confidence(camera, observations, detections, curves, sampling)  # noqa: E731
-        self._frame = (detections, curves, score)  # the frame whose cameras are identified (_fits_known)
+        self._frame = (detections, curves, score)  # the frame whose cameras are named (CameraNaming.id_of)
         with_map = detections is not None and getattr(detections, "marking_mask", None) is not None
         # A trusted chain's held camera is re-examined by what knows its camera: itself and the chain's last confident
         # camera refined on the map (a search at its position without a map); the single-frame calibrators, which
@@ -263,7 +266,7 @@ class ReinitPolicy:
             # distance trade-off of the right view can reach the margin (docs/MODEL.md, "Figures").
             if modelled.confidence >= (self.config.certain_confidence if new_camera else threshold):
                 self.counts["model_used"] += 1
-                camera_id = self._camera_id_of(modelled.result, modelled.confidence)
+                camera_id = self.naming.id_of(modelled.result, modelled.confidence, self._frame)
                 return self._decision(modelled.result, modelled.confidence, camera_id, False, False, modelled.label,
                                       held, held_confidence, new_camera)
             if candidate is None or modelled.confidence > candidate.confidence:
@@ -296,8 +299,8 @@ class ReinitPolicy:
                                             held_confidence, new_camera)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
-        return self._decision(found, found_confidence, self._camera_id_of(found, found_confidence), False, True,
-                              label, held, held_confidence, new_camera)
+        camera_id = self.naming.id_of(found, found_confidence, self._frame)
+        return self._decision(found, found_confidence, camera_id, False, True, label, held, held_confidence, new_camera)
 
     def _second_look(self, observations, curves, sampling, faint_look, held, held_confidence,
                      new_camera: bool) -> ReinitDecision | None:
@@ -335,8 +338,9 @@ class ReinitPolicy:
     def _court_decision(self, court, label: str, held, held_confidence, new_camera: bool) -> ReinitDecision:
         """The decision for a court camera taken at its bar (a
         :class:`~broadtrack_graph.track.reinit_decision.CourtCandidate`), named by where it stands."""
-        return self._decision(court.result, court.confidence, self._camera_id_of(court.result, court.confidence),
-                              False, False, label, held, held_confidence, new_camera)
+        camera_id = self.naming.id_of(court.result, court.confidence, self._frame)
+        return self._decision(court.result, court.confidence, camera_id, False, False, label, held, held_confidence,
+                              new_camera)
 
     def looks_at_other_view(self, frame_index: int) -> bool:
         """Whether the court model looks at this frame, which the shot step reads as another view (its schedule)."""
@@ -346,36 +350,10 @@ class ReinitPolicy:
                             new_camera: bool) -> ReinitDecision:
         """The decision for the best camera so far that is not confident, ``why`` appended to its label."""
         continues = candidate.continues_chain
-        camera_id = candidate.camera_id if continues else self._camera_id_of(candidate.result, candidate.confidence)
+        camera_id = candidate.camera_id if continues else self.naming.id_of(candidate.result, candidate.confidence,
+                                                                            self._frame)
         return self._decision(candidate.result, candidate.confidence, camera_id, continues, searched,
                               candidate.label + why, held, held_confidence, new_camera and not continues)
-
-    def _camera_id_of(self, result: ReinitResult, confidence: float) -> str | None:
-        """A found camera's id: the trusted chain's, or by where it stands (a new id is provisional until trusted).
-
-        A shot's camera does not change, but an untrusted chain's id is no more than a guess (a known camera's last
-        camera refined on the frame and taken for want of a better one): a camera found then is named by where it
-        stands, so a camera the guessed tripod does not hold gets its own id instead of that tripod's."""
-        if self.chain.camera_id is not None and self.chain.trusted:
-            return self.chain.camera_id
-        camera = result.camera
-        if confidence >= self.config.confidence_threshold:
-            return self.registry.identify(camera.position_m, camera.R_cw[2], fits=lambda camera_id: self._fits_known(
-                camera_id, camera, confidence))
-        return self.registry.nearest(camera.position_m, camera.R_cw[2])
-
-    def _fits_known(self, camera_id: str, camera: Camera, confidence: float) -> bool:
-        """Whether the frame's view, moved to the known camera's position and refined there, is still explained within
-        the margin of ``confidence`` (the frame's marking map: :attr:`_frame`)."""
-        detections, curves, score = self._frame
-        if getattr(detections, "marking_mask", None) is None:
-            return True  # labelled detections: where it stands decides
-        moved = camera.replace(position_m=self.registry.positions[camera_id])
-        refined = self.refine([(f"at the position of {camera_id}", moved)], detections, curves)
-        if refined.camera is None:
-            return False
-        fitted = refined.score.jaccard if refined.score is not None else score(refined.camera)
-        return fitted is not None and fitted >= confidence - self.config.reinit_switch_margin
 
     def _decision(self, result: ReinitResult, confidence: float, camera_id: str | None, continues_chain: bool,
                   searched: bool, reason: str, held: Camera | None, held_confidence: float | None,

@@ -1,0 +1,61 @@
+"""Which camera id a camera found for a frame belongs to (re-initialisation's naming step). No I/O.
+
+A trusted chain's camera keeps its chain's id: a shot's camera does not change. Any other camera found (at a shot's
+start, or while its chain is not trusted yet and its id is no more than a guess's) is named by where it stands
+(:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight). A confident one
+takes a known camera's id only when the frame, refined with the focal point at that camera's position, is still
+explained within ``reinit_switch_margin`` of its confidence (a tripod: another stadium's camera at a similar place
+is not), else a new id; one that is not confident takes the nearest known camera's.
+"""
+
+from __future__ import annotations
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.reinit.scoring import ReinitResult
+from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.chain import Chain
+from broadtrack_graph.track.config import TrackingConfig
+
+
+class CameraNaming:
+    """The camera id of a camera found for a frame (module docstring).
+
+    Args:
+        config: ``confidence_threshold`` (a confident camera) and ``reinit_switch_margin`` (how well the frame must
+            still be explained from a known camera's position).
+        registry: the run's cameras by id, read and added to.
+        chain: the run's chain, read for its camera id and its trust.
+        refine: ``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit
+            on the frame's marking map.
+    """
+
+    def __init__(self, config: TrackingConfig, registry: CameraRegistry, chain: Chain, refine) -> None:
+        self.config, self.registry, self.chain, self.refine = config, registry, chain, refine
+
+    def id_of(self, result: ReinitResult, confidence: float, frame) -> str | None:
+        """A found camera's id: the trusted chain's, or by where it stands (a new id is provisional until trusted).
+
+        Args:
+            result: the camera found; confidence: its confidence on the frame.
+            frame: (detections, curves, score) of the frame it was found on (``score``: camera -> its confidence).
+        """
+        if self.chain.camera_id is not None and self.chain.trusted:
+            return self.chain.camera_id
+        camera = result.camera
+        if confidence >= self.config.confidence_threshold:
+            return self.registry.identify(camera.position_m, camera.R_cw[2], fits=lambda camera_id: self._fits_known(
+                camera_id, camera, confidence, frame))
+        return self.registry.nearest(camera.position_m, camera.R_cw[2])
+
+    def _fits_known(self, camera_id: str, camera: Camera, confidence: float, frame) -> bool:
+        """Whether the frame's view, moved to the known camera's position and refined there, is still explained within
+        the margin of ``confidence``."""
+        detections, curves, score = frame
+        if getattr(detections, "marking_mask", None) is None:
+            return True  # labelled detections: where it stands decides
+        moved = camera.replace(position_m=self.registry.positions[camera_id])
+        refined = self.refine([(f"at the position of {camera_id}", moved)], detections, curves)
+        if refined.camera is None:
+            return False
+        fitted = refined.score.jaccard if refined.score is not None else score(refined.camera)
+        return fitted is not None and fitted >= confidence - self.config.reinit_switch_margin

@@ -1,0 +1,79 @@
+"""Which camera id a found camera gets (broadtrack_graph.track.camera_naming): the trusted chain's, or where it
+stands and whether the frame is still explained from a known camera's position."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
+from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.camera_naming import CameraNaming
+from broadtrack_graph.track.chain import Chain
+from broadtrack_graph.track.config import TrackingConfig
+
+CONFIG = TrackingConfig()
+MAIN_W = np.array([0.0, 55.0, -12.0])
+
+
+def _camera(position_w) -> Camera:
+    return Camera(2000.0, 0.0, 0.0, np.radians(70.0), 0.0, np.asarray(position_w, float), 1280, 720)
+
+
+def _refine_scoring(confidence: float, calls: list):
+    """A refiner that returns the guess it is given at ``confidence`` and records where it was asked to stand."""
+
+    def refine(guesses, detections, curves):
+        calls.append(np.asarray(guesses[0][1].position_m, float))
+        return ReinitResult(guesses[0][1], LabelledScore(confidence, 0, 0, 0, 0.0, 0.0), guesses[0][0])
+
+    return refine
+
+
+def _naming(refined_confidence: float, calls: list):
+    registry = CameraRegistry(known={"main": MAIN_W})
+    return CameraNaming(CONFIG, registry, Chain(CONFIG, registry), _refine_scoring(refined_confidence, calls))
+
+
+MAP_FRAME = (SimpleNamespace(marking_mask=np.ones((4, 4), bool)), None, lambda camera: 0.9)
+
+
+def test_a_confident_camera_at_a_known_tripod_that_still_explains_the_frame_there_takes_its_id():
+    calls: list = []
+    naming = _naming(0.85, calls)
+    camera = _camera(MAIN_W + [1.0, 2.0, 0.5])
+    assert naming.id_of(ReinitResult(camera, None, ""), 0.9, MAP_FRAME) == "main"
+    np.testing.assert_allclose(calls[0], MAIN_W)  # refined with its focal point moved to the known tripod
+
+
+def test_a_confident_camera_the_known_tripod_does_not_explain_gets_a_new_id():
+    naming = _naming(0.9 - CONFIG.reinit_switch_margin - 0.01, [])
+    camera = _camera(MAIN_W + [1.0, 2.0, 0.5])
+    camera_id = naming.id_of(ReinitResult(camera, None, ""), 0.9, MAP_FRAME)
+    assert camera_id not in (None, "main") and camera_id in naming.registry.untrusted
+
+
+def test_labelled_detections_without_a_map_are_named_by_where_the_camera_stands():
+    calls: list = []
+    naming = _naming(0.0, calls)
+    frame = (SimpleNamespace(marking_mask=None), None, lambda camera: 0.9)
+    assert naming.id_of(ReinitResult(_camera(MAIN_W + [1.0, 0.0, 0.0]), None, ""), 0.9, frame) == "main"
+    assert calls == []
+
+
+def test_a_camera_under_the_threshold_takes_the_nearest_known_id_and_adds_none():
+    naming = _naming(0.0, [])
+    low = CONFIG.confidence_threshold - 0.1
+    assert naming.id_of(ReinitResult(_camera(MAIN_W + [2.0, 0.0, 0.0]), None, ""), low, MAP_FRAME) == "main"
+    assert naming.id_of(ReinitResult(_camera((-75.0, 0.0, -24.0)), None, ""), low, MAP_FRAME) is None
+    assert set(naming.registry.positions) == {"main"}
+
+
+def test_a_trusted_chain_keeps_its_own_id_wherever_the_camera_stands():
+    naming = _naming(0.0, [])
+    naming.chain.identify("main")
+    naming.chain.trust(0)
+    far = _camera((-75.0, 0.0, -24.0))
+    assert naming.id_of(ReinitResult(far, None, ""), 0.95, MAP_FRAME) == "main"
