@@ -108,30 +108,6 @@ def score_run(result, annotations, width_px: int, height_px: int) -> dict:
     }
 
 
-def template_errors_px(estimate, truth, points_w: np.ndarray) -> np.ndarray:
-    """Pixel distances between the marking points projected by two cameras, over the points the truth sees.
-
-    Returns (K,) distances (inf where the estimate puts a point behind it); empty when the truth sees none.
-    """
-    from broadtrack_graph.graph.simulate import visible_mask
-
-    uv_true, keep = visible_mask(truth, points_w)
-    if not keep.any():
-        return np.zeros(0)
-    uv_est, front = estimate.project(points_w[keep])
-    d = np.linalg.norm(uv_est - uv_true[keep], axis=1)
-    d[~front] = np.inf
-    return d
-
-
-def median_template_error_px(estimate, truth, points_w: np.ndarray) -> float | None:
-    """Median of :func:`template_errors_px` (None: no estimate, or the truth sees none of the points)."""
-    if estimate is None:
-        return None
-    errors = template_errors_px(estimate, truth, points_w)
-    return float(np.median(errors)) if len(errors) else None
-
-
 def noisy_keypoint_records(keypoints_by_frame: list[dict], frame_ids: list[str], width_px: int, height_px: int,
                            pitch, noise_px: float, mislabel: float, seed: int) -> tuple[list[dict], dict]:
     """Detections-file records of noisy, partly mislabelled keypoints (see the module docstring).
@@ -223,6 +199,7 @@ def run_files(args, info: dict, plot_dir: Path | None) -> dict:
 def run_keypoints(args, info: dict, plot_dir: Path | None) -> dict:
     """Experiment 2: keypoints only, smoothed track vs fitting each frame alone."""
     from broadtrack_graph.actions.track import track_input
+    from broadtrack_graph.benchmarks.template_error import template_errors_px
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.io.detections import read_detections
     from broadtrack_graph.io.detections_writer import DetectionsWriter

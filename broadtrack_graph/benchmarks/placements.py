@@ -72,7 +72,7 @@ def run(args) -> dict:
         raise InputError(None, f"--renderer {args.renderer} renders the frames of --random N only")
     from tqdm import tqdm
 
-    from broadtrack_graph.benchmarks.detections import template_errors_px
+    from broadtrack_graph.benchmarks.template_error import template_errors_px
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
     from broadtrack_graph.geometry.camera import Camera
     from broadtrack_graph.geometry.pitch import PitchTemplate

@@ -81,7 +81,7 @@ def judged_clip(records: list, cameras: list, ground_w: np.ndarray, success_px: 
     "written", "right", "near", "wrong"}. The outcome: ``wrong`` when a written camera is over ``wrong_px`` off both,
     else ``near`` when one is over ``success_px``, else ``found`` (or ``wrong`` with ``twin`` when every written
     camera is the twin's), else ``none``."""
-    from broadtrack_graph.benchmarks.detections import median_template_error_px
+    from broadtrack_graph.benchmarks.template_error import median_template_error_px
     from broadtrack_graph.reinit.court_fit import twin_camera
 
     errors, twins, first, confidence = [], [], None, None

@@ -69,7 +69,6 @@ import time
 
 import numpy as np
 
-from broadtrack_graph.benchmarks.detections import median_template_error_px
 from broadtrack_graph.benchmarks.placement_figures import summarise, summary_table
 from broadtrack_graph.benchmarks.placement_found import (
     PAINT_WIDTH_BINS_PX,
@@ -79,6 +78,7 @@ from broadtrack_graph.benchmarks.placement_found import (
 )
 from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
 from broadtrack_graph.benchmarks.random_clips import CLIP_FRAMES, clip_result
+from broadtrack_graph.benchmarks.template_error import median_template_error_px
 
 ROUTES = ("tracker", "search", "court")
 CLIP_ROUTE = "clip"
