@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from broadtrack_graph.benchmarks import template_error
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
 W, H = 960, 540
 PITCH = PitchTemplate()
+GROUND_SAMPLES_W = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
 
 
 def reference_camera(pan=-12.0, tilt=76.0, focal=1100.0, k1=0.0, position=(1.5, 57.0, -13.0), roll=0.3):
@@ -33,12 +35,9 @@ def labelled_lines(camera, rng=None, noise_px=0.0, per_class=12):
 
 
 def median_template_error_px(camera, truth):
-    """Median pixel distance between the ground template (1 m samples) seen by truth and by camera."""
-    samples = np.vstack([p for n, p in PITCH.sample_uniform(1.0).items() if PITCH.is_on_ground(n)])
-    uv_true, front = truth.project(samples)
-    shown = front & truth.in_image(uv_true)
-    uv, _ = camera.project(samples[shown])
-    return float(np.nanmedian(np.linalg.norm(uv - uv_true[shown], axis=1)))
+    """Median pixel distance between the ground template (1 m samples) seen by truth and by camera (the benches'
+    :func:`~broadtrack_graph.benchmarks.template_error.median_template_error_px`)."""
+    return template_error.median_template_error_px(camera, truth, GROUND_SAMPLES_W)
 
 
 def image_lines(camera, segments_w):
