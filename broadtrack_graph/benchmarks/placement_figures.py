@@ -14,7 +14,7 @@ from broadtrack_graph.benchmarks.placement_found import (
     smear_estimates,
     smear_found_by_contrast,
 )
-from broadtrack_graph.benchmarks.placement_misses import MISS_CAUSES, miss_cause, truth_written
+from broadtrack_graph.benchmarks.placement_misses import MISS_CAUSES, markings_detected, miss_cause, truth_written
 
 OUTCOMES = ("found", "near", "wrong", "none")
 """A route's outcomes on a frame (``random_placements.outcome``)."""
@@ -47,7 +47,8 @@ def route_figures(rows: list[dict], route: str) -> dict:
         out[f"{name}_pct"] = round(100.0 * out[name] / n, 1) if n else None
     written = [truth_written(row, route) for row in rows]
     out["truth_written"] = sum(written)
-    out["markings_detected"] = sum(bool(row.get("markings_detected")) for row in rows)
+    detected = [markings_detected(row, route) for row in rows]
+    out["markings_detected"] = sum(detected)
     # The frames whose visible paint fixes the camera (the paint changes the grey level enough where it shows):
     # how many, and found or twin, and wrong but not a twin, as shares of those.
     visible = [bool(row.get("markings_visible")) for row in rows]
@@ -58,8 +59,9 @@ def route_figures(rows: list[dict], route: str) -> dict:
         out[f"{name}_of_visible_pct"] = round(100.0 * sum(
             hit for hit, shown in zip(hits, visible) if shown) / out["markings_visible"], 1) \
             if out["markings_visible"] else None
-    # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written.
-    reachable = [bool(row.get("markings_detected")) and can for row, can in zip(rows, written)]
+    # What the route can reach: frames whose detected markings fix the true camera, confident enough to be written
+    # (on the markings as found or on the route's second look, placement_misses).
+    reachable = [seen and can for seen, can in zip(detected, written)]
     out["reachable"] = sum(reachable)
     out["found_or_twin_of_reachable_pct"] = round(100.0 * sum(
         ok for ok, can in zip(right, reachable) if can) / out["reachable"], 1) if out["reachable"] else None

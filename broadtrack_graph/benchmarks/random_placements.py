@@ -41,7 +41,9 @@ smeared); seconds per frame as median and 95th percentile (the figures: :mod:`.p
 ``markings_detected`` counts the frames whose detected markings, read on the true camera's projection, still
 determine it (the same rule on the marking map: what detection leaves a route); ``truth_written`` the frames
 whose true camera is itself confident enough to be written by the route (no route can write more; the court route's
-bar is the one its camera would be taken at with the markings the true camera explains on the map);
+bar is the one its camera would be taken at with the markings the true camera explains on the map); both on the
+markings as found or, for a route that took its second look, on their faint look (``second_look``,
+:mod:`.placement_misses`);
 ``markings_visible`` the frames whose markings, kept only where the
 paint changes the rendered image by ``VISIBLE_PAINT_LEVELS`` grey levels or more
 (``placement_frames.visible_paint``), still determine the camera (faint, narrow paint rendered small can vanish into
@@ -63,6 +65,7 @@ Frame i of a seed is the same in every run (``--first K`` starts at frame K).
 
 from __future__ import annotations
 
+import functools
 import math
 import sys
 import time
@@ -77,6 +80,7 @@ from broadtrack_graph.benchmarks.placement_found import (
     marking_contrast,
 )
 from broadtrack_graph.benchmarks.placement_frames import RENDERERS, draw_frame, visible_paint
+from broadtrack_graph.benchmarks.placement_misses import second_look_reach
 from broadtrack_graph.benchmarks.random_clips import CLIP_FRAMES, clip_result
 from broadtrack_graph.benchmarks.template_error import median_template_error_px
 
@@ -246,6 +250,12 @@ def run(args) -> dict:
     # explains); the report states the bar without a grid of lines.
     written_at_by_route = {"tracker": written_at, "search": written_at, CLIP_ROUTE: written_at,
                            "court": max(written_at, config.court_accept_confidence)}
+
+    def bar_of(route: str, camera, seen) -> float:
+        """The confidence ``route`` writes ``camera`` at, the markings it explains counted in ``seen``."""
+        return court_accept_at(config, ReinitResult(camera, None, "", explained=seen)) if route == "court" \
+            else written_at_by_route[route]
+
     clip_config = TrackingConfig(mode="online", reinit_model=args.reinit_model)
     ground = np.vstack([p for name, p in pitch.sample_uniform(1.0).items() if pitch.is_on_ground(name)])
     routes, skipped = list(dict.fromkeys(args.routes)), {}
@@ -336,8 +346,7 @@ def run(args) -> dict:
                     camera, reason = result.camera, result.reason
                 error = median_template_error_px(camera, truth, ground)
                 bar = bar if route == "court" else written_at_by_route[route]
-                truth_bar = court_accept_at(config, ReinitResult(truth, None, "", explained=found_markings)) \
-                    if route == "court" else written_at_by_route[route]
+                truth_bar = bar_of(route, truth, found_markings)
                 result_row = {"outcome": outcome(confidence, error, bar, args.success_px),
                               "confidence": _round(confidence, 3), "error_px": _round(error, 2),
                               "seconds": round(seconds, 3), "reason": reason,
@@ -353,6 +362,9 @@ def run(args) -> dict:
                 # the truth or its twin, not written: the route's bar, not its camera, missed it
                 result_row["right_under_bar"] = result_row["outcome"] == "none" and camera is not None and any(
                     e is not None and e <= args.success_px for e in (error, result_row.get("twin_error_px")))
+                if looked is not None and looked.detections is not None:  # the second look taken, and it added paint
+                    result_row["second_look"] = second_look_reach(truth, looked.detections, (W, H), pitch, curves,
+                                                                  sampling, functools.partial(bar_of, route, truth))
                 row["routes"][route] = result_row
             rows.append(row)
     finally:
