@@ -231,3 +231,22 @@ def test_the_court_route_looks_again_on_the_faint_look_when_its_camera_is_under_
     assert second(0.5, 0.65) == ("on the markings as found", 0.5, 0.7, 1)  # under its bar there too
     assert second(0.75, 0.9) == ("on the markings as found", 0.75, 0.7, 0)  # taken at once: no second look
     assert second(0.5, 0.8, offered=False) == ("on the markings as found", 0.5, 0.7, 0)
+
+
+def test_the_court_routes_second_look_is_kept_in_its_row_and_read_by_the_causes(tmp_path):
+    """Plain seed 3's frame 106: the markings as found do not fix its camera, their faint look does (and the truth is
+    confident on it), so the court model's miss there is the route's own, not the detector's."""
+    out = tmp_path / "report.json"
+    assert main(["bench", "placements", "--random", "1", "--first", "106", "--seed", "3", "--renderer", "plain",
+                 "--routes", "court", "--no-progress", "--json", str(out)]) == 0
+    report = json.loads(out.read_text(encoding="utf-8"))
+    row = report["frames_by_index"][0]
+    second = row["routes"]["court"].get("second_look")
+    assert row["determinable"] and not row["markings_detected"], "the premise: the first look does not fix it"
+    assert second is not None, "the premise: the court model looked again on the faint look"
+    assert second["markings_detected"] and second["truth_written"] and second["truth_confidence"] >= 0.7
+    figures = report["by_route"]["court"]["determinable"]
+    assert figures["markings_detected"] == 1 and figures["reachable"] == 1
+    court = row["routes"]["court"]
+    if not (court["outcome"] == "found" or (court["outcome"] == "wrong" and court.get("twin"))):  # missed
+        assert figures["misses_by_cause"]["route"] == 1 and figures["misses_by_cause"]["not_detected"] == 0
