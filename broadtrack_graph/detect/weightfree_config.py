@@ -14,7 +14,8 @@ REFERENCE_WIDTH_PX = 960
 
 @dataclass(frozen=True)
 class WeightFreeConfig:
-    """Settings of :class:`~broadtrack_graph.detect.weightfree.WeightFreeDetector` (pixel sizes at the working width, whatever the frame size)."""
+    """Settings of :class:`~broadtrack_graph.detect.weightfree.WeightFreeDetector` (pixel sizes at the working width,
+    whatever the frame size)."""
 
     work_width_px: int = REFERENCE_WIDTH_PX  # processing width; the frame is resized (down or up) to it
     grass_hue_min: int = 30  # OpenCV hue (0..180) range of grass
@@ -81,7 +82,8 @@ class WeightFreeConfig:
     class_consistency_px: float = 1.0  # band (working pixels) around a class's median distance to its prediction
     min_points_per_class: int = 4  # fewer named points: the class is dropped
     point_spacing_px: float = 3.0  # named points are averaged per cell of this size (working pixels)
-    max_points_per_class: int = 250  # more cells: the class is averaged on coarser cells (solver cost ~ points; fewer bias the tripod)
+    # more cells: the class is averaged on coarser cells (solver cost ~ points; fewer bias the tripod)
+    max_points_per_class: int = 250
     template_spacing_px: float = 0.5  # densified projected template for naming (working pixels)
     # Named only outside the goals (posts and net are thin white lines too), after markings that can be seen (step 4):
     min_named_width_px: float = 1.4  # at REFERENCE_WIDTH_PX and in a narrower frame's pixels (as the confidence)
