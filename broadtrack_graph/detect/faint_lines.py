@@ -53,6 +53,7 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.detect.found_markings import FoundMarkings, marked_points
+from broadtrack_graph.detect.image_reads import read_at
 from broadtrack_graph.detect.point_cells import pixels_of
 from broadtrack_graph.detect.ridges import marking_channel, ridge_points_at, white
 
@@ -231,7 +232,7 @@ def _profile(image: np.ndarray, allowed01: np.ndarray, lines: np.ndarray, across
         at = samples[:, :, None, :] + offsets[None, None, :, None] * normal[:, None, None, :]
         x = at[..., 0].reshape(L, -1).astype(np.float32)
         y = at[..., 1].reshape(L, -1).astype(np.float32)
-        return cv2.remap(image, x, y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE).reshape(L, T, -1)
+        return read_at(image, x, y).reshape(L, T, -1)
 
     across = np.arange(-across_px, across_px + 0.25, 0.5)
     on = read(across)

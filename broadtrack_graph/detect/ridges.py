@@ -34,6 +34,7 @@ from dataclasses import dataclass, replace
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.image_reads import read_at
 from broadtrack_graph.detect.point_cells import pixels_of
 from broadtrack_graph.detect.ridge_sides import grass_beside
 from broadtrack_graph.geometry.point_pairs import pairs_within
@@ -98,11 +99,8 @@ def white(colour_bgr: np.ndarray, points: np.ndarray, max_rise: float, window_px
     b, g, r = cv2.split(colour_bgr)
     chroma = cv2.subtract(cv2.max(cv2.max(b, g), r), cv2.min(cv2.min(b, g), r)).astype(np.float32)
     around = cv2.blur(chroma, (window_px, window_px))
-    xs = points[:, 0].astype(np.float32).reshape(-1, 1)
-    ys = points[:, 1].astype(np.float32).reshape(-1, 1)
-    at = cv2.remap(chroma, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    mean = cv2.remap(around, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return (at - mean)[:, 0] <= max_rise
+    xs, ys = points[:, 0].astype(np.float32), points[:, 1].astype(np.float32)
+    return read_at(chroma, xs, ys) - read_at(around, xs, ys) <= max_rise
 
 
 def wide_ridges(grey: np.ndarray, wide_allowed: np.ndarray, grass: np.ndarray | None, points: np.ndarray,
@@ -228,7 +226,7 @@ def _sharp_edged(grey: np.ndarray, points: np.ndarray, normals: np.ndarray, reac
     steps = np.arange(-reach_px, reach_px + 1, dtype=np.float32)
     xs = (points[:, 0, None] + steps * normals[:, 0, None]).astype(np.float32)
     ys = (points[:, 1, None] + steps * normals[:, 1, None]).astype(np.float32)
-    profile = cv2.remap(grey, xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE).astype(np.float32)
+    profile = read_at(grey, xs, ys).astype(np.float32)
     height = profile[:, reach_px - 1:reach_px + 2].max(axis=1) - profile.min(axis=1)
     rise = np.diff(profile[:, :reach_px + 1], axis=1).max(axis=1)
     fall = -np.diff(profile[:, reach_px:], axis=1).min(axis=1)

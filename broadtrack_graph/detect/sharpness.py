@@ -17,6 +17,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from broadtrack_graph.detect.image_reads import read_at
+
 SHARP_EDGE_WIDTH_PX = 2.2
 """Median width of the strongest edges of a sharp frame at the detector's working width (a perfect step 2.0 with the
 3x3 central difference; the lens and the resampling add the rest): 2.1-2.5 px on real 720p and 1080p broadcasts."""
@@ -55,7 +57,7 @@ def edge_width_px(grey: np.ndarray, strongest: int = 3000, reach_px: int = 12,
     steps = np.arange(-reach_px, reach_px + 1, dtype=np.float32)
     xs = (cols[:, None] + m + steps * nx[:, None]).astype(np.float32)
     ys = (rows[:, None] + m + steps * ny[:, None]).astype(np.float32)
-    profile = cv2.remap(grey.astype(np.float32), xs, ys, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    profile = read_at(grey.astype(np.float32), xs, ys)
     contrast = cv2.reduce(profile, 1, cv2.REDUCE_MAX)[:, 0] - cv2.reduce(profile, 1, cv2.REDUCE_MIN)[:, 0]
     return float(np.median(contrast / gradient))
 

@@ -19,8 +19,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
+
+from broadtrack_graph.detect.image_reads import read_at
 
 
 @dataclass(frozen=True)
@@ -68,7 +69,7 @@ def shown_across_smear(image: SmearedImage, uv_px: np.ndarray, run_index: np.nda
     offset = (0.5 * np.asarray(band_px, float) + config.side_gap_px)[:, None] * normal
     points = np.concatenate([uv_px, uv_px + offset, uv_px - offset])
     x, y = points[:, 0].astype(np.float32), points[:, 1].astype(np.float32)
-    values = _read_at(image.channel, x, y)
+    values = read_at(image.channel, x, y).astype(np.float32)
     h, w = image.allowed.shape
     inside = (x >= 0) & (x <= w - 1) & (y >= 0) & (y <= h - 1)
     cols, rows = np.clip(np.round(x).astype(int), 0, w - 1), np.clip(np.round(y).astype(int), 0, h - 1)
@@ -79,18 +80,6 @@ def shown_across_smear(image: SmearedImage, uv_px: np.ndarray, run_index: np.nda
     over_b = _run_means(middle - side_b, run_index, config.window_px)
     band = (0.5 * (over_a + over_b) >= config.margin) & (np.minimum(over_a, over_b) >= config.side_margin)
     return checked, checked & band
-
-
-def _read_at(channel: np.ndarray, x: np.ndarray, y: np.ndarray, columns: int = 1024) -> np.ndarray:
-    """(M,) float32: the image read between its pixels (bilinear, its border repeated) at (x, y) (M,) each. The points
-    are laid out in rows of ``columns`` (OpenCV's remap takes maps under 32767 wide)."""
-    m = len(x)
-    rows = max(1, -(-m // columns))
-    grid_x, grid_y = np.zeros(rows * columns, np.float32), np.zeros(rows * columns, np.float32)
-    grid_x[:m], grid_y[:m] = x, y
-    out = cv2.remap(channel, grid_x.reshape(rows, columns), grid_y.reshape(rows, columns), cv2.INTER_LINEAR,
-                    borderMode=cv2.BORDER_REPLICATE)
-    return out.reshape(-1)[:m].astype(np.float32)
 
 
 def _run_means(values: np.ndarray, run_index: np.ndarray, window: int) -> np.ndarray:

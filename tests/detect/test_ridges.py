@@ -97,6 +97,18 @@ def test_white_paint_is_kept_and_a_coloured_line_is_dropped_however_faint():
         assert not white(image, on_yellow, 6.0).any()
 
 
+
+def test_white_reads_more_points_than_opencv_takes_in_one_map():
+    """A frame whose smear is undone into noise can hold over 32767 marking points: each is still judged."""
+    grass = np.array([60.0, 140.0, 70.0])
+    image = np.tile(grass, (H, W, 1))
+    image[59:62] = (235.0, 240.0, 240.0)
+    image = image.astype(np.uint8)
+    xs = np.resize(np.arange(20.0, W - 20.0, 0.25), 40_000)
+    kept = white(image, np.column_stack([xs, np.full(len(xs), 60.0)]), 6.0)
+    assert kept.shape == (40_000,) and kept.all()
+
+
 def _wide(grey, config=WeightFreeConfig()):
     """The working level's points, then the wide markings' (detect.ridges.wide_ridges), markings allowed anywhere."""
     detector = WeightFreeDetector(config=config)
