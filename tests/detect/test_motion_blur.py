@@ -114,8 +114,8 @@ def test_flat_tiny_or_switched_off_images_show_none():
 
 
 def test_undoing_the_smear_brings_a_line_across_it_back():
-    """A 3 px line across a 15 px smear keeps about a fifth of its contrast; the Wiener filter doubles what is left
-    and leaves the grass's level where it was."""
+    """A 3 px line across a 15 px smear keeps about a fifth of its contrast; the Wiener filter nearly triples what is
+    left (the line at about half its contrast again) and leaves the grass's level where it was."""
     h, w = 540, 960
     image = np.full((h, w), 100.0, np.float32)
     image[:, 478:481] = 200.0  # a vertical line, 3 px
@@ -128,7 +128,7 @@ def test_undoing_the_smear_brings_a_line_across_it_back():
         return float(img[row, 476:483].mean(axis=0).max() - np.median(img[row, 300:400]))
 
     assert contrast(blurred) < 25.0
-    assert contrast(restored) > 1.8 * contrast(blurred)
+    assert contrast(restored) > 2.6 * contrast(blurred)
     assert np.median(restored[row, 300:400]) == pytest.approx(100.0, abs=3.0)
     assert restored.shape == (h, w)
 
