@@ -28,6 +28,7 @@ Conventions: pitch frame in metres, origin at the centre spot, z down. No I/O.
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -38,6 +39,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.court_arcs import arc_line_homographies, arc_points
 from broadtrack_graph.reinit.court_circle import (
     circle_line_homographies,
     circle_pole_homographies,
@@ -46,7 +48,7 @@ from broadtrack_graph.reinit.court_circle import (
 from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
 from broadtrack_graph.reinit.court_families import hidden_lengths_px, line_families, normalised_lines
-from broadtrack_graph.reinit.court_fit import fitted_hypotheses, judged, kept_camera, main_side
+from broadtrack_graph.reinit.court_fit import fitted_hypotheses, judged, kept_fit, main_side
 from broadtrack_graph.reinit.court_lines import (
     cameras_from_homographies,
     concatenate,
@@ -93,13 +95,27 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config, hidden)
     ends = [len(costs)]  # where each source's hypotheses end: the straight markings', each later tier's, the refits'
     tiers = _later_tiers(structures, (W, H), pitch, config, hidden)
-    # Each later tier joins while nothing explains the map well yet (circles_below_score) ...
-    while tiers and not (len(costs) and -costs.min() >= config.circles_below_score):
-        hypotheses, costs = _joined(hypotheses, costs, tiers.pop(0)(), structures, (W, H), config)
+    only_confirmed = []  # (start, end) of the hypotheses whose exact fits are not taken (the arcs': court_arcs)
+
+    def joined_tier(hypotheses, costs):
+        confirm, tier = tiers.pop(0)
+        start = len(costs)
+        hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
+        if confirm:
+            only_confirmed.append((start, len(costs)))
+        return hypotheses, costs
+
+    # Each later tier joins while nothing explains the map well yet (circles_below_score), but the arcs' (joined only
+    # once the first fits are in: a tier of last resort) ...
+    while len(tiers) > 1 and not (len(costs) and -costs.min() >= config.circles_below_score):
+        hypotheses, costs = joined_tier(hypotheses, costs)
         ends.append(len(costs))
     hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
                                 structures, (W, H), config)
     ends.append(len(costs))
+    while tiers and not len(hypotheses):  # nothing else: the tier of last resort too
+        hypotheses, costs = joined_tier(hypotheses, costs)
+        ends.append(len(costs))
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             "straight, no circle with them)")
@@ -122,8 +138,29 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     def fitted(among: np.ndarray) -> list:
         return fitted_hypotheses(hypotheses, costs, among, structures, points_px, (W, H), curves, confidence_of, config)
 
+    # A circle's arc and one line fix a camera exactly but poorly (its depth, and a penalty arc read for the centre
+    # circle's): a camera from the arcs' hypotheses, and every camera moved from it, is taken only with a constraint
+    # to spare.
+    spare_only = replace(config, exact_fit_confidence=math.inf)
+    spare_only_results: list[ReinitResult] = []
+
+    def from_arcs(fit) -> bool:
+        return any(a <= fit.index < b for a, b in only_confirmed)
+
     def kept_and_judged(fits: list) -> ReinitResult:
-        return judged(kept_camera(fits, pitch, config), marking_mask, pitch, config, confidence_of, walked)
+        kept = kept_fit(fits, pitch, config)
+        camera = None if kept is None else main_side(kept.camera, config.twin_tie_m)
+        if kept is not None and from_arcs(kept):
+            result = judged(camera, marking_mask, pitch, spare_only, confidence_of)
+            others = [fit for fit in fits if not from_arcs(fit)]
+            if result.camera is None and others:  # an exact fit of an arc does not take the others' place
+                return kept_and_judged(others)
+            spare_only_results.append(result)
+            return result
+        return judged(camera, marking_mask, pitch, config, confidence_of, walked)
+
+    def judged_as(result: ReinitResult) -> CourtConfig:  # the settings a camera moved from result is judged with
+        return spare_only if any(result is r for r in spare_only_results) else config
 
     fits = fitted(np.arange(len(costs)))
     result = kept_and_judged(fits)
@@ -146,8 +183,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                 costs[a:b]).any() and not any(a <= fit.index < b for fit in fits))
             more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))]
         first = len(costs)
-        for tier in tiers:
-            hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
+        while tiers:
+            hypotheses, costs = joined_tier(hypotheses, costs)
         if len(costs) > first:
             more += fitted(np.arange(first, len(costs)))
         if poor:
@@ -167,7 +204,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         # as every camera is.
         other = walked(result.camera, config.narrow_view_depth_factors)
         if other is not None:
-            deeper = judged(other, marking_mask, pitch, config, confidence_of)
+            deeper = judged(other, marking_mask, pitch, judged_as(result), confidence_of)
             result = deeper if deeper.camera is not None else result
     if result.camera is not None and result.score.jaccard >= config.polish_from:
         # The camera returned, fitted on more of the markings' points than the hypotheses' fits take; only one confident
@@ -175,7 +212,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         camera, more = result.camera, replace(config.search, max_fit_points=config.polish_points)
         polished = refine_on_map(camera, fit_points(points_px, more), camera.position_m, curves, config.search,
                                  config.polish_schedule)
-        again = judged(main_side(polished, config.twin_tie_m), marking_mask, pitch, config, confidence_of)
+        again = judged(main_side(polished, config.twin_tie_m), marking_mask, pitch, judged_as(result), confidence_of)
         result = again if again.camera is not None and again.score.jaccard >= config.polish_from else result
     return replace(result, tried=len(hypotheses))
 
@@ -220,7 +257,19 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
             structures.ellipses() + structures.border_ellipses() + structures.arcs())
         return _circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)
 
-    return [pencil, lambda: circles(True), lambda: circles(False), lambda: circles(True, refitted=True)]
+    def arcs():
+        # A circle's arc and its chord with the camera model asked first (a short arc's free ellipse is a poor
+        # estimate of its circle's image): :mod:`.court_arcs`.
+        if not lines:
+            return concatenate([])
+        ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
+        points = arc_points(ellipses, structures.points_px, lines, frame_size[0], config.arc)
+        found = arc_line_homographies(points, lines, frame_size, pitch_circle_chords(pitch),
+                                      tuple(2.0 * v for v in config.lines.focal_range_per_width), config.arc)
+        return cameras_from_homographies(found, frame_size, pitch, config.lines)
+
+    return [(False, pencil), (False, lambda: circles(True)), (False, lambda: circles(False)),
+            (False, lambda: circles(True, refitted=True)), (True, arcs)]
 
 
 def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig):

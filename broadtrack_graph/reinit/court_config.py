@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+from broadtrack_graph.reinit.court_arcs import CourtArcConfig
 from broadtrack_graph.reinit.court_circle import CourtCircleConfig
 from broadtrack_graph.reinit.court_families import CourtLineConfig
 from broadtrack_graph.reinit.court_pencil import CourtPencilConfig
@@ -21,6 +22,8 @@ class CourtConfig:
     lines: CourtLineConfig = CourtLineConfig(max_splits=16)
     # the circles' hypotheses (a circle with its chord, the centre circle with a touchline)
     circle: CourtCircleConfig = CourtCircleConfig()
+    # a circle's arc and its chord, the camera model asked first (tried last)
+    arc: CourtArcConfig = CourtArcConfig()
     # three lines of one direction and one across (tried with the circles)
     pencil: CourtPencilConfig = CourtPencilConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches

@@ -110,12 +110,17 @@ def kept_camera(fits: list[Fit], pitch: PitchTemplate, config: CourtConfig) -> C
     map's clutter (the boards, the stands' rows) can score above the right one, which the confidence, reading the
     template's own markings in the map, rates far below it. A circle and a line fix a camera exactly, and fits from
     nearby starts can lay the same image from different depths along the line of sight."""
+    kept = kept_fit(fits, pitch, config)
+    return None if kept is None else main_side(kept.camera, config.twin_tie_m)
+
+
+def kept_fit(fits: list[Fit], pitch: PitchTemplate, config: CourtConfig) -> Fit | None:
+    """The fit whose camera :func:`kept_camera` keeps (before the twin rule), or None."""
     if not fits:
         return None
     fits = [fit for fit in fits if plausible_position(fit.camera.position_m, pitch)] or fits
     best, confident = max(fits, key=lambda fit: fit.score), max(fits, key=lambda fit: fit.confidence)
-    kept = confident if confident.confidence >= best.confidence + config.confidence_margin else best
-    return main_side(kept.camera, config.twin_tie_m)
+    return confident if confident.confidence >= best.confidence + config.confidence_margin else best
 
 
 def judged(camera: Camera | None, marking_mask, pitch: PitchTemplate, config: CourtConfig, confidence_of,

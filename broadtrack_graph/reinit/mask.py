@@ -195,7 +195,7 @@ class MapStructures:
     def __init__(self, marking_mask: np.ndarray, points_px: np.ndarray, frame_size: tuple[int, int],
                  pitch: PitchTemplate, config: MaskSearchConfig):
         W = frame_size[0]
-        self._mask, self._W, self._config, self._points = marking_mask, W, config, points_px
+        self._mask, self._W, self._config, self.points_px = marking_mask, W, config, points_px
         self.scorer = MapScorer(marking_mask, points_px, frame_size, pitch, config)
         self.fine_scorer = MapScorer(marking_mask, points_px, frame_size, pitch,
                                      replace(config, score_template_step_m=config.fit_template_step_m,
@@ -229,7 +229,7 @@ class MapStructures:
         if self._refitted is None:
             self._refitted = []
             for ellipse in self.ellipses() + self.border_ellipses() + self.arcs():
-                refit = refitted_ellipse(ellipse, self._points, self._W, self.lines)
+                refit = refitted_ellipse(ellipse, self.points_px, self._W, self.lines)
                 if refit is not None and not any(same_ellipse(refit, kept, self._W) for kept in self._refitted):
                     self._refitted.append(refit)  # fits from nearby ellipses end on the same one
         return self._refitted

@@ -438,3 +438,32 @@ def test_a_camera_under_look_further_below_is_replaced_only_by_a_fit_more_confid
     (first, first_px), (result, error_px) = court(CourtConfig(look_further_below=0.0)), court(CourtConfig())
     assert first_px < 1.0 and first.score.jaccard > 0.9  # the polished camera (its first fit was under 0.9)
     assert error_px < 1.0 and result.score.jaccard >= first.score.jaccard - 0.01
+
+
+def test_a_penalty_arc_and_its_line_with_a_marking_to_spare_give_the_camera_by_rectifying_the_arc(one_opencv_thread):
+    """Plain seed 5 frame 250: from 46 m up behind a corner, 16 deg, the penalty arc seen along a seventh of its
+    circle, its 16.5 m line and a piece of the centre circle. The arc's free ellipse is a third short of the circle's
+    image and gives no plausible camera; rectified under the camera model (:mod:`broadtrack_graph.reinit.court_arcs`)
+    it gives the camera, and the centre circle's piece confirms it."""
+    from broadtrack_graph.reinit.court_arcs import CourtArcConfig
+
+    truth, det = _plain_placement(250, seed=5)
+    found = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
+                              det.field_mask, motion_blur=det.motion_blur)
+    assert _found_or_twin_px(found, truth) < 3.0, found.reason
+    assert found.score.jaccard > 0.9
+    without = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
+                                det.field_mask, motion_blur=det.motion_blur,
+                                config=CourtConfig(arc=CourtArcConfig(max_pairings=0)))
+    assert without.camera is None
+
+
+def test_a_penalty_arc_and_one_line_alone_are_not_taken_from_the_arcs_hypotheses(one_opencv_thread):
+    """Synthetic seed 3 frame 18: from 51 m up behind a goal, the penalty arc and its 16.5 m line and nothing else.
+    They fix a camera exactly, but a short arc fixes its depth poorly: the arcs' fit lays itself on them 5 px off the
+    truth at 0.99. No camera is written."""
+    truth, det = _random_placement(18)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
+                               det.field_mask, motion_blur=det.motion_blur)
+    assert result.camera is None
+    assert "exactly" in result.reason

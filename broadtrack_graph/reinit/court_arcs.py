@@ -1,0 +1,342 @@
+"""Court-model hypotheses from a circle's arc and the line across it, by rectifying the ground. No I/O.
+
+A short arc (a penalty arc seen along a seventh of its circle, a zoomed view's piece of the centre circle) fixes a
+free ellipse poorly: an ellipse fitted to it can be a third short of the circle's image, and the homographies built on
+it (:mod:`.court_circle`) decompose into no plausible camera. Here the camera model is asked first. With the principal
+point at the image centre, a focal length ``f``, a tilt and a roll, an image point's ray meets the ground of a camera
+standing 1 m above it, looking along the pitch's x axis (pan 0), at
+
+    q = Rx(tilt) Rz(roll) K^-1 (u, v, 1),   ground point (q_x / q_z, q_y / q_z)   (q_z > 0: below the horizon)
+
+(SoccerNet's ``R_cw = (Rz(pan) Rx(tilt) Rz(roll))^T``, z down). Under the right ``f``, tilt and roll the arc's
+points land on a circle of that plane, and the line across it lands at the chord's distance from its centre, in
+radii (0 for the halfway line through the centre circle, 5.5 / 9.15 for a penalty arc's 16.5 m line). Every
+(f, tilt) of a grid is tried at once for every arc (a circle fitted to the rectified points of each, algebraically,
+its error in radii) and the lines' distances read for each; the best pairings of an arc, a line and a circle are
+narrowed in tilt and roll (Levenberg-Marquardt, every place at once) along the valley of f
+(:func:`arc_line_homographies`). What is left is a camera up to where it stands and which way it pans: the circle's
+radius gives the height, the circle's centre and the foot of its chord place and turn it (``H = H0 S^-1``, S the
+plane's similarity onto the pitch). The homographies go to the same gate, map score and fits as every other
+hypothesis.
+
+Image coordinates are normalised as in :mod:`.court_lines`: ``x_n = (u - W / 2) / s``, ``s = W / 2``. Pitch frame:
+SoccerNet (metres, origin at the centre spot, z down).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from broadtrack_graph.detect.marking_structures import ImageEllipse, ImageLine
+from broadtrack_graph.reinit.court_circle import CircleChord
+
+
+@dataclass(frozen=True)
+class CourtArcConfig:
+    """Settings of :func:`arc_line_homographies`."""
+
+    focal_steps: int = 28  # f / s on a geometric grid over the line gate's focal range ...
+    tilt_range_deg: tuple[float, float] = (30.0, 89.5)  # ... and the tilt on an even grid (roll 0)
+    tilt_steps: int = 40
+    max_pairings: int = 8  # the arcs, lines and circles whose best place of the grid errs least ...
+    coarse_max_error: float = 0.3  # ... and errs at most this there (radii: the arc off its circle, the line off
+    #                                its chord, root mean square)
+    max_error: float = 0.08  # a place kept errs at most this once narrowed ...
+    valley_error: float = 0.02  # ... and at most this more than its pairing's best (the valley along f: docstring),
+    coarse_valley_error: float = 0.05  # narrowed from the grid's places erring at most this more than its best
+    narrow_rounds: int = 6  # Levenberg-Marquardt steps narrowing each place in tilt and roll (and f, for the best)
+    arc_band_px: float = 4.0  # marking points this close to an arc (per 1280 px of width) are its points ...
+    line_clear_px: float = 4.0  # ... unless this close to a long straight marking's stretch (its chord where they meet;
+    line_clear_support_px: float = 160.0  # long: this many map pixels, per 1280 px; the Hough reads short straight
+    #                                       pieces of an arc's own)
+    min_arc_points: int = 12  # an arc with fewer points is not rectified, one with more than max_arc_points is
+    max_arc_points: int = 48  # thinned to them
+    min_sweep_deg: float = 20.0  # a rectified arc turning less than this about its centre is no circle's
+    same_arc_share: float = 0.8  # an arc sharing this share of its points with one already taken is the same arc
+
+
+def arc_points(ellipses: list[ImageEllipse], points_px: np.ndarray, lines: list[ImageLine], frame_width_px: int,
+               config: CourtArcConfig = CourtArcConfig()) -> list[np.ndarray]:
+    """The marking points (frame pixels) on each distinct arc: near its ellipse, clear of the straight markings.
+
+    Args:
+        ellipses: the map's ellipses and arcs (their fitted shape need only pass through the arc's points).
+        points_px: (M, 2) the markings' centre points, frame pixels.
+        lines: the map's straight markings (points near them are the line's, not the arc's).
+
+    Returns:
+        a list of (N_i, 2) arrays, one per distinct arc with at least ``min_arc_points`` points (thinned to
+        ``max_arc_points``).
+    """
+    points_px = np.asarray(points_px, float).reshape(-1, 2)
+    if not len(points_px) or not ellipses:
+        return []
+    unit = frame_width_px / 1280.0
+    clear = np.ones(len(points_px), bool)
+    for line in lines:
+        if line.support_px < config.line_clear_support_px * unit:
+            continue
+        along = (points_px - line.centre_px) @ line.direction
+        lo, hi = line.extent_px
+        margin = 0.25 * (hi - lo)
+        clear &= ((np.abs(points_px @ line.normal + line.offset_px) > config.line_clear_px * unit)
+                  | (along < lo - margin) | (along > hi + margin))
+    taken: list[np.ndarray] = []
+    out = []
+    for ellipse in ellipses:
+        on = np.nonzero(clear & (ellipse.distances_px(points_px) <= config.arc_band_px * unit))[0]
+        if len(on) < config.min_arc_points:
+            continue
+        if any(len(np.intersect1d(on, other, assume_unique=True)) >= config.same_arc_share * min(len(on), len(other))
+               for other in taken):
+            continue
+        taken.append(on)
+        chosen = on[np.linspace(0, len(on) - 1, min(len(on), config.max_arc_points)).astype(int)]
+        out.append(points_px[chosen])
+    return out
+
+
+def arc_line_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], frame_size, circles: list[CircleChord],
+                          focal_range_n: tuple[float, float], config: CourtArcConfig = CourtArcConfig()
+                          ) -> np.ndarray:
+    """(K, 3, 3) ground homographies (pitch (x, y, 1) metres -> normalised image points) putting a pitch circle on
+    each arc's points and its chord on a straight marking (module docstring).
+
+    The arc and its chord fix the tilt and the roll well and the focal length poorly: the error's valley runs along
+    f, and on a short arc its floor varies by less than a pixel's worth. So every f of the grid is kept whose valley
+    floor is within ``valley_error`` of the pairing's best (each narrowed in tilt and roll), with the best narrowed in
+    f too; the map's score, which reads every marking in view, chooses among them.
+
+    Args:
+        arcs_px: the arcs' points (:func:`arc_points`), frame pixels.
+        lines: the straight markings (their two ends, frame pixels, place each).
+        circles: the pitch circles with their chords (:func:`~.court_circle.pitch_circle_chords`).
+        focal_range_n: (lo, hi) of f / s searched (s = W / 2).
+    """
+    if not arcs_px or not lines:
+        return np.zeros((0, 3, 3))
+    W, H = frame_size
+    s, centre = W / 2.0, np.array([W / 2.0, H / 2.0])
+    ends_n = np.array([[line.centre_px + e * line.direction for e in line.extent_px] for line in lines])
+    ends_n = (ends_n - centre) / s  # (L, 2, 2)
+    shares = np.array([abs(c.chord_x_m - c.centre_x_m) / c.radius_m for c in circles])
+    focal = np.geomspace(*focal_range_n, config.focal_steps)
+    tilt = np.radians(np.linspace(*config.tilt_range_deg, config.tilt_steps))
+    grid = np.stack(np.meshgrid(focal, tilt, [0.0], indexing="ij"), axis=-1).reshape(-1, 3)  # (G, 3)
+    arcs_n = [(np.asarray(points_px, float) - centre) / s for points_px in arcs_px]
+    pairings = []  # (best coarse error, arc, line, circle, (F,) best tilt per f, (F,) its error)
+    for a, arc_n in enumerate(arcs_n):
+        table = _errors(grid, arc_n, ends_n, shares, config.min_sweep_deg)  # (G, L, C)
+        table = table.reshape(len(focal), len(tilt), len(lines), len(circles))
+        best_tilt = np.argmin(table, axis=1)  # (F, L, C)
+        floor = np.min(table, axis=1)
+        for line, circle in zip(*np.nonzero(np.isfinite(floor).any(axis=0))):
+            rows = floor[:, line, circle]
+            pairings.append((float(rows.min()), a, line, circle, tilt[best_tilt[:, line, circle]], rows))
+    pairings = [p for p in sorted(pairings, key=lambda p: p[0])[:config.max_pairings]
+                if p[0] <= config.coarse_max_error]
+    out = []
+    for a in sorted({p[1] for p in pairings}):
+        mine = [p for p in pairings if p[1] == a]
+        rows = [(k, i) for k, p in enumerate(mine) for i in np.nonzero(p[5] <= p[0] + config.coarse_valley_error)[0]]
+        if not rows:
+            continue
+        place = np.array([[focal[i], mine[k][4][i], 0.0] for k, i in rows])
+        line = np.array([mine[k][2] for k, _ in rows])
+        circle = np.array([mine[k][3] for k, _ in rows])
+        place, error = _narrowed(place, arcs_n[a], ends_n[line], shares[circle], (False, True, True), config)
+        owner = np.array([k for k, _ in rows])
+        bests = [own[np.argmin(error[own])] for own in (np.nonzero(owner == k)[0] for k in range(len(mine)))]
+        bests = np.array([b for b in bests if error[b] <= config.max_error], int)
+        if not len(bests):
+            continue
+        finest, finest_error = _narrowed(place[bests], arcs_n[a], ends_n[line[bests]], shares[circle[bests]],
+                                         (True, True, True), config)
+        kept = [np.nonzero((owner == owner[b]) & (error <= min(config.max_error, error[b] + config.valley_error)))[0]
+                for b in bests]  # the valley of each pairing
+        kept = np.concatenate(kept)
+        places = np.vstack([place[kept], finest[finest_error <= config.max_error]])
+        index = np.concatenate([kept, bests[finest_error <= config.max_error]])
+        out.append(_homographies(places, arcs_n[a], ends_n[line[index]], [circles[k] for k in circle[index]]))
+    return np.concatenate(out) if out else np.zeros((0, 3, 3))
+
+
+def _rectifiers(params: np.ndarray) -> np.ndarray:
+    """(G, 3, 3) ``Rx(tilt) Rz(roll) K^-1`` of (G, 3) (f / s, tilt, roll): normalised image point -> the ground's
+    homogeneous point under a camera 1 m up at the origin, pan 0."""
+    f, t, r = params[:, 0], params[:, 1], params[:, 2]
+    ct, st, cr, sr = np.cos(t), np.sin(t), np.cos(r), np.sin(r)
+    zero, one = np.zeros_like(t), np.ones_like(t)
+    rx = np.stack([np.stack([one, zero, zero], -1), np.stack([zero, ct, -st], -1), np.stack([zero, st, ct], -1)], 1)
+    rz = np.stack([np.stack([cr, -sr, zero], -1), np.stack([sr, cr, zero], -1), np.stack([zero, zero, one], -1)], 1)
+    k_inv = np.stack([np.stack([1 / f, zero, zero], -1), np.stack([zero, 1 / f, zero], -1),
+                      np.stack([zero, zero, one], -1)], 1)
+    return rx @ rz @ k_inv
+
+
+def _on_ground(rectifiers: np.ndarray, points_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(G, N, 2) ground points of normalised image points, (N, 2) for every rectifier or (G, N, 2) one set each,
+    under each rectifier (G, 3, 3), and (G, N) whether below the horizon."""
+    x, y = points_n[..., 0], points_n[..., 1]
+    if x.ndim == 1:
+        x, y = x[None], y[None]
+    qx, qy, qz = (rectifiers[:, i, 0:1] * x + rectifiers[:, i, 1:2] * y + rectifiers[:, i, 2:3] for i in range(3))
+    below = qz > 1e-9
+    qz = np.where(below, qz, 1.0)
+    return np.stack([qx / qz, qy / qz], axis=-1), below
+
+
+def _circles(ground: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Circles fitted algebraically to (G, N, 2) points (the invalid ones left out): centres (G, 2), radii (G,) and
+    the points' distances off them in radii (G, N) (NaN where the fit fails)."""
+    w = valid.astype(float)
+    x, y = ground[..., 0] * w, ground[..., 1] * w
+    z = x * x + y * y
+    n, sx, sy = w.sum(axis=1), x.sum(axis=1), y.sum(axis=1)
+    sxx, sxy, syy = (x * x).sum(axis=1), (x * y).sum(axis=1), (y * y).sum(axis=1)
+    AtA = np.stack([np.stack([sxx, sxy, sx], -1), np.stack([sxy, syy, sy], -1), np.stack([sx, sy, n], -1)], 1)
+    Atb = -np.stack([(x * z).sum(axis=1), (y * z).sum(axis=1), z.sum(axis=1)], -1)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        solvable = (n >= 3) & np.isfinite(AtA).all(axis=(1, 2)) & (np.abs(np.linalg.det(AtA)) > 1e-300)
+        sol = np.full((len(AtA), 3), np.nan)
+        sol[solvable] = np.linalg.solve(AtA[solvable], Atb[solvable][..., None])[..., 0]
+        c = -0.5 * sol[:, :2]
+        r2 = c[:, 0] ** 2 + c[:, 1] ** 2 - sol[:, 2]
+        r = np.sqrt(np.where(r2 > 0, r2, np.nan))
+        off = (np.hypot(ground[..., 0] - c[:, :1], ground[..., 1] - c[:, 1:]) - r[:, None]) / r[:, None]
+    return c, r, off
+
+
+def _residuals(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: np.ndarray, min_sweep_deg: float
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """How far each place (G, 3) is from putting the arc on a circle and line l at circle c's chord, in radii: the
+    arc's points off their circle (G, N), the line off the chord (G, L, C) and where both count (G, L, C): not where
+    the arc or the line's ends are above the horizon, the arc turns less than ``min_sweep_deg`` about its centre, or
+    a penalty arc lies on its centre's side of its chord.
+
+    Args:
+        ends_n: the lines' two ends, normalised: (L, 2, 2) for every place, or (G, L, 2, 2) one set each.
+        shares: the chords' distances from their circles' centres in radii: (C,), or (G, 1, C) one set each.
+    """
+    G = len(params)
+    rect = _rectifiers(params)
+    ground, below = _on_ground(rect, arc_n)
+    c, r, off = _circles(ground, below)
+    arc_ok = below.all(axis=1) & np.isfinite(r) & np.isfinite(off).all(axis=1)
+    centre = np.where(np.isfinite(c), c, 0.0)
+    sweep = _sweep(ground - centre[:, None], arc_ok)
+    L = ends_n.shape[-3]
+    line_ground, line_below = _on_ground(rect, ends_n.reshape(*ends_n.shape[:-3], -1, 2))
+    line_ground = line_ground.reshape(G, L, 2, 2)
+    along = line_ground[:, :, 1] - line_ground[:, :, 0]
+    normal = np.stack([-along[..., 1], along[..., 0]], -1)
+    normal /= np.maximum(np.linalg.norm(normal, axis=-1, keepdims=True), 1e-12)
+    distance = np.einsum("gli,gli->gl", centre[:, None] - line_ground[:, :, 0], normal)  # signed, centre to line
+    # The arc's side of the line (its points' mean offset from it) against the centre's.
+    mean_arc = np.where(below[..., None], ground, 0.0).sum(axis=1) / np.maximum(below.sum(axis=1), 1)[:, None]
+    arc_side = np.einsum("gi,gli->gl", mean_arc, normal) - np.einsum("gli,gli->gl", line_ground[:, :, 0], normal)
+    beyond = -np.sign(distance) * arc_side  # > 0: the arc is on the far side of the line from the centre
+    radius = np.where(np.isfinite(r), r, 1.0)[:, None]
+    line_off = (np.abs(distance) / radius)[..., None] - shares  # (G, L, C)
+    far_side = (beyond > 0)[..., None] | (shares < 1e-9)
+    ok = (arc_ok & (sweep >= math.radians(min_sweep_deg)))[:, None, None] & line_below.reshape(G, L, 2).all(
+        axis=2)[..., None] & far_side
+    return np.where(np.isfinite(off), off, 0.0), line_off, ok
+
+
+def _errors(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: np.ndarray, min_sweep_deg: float
+            ) -> np.ndarray:
+    """(G, L, C) the root mean square of :func:`_residuals`' two kinds (the arc's mean square and the line's square
+    summed), inf where they do not count."""
+    off, line_off, ok = _residuals(params, arc_n, ends_n, shares, min_sweep_deg)
+    error = np.sqrt(np.mean(off**2, axis=1)[:, None, None] + line_off**2)
+    return np.where(ok, error, np.inf)
+
+
+def _sweep(offsets: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """(G,) the angle (radians) the points (G, N, 2), relative to their circle's centre, turn through (0 where
+    invalid): a full turn less the largest gap between neighbouring angles."""
+    angles = np.sort(np.arctan2(offsets[..., 1], offsets[..., 0]), axis=1)
+    gaps = np.diff(np.concatenate([angles, angles[:, :1] + 2 * math.pi], axis=1), axis=1)
+    return np.where(valid, 2 * math.pi - gaps.max(axis=1), 0.0)
+
+
+def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: np.ndarray, free: tuple,
+              config: CourtArcConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Places (P, 3) of one arc, each with its own line's ends (P, 2, 2) and chord share (P,), narrowed by
+    Levenberg-Marquardt steps in the ``free`` parameters (log f, tilt, roll; forward-difference Jacobians), every place
+    at once: (P, 3) places and (P,) errors (:func:`_errors`)."""
+    P, N = len(place), len(arc_n)
+    free_axes = [k for k, is_free in enumerate(free) if is_free]
+    ends_each, shares_each = ends_n[:, None], shares[:, None, None]
+
+    def residuals(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (P, N + 1) scaled to sum to the error squared
+        off, line_off, ok = _residuals(np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), arc_n, ends_each, shares_each,
+                                       config.min_sweep_deg)
+        return np.column_stack([off / math.sqrt(N), line_off[:, 0, 0]]), ok[:, 0, 0]
+
+    x = np.column_stack([np.log(place[:, 0]), place[:, 1:]])
+    r, ok = residuals(x)
+    cost = np.where(ok, np.sum(r**2, axis=1), np.inf)
+    damping = np.full(P, 1e-3)
+    step = 1e-6
+    for _ in range(config.narrow_rounds):
+        J = np.stack([(residuals(x + step * np.eye(3)[k])[0] - r) / step for k in free_axes], axis=2)  # (P, N+1, F)
+        JtJ = np.einsum("pnf,png->pfg", J, J)
+        Jtr = np.einsum("pnf,pn->pf", J, r)
+        scaled = JtJ + damping[:, None, None] * (np.eye(len(free_axes)) * (np.diagonal(JtJ, axis1=1, axis2=2)[
+            :, :, None] + 1e-12))
+        with np.errstate(invalid="ignore"):
+            delta = -np.linalg.solve(scaled, Jtr[..., None])[..., 0]
+        trial = x.copy()
+        trial[:, free_axes] += np.where(np.isfinite(delta), delta, 0.0)
+        r_trial, ok_trial = residuals(trial)
+        cost_trial = np.where(ok_trial, np.sum(r_trial**2, axis=1), np.inf)
+        better = cost_trial < cost
+        x = np.where(better[:, None], trial, x)
+        r = np.where(better[:, None], r_trial, r)
+        cost = np.where(better, cost_trial, cost)
+        damping = np.where(better, damping / 3.0, damping * 4.0)
+    return np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), np.sqrt(cost)
+
+
+def _homographies(places: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, circles: list[CircleChord]
+                  ) -> np.ndarray:
+    """(K, 3, 3) the homographies (pitch metres -> normalised image) of places (Q, 3) of one arc, each with its line's
+    ends (Q, 2, 2) and its circle: ``H0 = (Rx(tilt) Rz(roll) K^-1)^-1`` times the inverse of the similarity taking
+    the rectified plane onto the pitch (the circle's centre onto its centre, the chord's foot onto its side; a
+    diameter's line along the halfway line, either way round: two each)."""
+    rect = _rectifiers(places)
+    ground, below = _on_ground(rect, arc_n)
+    c, r, _ = _circles(ground, below)
+    ends, _ = _on_ground(rect, ends_n)  # (Q, 2, 2)
+    along = ends[:, 1] - ends[:, 0]
+    along /= np.maximum(np.linalg.norm(along, axis=1, keepdims=True), 1e-12)
+    foot = ends[:, 0] + np.einsum("qi,qi->q", c - ends[:, 0], along)[:, None] * along
+    radius = np.array([circle.radius_m for circle in circles])
+    chord_side = np.array([np.sign(circle.chord_x_m - circle.centre_x_m) for circle in circles])
+    world_centre = np.array([[circle.centre_x_m, 0.0] for circle in circles])
+    # The turn alpha taking the foot's direction from the centre onto the chord's side (+-x), or the line's direction
+    # onto +-y for a diameter (both).
+    towards = np.arctan2(foot[:, 1] - c[:, 1], foot[:, 0] - c[:, 0])
+    line_angle = np.arctan2(along[:, 1], along[:, 0])
+    diameter = chord_side == 0
+    first = np.where(diameter, math.pi / 2 - line_angle, np.where(chord_side > 0, 0.0, math.pi) - towards)
+    alpha = np.concatenate([first, (-math.pi / 2 - line_angle)[diameter]])
+    which = np.concatenate([np.arange(len(places)), np.nonzero(diameter)[0]])
+    h = radius[which] / r[which]
+    ca, sa = np.cos(alpha), np.sin(alpha)
+    cx, cy = c[which, 0], c[which, 1]
+    S = np.zeros((len(which), 3, 3))
+    S[:, 0, 0], S[:, 0, 1], S[:, 1, 0], S[:, 1, 1] = h * ca, -h * sa, h * sa, h * ca
+    S[:, 0, 2] = world_centre[which, 0] - h * (ca * cx - sa * cy)
+    S[:, 1, 2] = world_centre[which, 1] - h * (sa * cx + ca * cy)
+    S[:, 2, 2] = 1.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        H = np.linalg.solve(np.swapaxes(S, 1, 2), np.swapaxes(np.linalg.inv(rect[which]), 1, 2))
+        H = np.swapaxes(H, 1, 2)  # H0 S^-1
+        H /= np.linalg.norm(H, axis=(1, 2), keepdims=True)
+    return H[np.isfinite(H).all(axis=(1, 2))]
