@@ -185,8 +185,11 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         first = len(costs)
         while tiers:
             hypotheses, costs = joined_tier(hypotheses, costs)
-        if len(costs) > first:
-            more += fitted(np.arange(first, len(costs)))
+        late = np.arange(first, len(costs))
+        arcs = np.array([any(a <= k < b for a, b in only_confirmed) for k in late], bool)
+        for among in (late[~arcs], late[arcs]):  # the arcs' hypotheses fitted apart: they take no other's slot
+            if len(among):
+                more += fitted(among)
         if poor:
             for candidates in ([fits + more, more] if fits else [more]) if more else []:  # each list judged once
                 later = kept_and_judged(candidates)

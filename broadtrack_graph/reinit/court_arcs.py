@@ -147,14 +147,15 @@ def arc_line_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], fra
         place = np.array([[focal[i], mine[k][4][i], 0.0] for k, i in rows])
         line = np.array([mine[k][2] for k, _ in rows])
         circle = np.array([mine[k][3] for k, _ in rows])
-        place, error = _narrowed(place, arcs_n[a], ends_n[line], shares[circle], (False, True, True), config)
+        place, error = _narrowed(place, arcs_n[a], ends_n[line], shares[circle], (False, True, True), focal_range_n,
+                                 config)
         owner = np.array([k for k, _ in rows])
         bests = [own[np.argmin(error[own])] for own in (np.nonzero(owner == k)[0] for k in range(len(mine)))]
         bests = np.array([b for b in bests if error[b] <= config.max_error], int)
         if not len(bests):
             continue
         finest, finest_error = _narrowed(place[bests], arcs_n[a], ends_n[line[bests]], shares[circle[bests]],
-                                         (True, True, True), config)
+                                         (True, True, True), focal_range_n, config)
         kept = [np.nonzero((owner == owner[b]) & (error <= min(config.max_error, error[b] + config.valley_error)))[0]
                 for b in bests]  # the valley of each pairing
         kept = np.concatenate(kept)
@@ -265,10 +266,10 @@ def _sweep(offsets: np.ndarray, valid: np.ndarray) -> np.ndarray:
 
 
 def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: np.ndarray, free: tuple,
-              config: CourtArcConfig) -> tuple[np.ndarray, np.ndarray]:
+              focal_range_n: tuple[float, float], config: CourtArcConfig) -> tuple[np.ndarray, np.ndarray]:
     """Places (P, 3) of one arc, each with its own line's ends (P, 2, 2) and chord share (P,), narrowed by
     Levenberg-Marquardt steps in the ``free`` parameters (log f, tilt, roll; forward-difference Jacobians), every place
-    at once: (P, 3) places and (P,) errors (:func:`_errors`)."""
+    at once, f kept in ``focal_range_n``: (P, 3) places and (P,) errors (:func:`_errors`)."""
     P, N = len(place), len(arc_n)
     free_axes = [k for k, is_free in enumerate(free) if is_free]
     ends_each, shares_each = ends_n[:, None], shares[:, None, None]
@@ -293,6 +294,7 @@ def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: 
             delta = -np.linalg.solve(scaled, Jtr[..., None])[..., 0]
         trial = x.copy()
         trial[:, free_axes] += np.where(np.isfinite(delta), delta, 0.0)
+        trial[:, 0] = np.clip(trial[:, 0], *np.log(focal_range_n))
         r_trial, ok_trial = residuals(trial)
         cost_trial = np.where(ok_trial, np.sum(r_trial**2, axis=1), np.inf)
         better = cost_trial < cost
