@@ -6,7 +6,9 @@ vanishing point, and forms every camera that puts two lines of each direction on
 (:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
 plausibility; when none explains the map well, also three lines of one direction with one across,
 :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the
-markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`). All hypotheses are scored at once on the
+markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits
+are in, a circle's arc and its chord rectified under the camera model, :mod:`.court_arcs`, fitted apart and taken only
+with a constraint to spare). All hypotheses are scored at once on the
 marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the
 map explained by the template; coarsely first, the precision read only of those whose recall could rank them among
 the best), the best ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of
@@ -144,15 +146,15 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     spare_only = replace(config, exact_fit_confidence=math.inf)
     spare_only_results: list[ReinitResult] = []
 
-    def from_arcs(fit) -> bool:
-        return any(a <= fit.index < b for a, b in only_confirmed)
+    def from_arcs(index: int) -> bool:  # a hypothesis of the arcs' tier
+        return any(a <= index < b for a, b in only_confirmed)
 
     def kept_and_judged(fits: list) -> ReinitResult:
         kept = kept_fit(fits, pitch, config)
         camera = None if kept is None else main_side(kept.camera, config.twin_tie_m)
-        if kept is not None and from_arcs(kept):
+        if kept is not None and from_arcs(kept.index):
             result = judged(camera, marking_mask, pitch, spare_only, confidence_of)
-            others = [fit for fit in fits if not from_arcs(fit)]
+            others = [fit for fit in fits if not from_arcs(fit.index)]
             if result.camera is None and others:  # an exact fit of an arc does not take the others' place
                 return kept_and_judged(others)
             spare_only_results.append(result)
@@ -186,7 +188,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         while tiers:
             hypotheses, costs = joined_tier(hypotheses, costs)
         late = np.arange(first, len(costs))
-        arcs = np.array([any(a <= k < b for a, b in only_confirmed) for k in late], bool)
+        arcs = np.array([from_arcs(k) for k in late], bool)
         for among in (late[~arcs], late[arcs]):  # the arcs' hypotheses fitted apart: they take no other's slot
             if len(among):
                 more += fitted(among)
@@ -196,11 +198,16 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                 if later.camera is not None:
                     result = later
                     break
-        else:  # a camera kept but not settled: only a fit more confident by confidence_margin replaces it
-            confident = max(more, key=lambda fit: fit.confidence, default=None)
-            if confident is not None and confident.confidence >= result.score.jaccard + config.confidence_margin:
+        else:  # a camera kept but not settled: only a fit more confident by confidence_margin replaces it (the
+            #    most confident of the others when an arc's is not taken)
+            for pool in (more, [fit for fit in more if not from_arcs(fit.index)]):
+                confident = max(pool, key=lambda fit: fit.confidence, default=None)
+                if confident is None or confident.confidence < result.score.jaccard + config.confidence_margin:
+                    break
                 later = kept_and_judged([confident])
-                result = later if later.camera is not None else result
+                if later.camera is not None or not from_arcs(confident.index):
+                    result = later if later.camera is not None else result
+                    break
     if (result.camera is not None and result.score.jaccard < config.narrow_view_walk_below
             and result.camera.focal_px >= config.narrow_view_focal_per_width * W):
         # A narrow view's depth along its line of sight: the most confident of the fits from starts along it, judged
@@ -238,10 +245,11 @@ def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, c
 
 def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
                  hidden_px: np.ndarray | None = None) -> list:
-    """The hypotheses tried after the straight markings', in order, each a call (an empty set when its markings are
-    missing): three lines of one direction and one across (a zoomed goal mouth), a circle with the
-    line across it, the centre circle with a touchline (more hypotheses, and looser), then a circle with the line
-    across it again on the ellipses and arcs fitted again on the centre points."""
+    """The hypotheses tried after the straight markings', in order, each a pair (whether its camera is taken only
+    with a constraint to spare, the call giving its hypotheses: an empty set when its markings are missing): three
+    lines of one direction and one across (a zoomed goal mouth), a circle with the line across it, the centre circle
+    with a touchline (more hypotheses, and looser), a circle with the line across it again on the ellipses and arcs
+    fitted again on the centre points, then the arcs rectified under the camera model (only with one to spare)."""
     lines = structures.lines
 
     def pencil():
