@@ -80,6 +80,11 @@ class ImageLine:
     extent_px: tuple[float, float]
     support_px: float
 
+    def ends_px(self) -> np.ndarray:
+        """(2, 2) the ends of its support (``extent_px`` along ``direction`` from ``centre_px``), frame pixels, in the
+        dtype of ``centre_px`` and ``direction``."""
+        return np.array([self.centre_px + e * self.direction for e in self.extent_px])
+
 
 def _at_most_width(marking_mask: np.ndarray, width_px: int) -> np.ndarray:
     """The bool map reduced (area-averaged, any marked pixel kept) to at most width_px wide."""
@@ -363,8 +368,8 @@ def map_pieces(marking_mask: np.ndarray, frame_width_px: int, lines: list[ImageL
         thickness = max(1, int(round(2 * config.ellipse_cut_band_px * unit)) + 1)
         for line in lines:
             if line.support_px * to_work >= config.ellipse_cut_line_px * unit:
-                ends = [np.rint((line.centre_px + e * line.direction) * to_work).astype(int) for e in line.extent_px]
-                cv2.line(pieces_map, tuple(int(v) for v in ends[0]), tuple(int(v) for v in ends[1]), 0, thickness)
+                (x0, y0), (x1, y1) = np.rint(line.ends_px() * to_work).astype(int).tolist()
+                cv2.line(pieces_map, (x0, y0), (x1, y1), 0, thickness)
     _, labels, stats, _ = blobs_with_stats(pieces_map)
     areas = stats[1:, cv2.CC_STAT_AREA]
     pieces = [1 + int(k) for k in np.argsort(-areas)[: config.ellipse_max_pieces] if areas[k] >= min_piece_px * unit]

@@ -188,7 +188,9 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         while tiers:
             hypotheses, costs = joined_tier(hypotheses, costs)
         late = np.arange(first, len(costs))
-        arcs = np.array([from_arcs(k) for k in late], bool)
+        arcs = np.zeros(len(late), bool)
+        for a, b in only_confirmed:
+            arcs |= (late >= a) & (late < b)
         for among in (late[~arcs], late[arcs]):  # the arcs' hypotheses fitted apart: they take no other's slot
             if len(among):
                 more += fitted(among)
@@ -236,7 +238,7 @@ def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, c
     if not len(top) or len(lines) < config.refit_min_lines:
         return concatenate([])
     _, s, centre = normalised_lines(lines, frame_size)  # the hypotheses' image coordinates: (u - centre) / s
-    ends = np.array([[line.centre_px + e * line.direction for e in line.extent_px] for line in lines])
+    ends = np.array([line.ends_px() for line in lines])
     gate_n = config.refit_gate_per_width * frame_size[0] / s
     H_n, refitted = refit_on_lines(hypotheses.H_n[top], (ends - centre) / s, pitch_lines(*pitch_line_offsets(pitch)),
                                    gate_n, config.refit_min_lines)

@@ -120,8 +120,7 @@ def arc_line_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], fra
         return np.zeros((0, 3, 3))
     W, H = frame_size
     s, centre = W / 2.0, np.array([W / 2.0, H / 2.0])
-    ends_n = np.array([[line.centre_px + e * line.direction for e in line.extent_px] for line in lines])
-    ends_n = (ends_n - centre) / s  # (L, 2, 2)
+    ends_n = (np.array([line.ends_px() for line in lines]) - centre) / s  # (L, 2, 2)
     shares = np.array([abs(c.chord_x_m - c.centre_x_m) / c.radius_m for c in circles])
     focal = np.geomspace(*focal_range_n, config.focal_steps)
     tilt = np.radians(np.linspace(*config.tilt_range_deg, config.tilt_steps))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import cv2
 import numpy as np
 import pytest
 
@@ -115,8 +116,6 @@ def test_no_arcs_or_no_lines_give_no_hypotheses():
 
 
 def _ellipse_through(points_px: np.ndarray) -> ImageEllipse:
-    import cv2
-
     (cx, cy), (d1, d2), angle = cv2.fitEllipse(points_px.astype(np.float32))
     theta = math.radians(angle) + (0.0 if d1 >= d2 else math.pi / 2)
     return ImageEllipse(np.array([cx, cy]), (max(d1, d2) / 2, min(d1, d2) / 2), theta, 500.0)
