@@ -41,6 +41,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
+from broadtrack_graph.reinit.court_arc_corners import arc_corner_homographies, circle_corners
 from broadtrack_graph.reinit.court_arcs import arc_line_homographies, arc_points
 from broadtrack_graph.reinit.court_circle import (
     circle_line_homographies,
@@ -277,8 +278,12 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
             return concatenate([])
         ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
         points = arc_points(ellipses, structures.points_px, lines, frame_size[0], config.arc)
-        found = arc_line_homographies(points, lines, frame_size, pitch_circle_chords(pitch),
-                                      tuple(2.0 * v for v in config.lines.focal_range_per_width), config.arc)
+        focal_range_n = tuple(2.0 * v for v in config.lines.focal_range_per_width)
+        found = arc_line_homographies(points, lines, frame_size, pitch_circle_chords(pitch), focal_range_n, config.arc)
+        # ... and with one line of each direction beside it, across it or not (:mod:`.court_arc_corners`)
+        corners = circle_corners(pitch, pitch_circle_chords(pitch), config.arc_corner.max_line_share)
+        found = np.concatenate([found, arc_corner_homographies(points, lines, frame_size, corners, focal_range_n,
+                                                               config.arc.arc_band_px, config.arc_corner)])
         return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
     return [(False, pencil), (False, lambda: circles(True)), (False, lambda: circles(False)),

@@ -164,7 +164,22 @@ def arc_line_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], fra
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 
 
-def _rectifiers(params: np.ndarray) -> np.ndarray:
+def pieces_of(arc_px: np.ndarray, lines: list[ImageLine], band_px: float, samples: int = 5) -> np.ndarray:
+    """(L,) bool: the straight markings lying along the arc (frame pixels): ``samples`` points along each, every one
+    within twice ``band_px`` of the arc's points (and half the gap between two of them). A straight piece of an arc
+    lies one radius from its circle's centre, as no line the arc is paired with need."""
+    arc_px = np.asarray(arc_px, float)
+    if not lines:
+        return np.zeros(0, bool)
+    gap = np.median(np.linalg.norm(np.diff(arc_px, axis=0), axis=1)) if len(arc_px) > 1 else 0.0
+    t = np.linspace(0.0, 1.0, samples)
+    ends = np.array([line.ends_px() for line in lines], float)  # (L, 2, 2)
+    along = ends[:, :1] + t[None, :, None] * (ends[:, 1:] - ends[:, :1])  # (L, S, 2)
+    nearest = np.min(np.linalg.norm(along[:, :, None] - arc_px[None, None], axis=-1), axis=2)  # (L, S)
+    return (nearest <= 2.0 * band_px + 0.5 * gap).all(axis=1)
+
+
+def rectifiers(params: np.ndarray) -> np.ndarray:
     """(G, 3, 3) ``Rx(tilt) Rz(roll) K^-1`` of (G, 3) (f / s, tilt, roll): normalised image point -> the ground's
     homogeneous point under a camera 1 m up at the origin, pan 0."""
     f, t, r = params[:, 0], params[:, 1], params[:, 2]
@@ -177,7 +192,7 @@ def _rectifiers(params: np.ndarray) -> np.ndarray:
     return rx @ rz @ k_inv
 
 
-def _on_ground(rectifiers: np.ndarray, points_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def on_ground(rectifiers: np.ndarray, points_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(G, N, 2) ground points of normalised image points, (N, 2) for every rectifier or (G, N, 2) one set each,
     under each rectifier (G, 3, 3), and (G, N) whether below the horizon."""
     x, y = points_n[..., 0], points_n[..., 1]
@@ -189,7 +204,7 @@ def _on_ground(rectifiers: np.ndarray, points_n: np.ndarray) -> tuple[np.ndarray
     return np.stack([qx / qz, qy / qz], axis=-1), below
 
 
-def _circles(ground: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fitted_circles(ground: np.ndarray, valid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Circles fitted algebraically to (G, N, 2) points (the invalid ones left out): centres (G, 2), radii (G,) and
     the points' distances off them in radii (G, N) (NaN where the fit fails)."""
     w = valid.astype(float)
@@ -222,14 +237,14 @@ def _residuals(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares
         shares: the chords' distances from their circles' centres in radii: (C,), or (G, 1, C) one set each.
     """
     G = len(params)
-    rect = _rectifiers(params)
-    ground, below = _on_ground(rect, arc_n)
-    c, r, off = _circles(ground, below)
+    rect = rectifiers(params)
+    ground, below = on_ground(rect, arc_n)
+    c, r, off = fitted_circles(ground, below)
     arc_ok = below.all(axis=1) & np.isfinite(r) & np.isfinite(off).all(axis=1)
     centre = np.where(np.isfinite(c), c, 0.0)
-    sweep = _sweep(ground - centre[:, None], arc_ok)
+    turned = arc_sweep(ground - centre[:, None], arc_ok)
     L = ends_n.shape[-3]
-    line_ground, line_below = _on_ground(rect, ends_n.reshape(*ends_n.shape[:-3], -1, 2))
+    line_ground, line_below = on_ground(rect, ends_n.reshape(*ends_n.shape[:-3], -1, 2))
     line_ground = line_ground.reshape(G, L, 2, 2)
     along = line_ground[:, :, 1] - line_ground[:, :, 0]
     normal = np.stack([-along[..., 1], along[..., 0]], -1)
@@ -242,7 +257,7 @@ def _residuals(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares
     radius = np.where(np.isfinite(r), r, 1.0)[:, None]
     line_off = (np.abs(distance) / radius)[..., None] - shares  # (G, L, C)
     far_side = (beyond > 0)[..., None] | (shares < 1e-9)
-    ok = (arc_ok & (sweep >= math.radians(min_sweep_deg)))[:, None, None] & line_below.reshape(G, L, 2).all(
+    ok = (arc_ok & (turned >= math.radians(min_sweep_deg)))[:, None, None] & line_below.reshape(G, L, 2).all(
         axis=2)[..., None] & far_side
     return np.where(np.isfinite(off), off, 0.0), line_off, ok
 
@@ -256,7 +271,7 @@ def _errors(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: n
     return np.where(ok, error, np.inf)
 
 
-def _sweep(offsets: np.ndarray, valid: np.ndarray) -> np.ndarray:
+def arc_sweep(offsets: np.ndarray, valid: np.ndarray) -> np.ndarray:
     """(G,) the angle (radians) the points (G, N, 2), relative to their circle's centre, turn through (0 where
     invalid): a full turn less the largest gap between neighbouring angles."""
     angles = np.sort(np.arctan2(offsets[..., 1], offsets[..., 0]), axis=1)
@@ -310,10 +325,10 @@ def _homographies(places: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, cir
     ends (Q, 2, 2) and its circle: ``H0 = (Rx(tilt) Rz(roll) K^-1)^-1`` times the inverse of the similarity taking
     the rectified plane onto the pitch (the circle's centre onto its centre, the chord's foot onto its side; a
     diameter's line along the halfway line, either way round: two each)."""
-    rect = _rectifiers(places)
-    ground, below = _on_ground(rect, arc_n)
-    c, r, _ = _circles(ground, below)
-    ends, _ = _on_ground(rect, ends_n)  # (Q, 2, 2)
+    rect = rectifiers(places)
+    ground, below = on_ground(rect, arc_n)
+    c, r, _ = fitted_circles(ground, below)
+    ends, _ = on_ground(rect, ends_n)  # (Q, 2, 2)
     along = ends[:, 1] - ends[:, 0]
     along /= np.maximum(np.linalg.norm(along, axis=1, keepdims=True), 1e-12)
     foot = ends[:, 0] + np.einsum("qi,qi->q", c - ends[:, 0], along)[:, None] * along

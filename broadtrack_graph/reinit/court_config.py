@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from broadtrack_graph.detect.marking_structures import MarkingStructureConfig
+from broadtrack_graph.reinit.court_arc_corners import ArcCornerConfig
 from broadtrack_graph.reinit.court_arcs import CourtArcConfig
 from broadtrack_graph.reinit.court_circle import CourtCircleConfig
 from broadtrack_graph.reinit.court_families import CourtLineConfig
@@ -24,6 +25,7 @@ class CourtConfig:
     circle: CourtCircleConfig = CourtCircleConfig()
     # a circle's arc and its chord, the camera model asked first (tried last)
     arc: CourtArcConfig = CourtArcConfig()
+    arc_corner: ArcCornerConfig = ArcCornerConfig()
     # three lines of one direction and one across (tried with the circles)
     pencil: CourtPencilConfig = CourtPencilConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches

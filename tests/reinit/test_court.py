@@ -13,6 +13,7 @@ from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, fitting_curves
 from broadtrack_graph.reinit.court import reinit_from_court
+from broadtrack_graph.reinit.court_arc_corners import ArcCornerConfig
 from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.court_fit import twin_camera
 
@@ -277,11 +278,17 @@ def test_a_blurred_frame_gets_its_camera_from_the_markings_found_on_the_reduced_
     assert median_template_error_px(result.camera, truth) < 1.0 and result.score.jaccard >= 0.9
 
 
-@pytest.mark.parametrize("index, grid", [
-    (386, True),  # `graphics`, behind a goal: two lines of each direction, the true camera at 0.66
-    (137, False),  # `shadows`, 8 m up beyond a corner, an 8 deg view: a wrong camera laid on the markings
+NO_ARC_CORNERS = CourtConfig(arc_corner=ArcCornerConfig(max_pairings=0))
+"""The court model without the arc-and-corner hypotheses (:mod:`broadtrack_graph.reinit.court_arc_corners`)."""
+
+
+@pytest.mark.parametrize("index, grid, config, right", [
+    (386, True, CourtConfig(), True),  # `graphics`, behind a goal: two lines of each direction, the truth at 0.66
+    # `shadows`, 8 m up beyond a corner, an 8 deg view: without the arc and corner tier a wrong camera laid on the
+    # markings, no grid of lines
+    (137, False, NO_ARC_CORNERS, False),
 ])
-def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_taken_at(index, grid):
+def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_taken_at(index, grid, config, right):
     """Frames of ``bench placements --random --seed 3`` whose court camera is 0.6-0.7 confident: taken by the tracker
     (``track.reinit_policy.court_accept_at``) from 0.6 when the markings it explains form a grid of lines, else from
     ``court_accept_confidence``."""
@@ -289,14 +296,24 @@ def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_t
     from broadtrack_graph.track.frame_tries import court_accept_at
 
     truth, det = _random_placement(index)
-    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
+                               config=config)
     assert result.camera is not None and result.explained is not None, result.reason
     assert result.explained.line_grid is grid
-    config = TrackingConfig()
-    bar = court_accept_at(config, result)
-    assert bar == (config.court_grid_accept_confidence if grid else config.court_accept_confidence)
-    right = median_template_error_px(result.camera, truth) < 1.0
-    assert right is grid
+    tracking = TrackingConfig()
+    bar = court_accept_at(tracking, result)
+    assert bar == (tracking.court_grid_accept_confidence if grid else tracking.court_accept_confidence)
+    assert (median_template_error_px(result.camera, truth) < 1.0) is right
+
+
+def test_a_penalty_arc_with_a_line_of_each_direction_beside_it_places_the_camera():
+    """Synthetic frame 137 of seed 3 (above), an 8 deg view of a penalty arc and lines of both directions: without the
+    arc with one line of each direction rectified under the camera model (``reinit.court_arc_corners``) the court
+    model lays a wrong camera on its markings; with it, the true camera."""
+    truth, det = _random_placement(137)
+    result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
+    assert result.camera is not None, result.reason
+    assert median_template_error_px(result.camera, truth) < 1.0 and result.score.jaccard >= 0.9
 
 
 def test_hypotheses_the_map_scores_alike_are_all_fitted_after_a_good_fit(one_opencv_thread):
@@ -376,7 +393,8 @@ def test_the_specks_along_a_crowds_edge_stay_masked(one_opencv_thread, monkeypat
     edge pass for a marking's pieces too; taken for paint, their ridges pull the fits 21 px off (the polish of the
     camera returned, on more points with tight gates, brings it back; left out here). Only pieces well inside the
     field are a marking's: the camera within a pixel."""
-    unpolished = CourtConfig(polish_from=math.inf)
+    # the arc with a line of each direction places it whatever the specks do: left out too
+    unpolished = CourtConfig(polish_from=math.inf, arc_corner=ArcCornerConfig(max_pairings=0))
     truth, det = _plain_placement(419, seed=5)
     args = (det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask)
     assert _found_or_twin_px(reinit_from_court(*args), truth) < 1.0
