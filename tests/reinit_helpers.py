@@ -40,8 +40,9 @@ def median_template_error_px(camera, truth):
     return template_error.median_template_error_px(camera, truth, GROUND_SAMPLES_W)
 
 
-def image_lines(camera, segments_w):
-    """The exact image lines (no distortion) of pitch segments ((2, 3) metres each), as the Hough step returns them."""
+def image_lines(camera, segments_w, extent_share: float = 0.8):
+    """The exact image lines (no distortion) of pitch segments ((2, 3) metres each), as the Hough step returns them
+    (over ``extent_share`` of each segment's image, about its middle)."""
     from broadtrack_graph.detect.marking_structures import ImageLine
 
     out = []
@@ -52,7 +53,8 @@ def image_lines(camera, segments_w):
         normal = np.array([-direction[1], direction[0]])
         centre = 0.5 * (ua + ub)
         half = 0.5 * np.linalg.norm(ub - ua)
-        out.append(ImageLine(normal, float(-normal @ centre), centre, direction, (-0.8 * half, 0.8 * half), 1.6 * half))
+        extent = extent_share * half
+        out.append(ImageLine(normal, float(-normal @ centre), centre, direction, (-extent, extent), 2 * extent))
     return out
 
 

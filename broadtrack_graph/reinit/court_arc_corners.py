@@ -29,7 +29,13 @@ import numpy as np
 
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.reinit.court_arcs import arc_sweep, fitted_circles, on_ground, pieces_of, rectifiers
+from broadtrack_graph.reinit.court_arcs import (
+    narrowed,
+    pieces_of,
+    placed_homographies,
+    rectified,
+    rectifiers,
+)
 from broadtrack_graph.reinit.court_circle import CircleChord
 
 
@@ -165,27 +171,14 @@ def _geometry(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, min_swe
     counts (G,), the two lines' unit normals (G, P, 2, 2), their signed distances from the centre in radii (G, P, 2),
     the arc's side of each (G, P, 2: the sign of its mean point's offset against the centre's), whether the lines'
     ends are below the horizon (G, P). An arc turning less than ``min_sweep_deg`` about its centre does not count."""
-    G = len(params)
-    rect = rectifiers(params)
-    ground, below = on_ground(rect, arc_n)
-    c, r, off = fitted_circles(ground, below)
-    arc_ok = below.all(axis=1) & np.isfinite(r) & np.isfinite(off).all(axis=1)
-    c = np.where(np.isfinite(c), c, 0.0)
-    arc_ok &= arc_sweep(ground - c[:, None], arc_ok) >= math.radians(min_sweep_deg)
-    P = ends_n.shape[-4]
-    flat = ends_n.reshape(*ends_n.shape[:-4], -1, 2)
-    line_ground, line_below = on_ground(rect, flat)
-    line_ground = line_ground.reshape(G, P, 2, 2, 2)
-    along = line_ground[..., 1, :] - line_ground[..., 0, :]
-    normal = np.stack([-along[..., 1], along[..., 0]], -1)
-    normal /= np.maximum(np.linalg.norm(normal, axis=-1, keepdims=True), 1e-12)
+    G, P = len(params), ends_n.shape[-4]
+    off, c, r, arc_ok, turned, normal, distance, arc_side, below = rectified(
+        params, arc_n, ends_n.reshape(*ends_n.shape[:-4], -1, 2, 2))
+    arc_ok &= turned >= math.radians(min_sweep_deg)
     radius = np.where(np.isfinite(r), r, 1.0)
-    distance = np.einsum("gpli,gpli->gpl", c[:, None, None] - line_ground[..., 0, :], normal) / radius[:, None, None]
-    mean_arc = np.where(below[..., None], ground, 0.0).sum(axis=1) / np.maximum(below.sum(axis=1), 1)[:, None]
-    arc_side = np.einsum("gi,gpli->gpl", mean_arc, normal) - np.einsum("gpli,gpli->gpl", line_ground[..., 0, :],
-                                                                        normal)
-    return (np.where(np.isfinite(off), off, 0.0), c, arc_ok, normal, distance, arc_side,
-            line_below.reshape(G, P, 4).all(axis=2))
+    return (np.where(np.isfinite(off), off, 0.0), c, arc_ok, normal.reshape(G, P, 2, 2),
+            distance.reshape(G, P, 2) / radius[:, None, None], arc_side.reshape(G, P, 2), below.reshape(G, P, 2).all(
+                axis=2))
 
 
 def _residual_parts(params, arc_n, ends_n, kinds, min_sweep_deg: float):
@@ -225,28 +218,8 @@ def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, kinds: n
                                                      kinds_each, config.min_sweep_deg)
         return np.column_stack([off / math.sqrt(N), cosine[:, 0], off_share[:, 0, 0]]), ok[:, 0, 0]
 
-    x = np.column_stack([np.log(place[:, 0]), place[:, 1:]])
-    r, ok = residuals(x)
-    cost = np.where(ok, np.sum(r**2, axis=1), np.inf)
-    damping = np.full(len(x), 1e-3)
-    step = 1e-6
-    for _ in range(config.narrow_rounds):
-        J = np.stack([(residuals(x + step * np.eye(3)[k])[0] - r) / step for k in range(3)], axis=2)
-        JtJ = np.einsum("qnf,qng->qfg", J, J)
-        Jtr = np.einsum("qnf,qn->qf", J, r)
-        scaled = JtJ + damping[:, None, None] * (np.eye(3) * (np.diagonal(JtJ, axis1=1, axis2=2)[:, :, None] + 1e-12))
-        with np.errstate(invalid="ignore"):
-            delta = -np.linalg.solve(scaled, Jtr[..., None])[..., 0]
-        trial = x + np.where(np.isfinite(delta), delta, 0.0)
-        trial[:, 0] = np.clip(trial[:, 0], *np.log(focal_range_n))
-        r_trial, ok_trial = residuals(trial)
-        cost_trial = np.where(ok_trial, np.sum(r_trial**2, axis=1), np.inf)
-        better = cost_trial < cost
-        x = np.where(better[:, None], trial, x)
-        r = np.where(better[:, None], r_trial, r)
-        cost = np.where(better, cost_trial, cost)
-        damping = np.where(better, damping / 3.0, damping * 4.0)
-    return np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), np.sqrt(cost)
+    return narrowed(np.column_stack([np.log(place[:, 0]), place[:, 1:]]), residuals, [0, 1, 2], config.narrow_rounds,
+                    focal_range_n)
 
 
 def _homographies(places: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, members: list[list[CircleCorner]]
@@ -256,10 +229,7 @@ def _homographies(places: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, mem
     of the similarity taking the rectified plane onto the pitch (the circle's centre onto its centre, the foot of the
     ``x = c`` line, or of the other when that one passes through the centre, onto its side)."""
     rect = rectifiers(places)
-    _, c, _, normal, distance, _, _ = _geometry(places, arc_n, ends_n[:, None])
-    ground, below = on_ground(rect, arc_n)
-    _, r, _ = fitted_circles(ground, below)
-    normal, distance = normal[np.arange(len(places)), 0], distance[np.arange(len(places)), 0]  # (Q, 2, 2), (Q, 2)
+    _, c, r, _, _, normal, distance, _, _ = rectified(places, arc_n, ends_n)  # normal (Q, 2, 2), distance (Q, 2)
     foot = -np.sign(distance)[..., None] * normal  # (Q, 2, 2)
     towards = np.arctan2(foot[..., 1], foot[..., 0])  # (Q, 2)
     placed = []
@@ -274,17 +244,6 @@ def _homographies(places: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, mem
         return np.zeros((0, 3, 3))
     which = np.array([q for q, _, _ in placed])
     alpha = np.array([turn for _, turn, _ in placed])
-    h = np.array([corner.radius_m for _, _, corner in placed]) / r[which]
-    world_x = np.array([corner.centre_x_m for _, _, corner in placed])
-    ca, sa = np.cos(alpha), np.sin(alpha)
-    cx, cy = c[which, 0], c[which, 1]
-    S = np.zeros((len(which), 3, 3))
-    S[:, 0, 0], S[:, 0, 1], S[:, 1, 0], S[:, 1, 1] = h * ca, -h * sa, h * sa, h * ca
-    S[:, 0, 2] = world_x - h * (ca * cx - sa * cy)
-    S[:, 1, 2] = -h * (sa * cx + ca * cy)
-    S[:, 2, 2] = 1.0
-    with np.errstate(invalid="ignore", divide="ignore"):
-        H = np.linalg.solve(np.swapaxes(S, 1, 2), np.swapaxes(np.linalg.inv(rect[which]), 1, 2))
-        H = np.swapaxes(H, 1, 2)  # H0 S^-1
-        H /= np.linalg.norm(H, axis=(1, 2), keepdims=True)
-    return H[np.isfinite(H).all(axis=(1, 2))]
+    scale = np.array([corner.radius_m for _, _, corner in placed]) / r[which]
+    world_centre = np.array([(corner.centre_x_m, 0.0) for _, _, corner in placed])
+    return placed_homographies(rect[which], c[which], alpha, scale, world_centre)

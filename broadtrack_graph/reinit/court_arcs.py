@@ -236,14 +236,29 @@ def _residuals(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares
         ends_n: the lines' two ends, normalised: (L, 2, 2) for every place, or (G, L, 2, 2) one set each.
         shares: the chords' distances from their circles' centres in radii: (C,), or (G, 1, C) one set each.
     """
-    G = len(params)
+    off, _, r, arc_ok, turned, _, distance, arc_side, line_below = rectified(params, arc_n, ends_n)
+    beyond = -np.sign(distance) * arc_side  # > 0: the arc is on the far side of the line from the centre
+    radius = np.where(np.isfinite(r), r, 1.0)[:, None]
+    line_off = (np.abs(distance) / radius)[..., None] - shares  # (G, L, C)
+    far_side = (beyond > 0)[..., None] | (shares < 1e-9)
+    ok = (arc_ok & (turned >= math.radians(min_sweep_deg)))[:, None, None] & line_below[..., None] & far_side
+    return np.where(np.isfinite(off), off, 0.0), line_off, ok
+
+
+def rectified(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray):
+    """An arc's points (N, 2) and straight markings' ends (L, 2, 2) for every place, or (G, L, 2, 2) one set each,
+    normalised, put on the ground of each place (G, 3) (:func:`rectifiers`): the arc's points off the circle fitted to
+    them (G, N, in radii), its centre (G, 2; 0 where the fit fails), its radius (G,), whether the arc counts (its
+    points below the horizon and the fit finite, (G,)), the angle it turns through about its centre (G,), each line's
+    unit normal (G, L, 2), the centre's signed distance from it along that normal (G, L), the arc's mean point's
+    offset from it along that normal (G, L) and whether its two ends are below the horizon (G, L)."""
+    G, L = len(params), ends_n.shape[-3]
     rect = rectifiers(params)
     ground, below = on_ground(rect, arc_n)
     c, r, off = fitted_circles(ground, below)
     arc_ok = below.all(axis=1) & np.isfinite(r) & np.isfinite(off).all(axis=1)
     centre = np.where(np.isfinite(c), c, 0.0)
     turned = arc_sweep(ground - centre[:, None], arc_ok)
-    L = ends_n.shape[-3]
     line_ground, line_below = on_ground(rect, ends_n.reshape(*ends_n.shape[:-3], -1, 2))
     line_ground = line_ground.reshape(G, L, 2, 2)
     along = line_ground[:, :, 1] - line_ground[:, :, 0]
@@ -253,13 +268,7 @@ def _residuals(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares
     # The arc's side of the line (its points' mean offset from it) against the centre's.
     mean_arc = np.where(below[..., None], ground, 0.0).sum(axis=1) / np.maximum(below.sum(axis=1), 1)[:, None]
     arc_side = np.einsum("gi,gli->gl", mean_arc, normal) - np.einsum("gli,gli->gl", line_ground[:, :, 0], normal)
-    beyond = -np.sign(distance) * arc_side  # > 0: the arc is on the far side of the line from the centre
-    radius = np.where(np.isfinite(r), r, 1.0)[:, None]
-    line_off = (np.abs(distance) / radius)[..., None] - shares  # (G, L, C)
-    far_side = (beyond > 0)[..., None] | (shares < 1e-9)
-    ok = (arc_ok & (turned >= math.radians(min_sweep_deg)))[:, None, None] & line_below.reshape(G, L, 2).all(
-        axis=2)[..., None] & far_side
-    return np.where(np.isfinite(off), off, 0.0), line_off, ok
+    return off, centre, r, arc_ok, turned, normal, distance, arc_side, line_below.reshape(G, L, 2).all(axis=2)
 
 
 def _errors(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: np.ndarray, min_sweep_deg: float
@@ -284,7 +293,7 @@ def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: 
     """Places (P, 3) of one arc, each with its own line's ends (P, 2, 2) and chord share (P,), narrowed by
     Levenberg-Marquardt steps in the ``free`` parameters (log f, tilt, roll; forward-difference Jacobians), every place
     at once, f kept in ``focal_range_n``: (P, 3) places and (P,) errors (:func:`_errors`)."""
-    P, N = len(place), len(arc_n)
+    N = len(arc_n)
     free_axes = [k for k, is_free in enumerate(free) if is_free]
     ends_each, shares_each = ends_n[:, None], shares[:, None, None]
 
@@ -293,13 +302,22 @@ def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: 
                                        config.min_sweep_deg)
         return np.column_stack([off / math.sqrt(N), line_off[:, 0, 0]]), ok[:, 0, 0]
 
-    x = np.column_stack([np.log(place[:, 0]), place[:, 1:]])
+    return narrowed(np.column_stack([np.log(place[:, 0]), place[:, 1:]]), residuals, free_axes, config.narrow_rounds,
+                    focal_range_n)
+
+
+def narrowed(x: np.ndarray, residuals, free_axes: list[int], rounds: int, focal_range_n: tuple[float, float]
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """Places x (P, 3) as (log f / s, tilt, roll) narrowed by ``rounds`` Levenberg-Marquardt steps in ``free_axes``
+    (forward-difference Jacobians), every place at once, f kept in ``focal_range_n``; ``residuals(x)`` gives (P, R)
+    residuals and (P,) whether they count. Returns (P, 3) places as (f / s, tilt, roll) and (P,) root sum square
+    errors (inf where they do not count)."""
     r, ok = residuals(x)
     cost = np.where(ok, np.sum(r**2, axis=1), np.inf)
-    damping = np.full(P, 1e-3)
+    damping = np.full(len(x), 1e-3)
     step = 1e-6
-    for _ in range(config.narrow_rounds):
-        J = np.stack([(residuals(x + step * np.eye(3)[k])[0] - r) / step for k in free_axes], axis=2)  # (P, N+1, F)
+    for _ in range(rounds):
+        J = np.stack([(residuals(x + step * np.eye(3)[k])[0] - r) / step for k in free_axes], axis=2)  # (P, R, F)
         JtJ = np.einsum("pnf,png->pfg", J, J)
         Jtr = np.einsum("pnf,pn->pf", J, r)
         scaled = JtJ + damping[:, None, None] * (np.eye(len(free_axes)) * (np.diagonal(JtJ, axis1=1, axis2=2)[
@@ -343,16 +361,24 @@ def _homographies(places: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, cir
     first = np.where(diameter, math.pi / 2 - line_angle, np.where(chord_side > 0, 0.0, math.pi) - towards)
     alpha = np.concatenate([first, (-math.pi / 2 - line_angle)[diameter]])
     which = np.concatenate([np.arange(len(places)), np.nonzero(diameter)[0]])
-    h = radius[which] / r[which]
+    return placed_homographies(rect[which], c[which], alpha, radius[which] / r[which], world_centre[which])
+
+
+def placed_homographies(rect: np.ndarray, centre: np.ndarray, alpha: np.ndarray, scale: np.ndarray,
+                        world_centre: np.ndarray) -> np.ndarray:
+    """(K, 3, 3) ground homographies (pitch metres -> normalised image, unit norm; the non-finite left out) of K
+    rectified planes (their rectifiers (K, 3, 3)), each taken onto the pitch by the similarity turning it by ``alpha``
+    (K,) and scaling it by ``scale`` (K,) about its circle's centre (K, 2), which lands on ``world_centre`` (K, 2):
+    ``H = H0 S^-1`` with ``H0 = rect^-1``."""
     ca, sa = np.cos(alpha), np.sin(alpha)
-    cx, cy = c[which, 0], c[which, 1]
-    S = np.zeros((len(which), 3, 3))
-    S[:, 0, 0], S[:, 0, 1], S[:, 1, 0], S[:, 1, 1] = h * ca, -h * sa, h * sa, h * ca
-    S[:, 0, 2] = world_centre[which, 0] - h * (ca * cx - sa * cy)
-    S[:, 1, 2] = world_centre[which, 1] - h * (sa * cx + ca * cy)
+    cx, cy = centre[:, 0], centre[:, 1]
+    S = np.zeros((len(alpha), 3, 3))
+    S[:, 0, 0], S[:, 0, 1], S[:, 1, 0], S[:, 1, 1] = scale * ca, -scale * sa, scale * sa, scale * ca
+    S[:, 0, 2] = world_centre[:, 0] - scale * (ca * cx - sa * cy)
+    S[:, 1, 2] = world_centre[:, 1] - scale * (sa * cx + ca * cy)
     S[:, 2, 2] = 1.0
     with np.errstate(invalid="ignore", divide="ignore"):
-        H = np.linalg.solve(np.swapaxes(S, 1, 2), np.swapaxes(np.linalg.inv(rect[which]), 1, 2))
+        H = np.linalg.solve(np.swapaxes(S, 1, 2), np.swapaxes(np.linalg.inv(rect), 1, 2))
         H = np.swapaxes(H, 1, 2)  # H0 S^-1
         H /= np.linalg.norm(H, axis=(1, 2), keepdims=True)
     return H[np.isfinite(H).all(axis=(1, 2))]

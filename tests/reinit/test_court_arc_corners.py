@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from reinit_helpers import image_lines
 
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
@@ -29,13 +30,8 @@ def _low_beside_the_box() -> Camera:
 
 
 def _image_line(camera: Camera, a_w, b_w) -> ImageLine:
-    """The straight marking from a_w to b_w (pitch metres) as the map's line finder returns it."""
-    (a, b), _ = camera.project(np.array([[*a_w, 0.0], [*b_w, 0.0]]))
-    direction = (b - a) / np.linalg.norm(b - a)
-    normal = np.array([-direction[1], direction[0]])
-    centre = (a + b) / 2
-    half = np.linalg.norm(b - a) / 2
-    return ImageLine(normal, -float(normal @ centre), centre, direction, (-half, half), 2 * half)
+    """The straight marking from a_w to b_w (pitch metres) as the map's line finder returns it, end to end."""
+    return image_lines(camera, [((*a_w, 0.0), (*b_w, 0.0))], extent_share=1.0)[0]
 
 
 def _penalty_arc_px(camera: Camera, degrees: float = 57.0) -> np.ndarray:
