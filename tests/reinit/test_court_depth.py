@@ -89,7 +89,8 @@ def test_the_court_model_walks_only_a_narrow_view_under_its_bar_along_its_line_o
 
 def test_a_real_box_view_fitted_off_along_its_line_of_sight_is_walked_onto_its_markings(sn_calibration_dir):
     """SoccerNet frame 01627 (a main camera zoomed on the left penalty area, about 15 deg across): from its annotated
-    markings the court model's fit, without the arcs' hypotheses (:mod:`broadtrack_graph.reinit.court_arcs`), stops
+    markings the court model's fit, without the arcs' hypotheses (:mod:`broadtrack_graph.reinit.court_arcs`,
+    :mod:`broadtrack_graph.reinit.court_arc_corners`), stops
     12.7 px (median) off them at 0.83; walked along its line of sight, 0.8 px. With them (the default) its penalty arc
     and 16.5 m line give a camera within 2 px before any walk."""
     from broadtrack_graph.benchmarks.annotated_views import annotation_marking_map
@@ -98,6 +99,7 @@ def test_a_real_box_view_fitted_off_along_its_line_of_sight_is_walked_onto_its_m
     from broadtrack_graph.io.annotations import read_annotation_file
     from broadtrack_graph.metrics.soccernet import evaluate_frame
     from broadtrack_graph.reinit.court import reinit_from_court
+    from broadtrack_graph.reinit.court_arc_corners import ArcCornerConfig
     from broadtrack_graph.reinit.court_arcs import CourtArcConfig
     from broadtrack_graph.reinit.court_config import CourtConfig
 
@@ -110,7 +112,7 @@ def test_a_real_box_view_fitted_off_along_its_line_of_sight_is_walked_onto_its_m
     def error_px(result):
         return float(np.median(evaluate_frame(lines, result.camera, 960, 540, (5.0,)).all_distances(5.0)))
 
-    no_arcs = CourtConfig(arc=CourtArcConfig(max_pairings=0))
+    no_arcs = CourtConfig(arc=CourtArcConfig(max_pairings=0), arc_corner=ArcCornerConfig(max_pairings=0))
     unwalked = reinit_from_court(marking_map, points, (960, 540), pitch, curves,
                                  config=replace(no_arcs, narrow_view_depth_factors=()))
     walked = reinit_from_court(marking_map, points, (960, 540), pitch, curves, config=no_arcs)
