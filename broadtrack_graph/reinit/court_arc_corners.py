@@ -22,6 +22,7 @@ SoccerNet (metres, origin at the centre spot, z down).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -87,7 +88,14 @@ class CircleCorner:
 def circle_corners(pitch: PitchTemplate, circles: list[CircleChord], max_share: float) -> list[CircleCorner]:
     """Every pitch circle with every pair of straight ground markings, one of each direction, each of whose painted
     stretches passes within ``max_share`` radii of its centre. A circle whose chord is off its centre is a penalty
-    arc, painted beyond that chord only."""
+    arc, painted beyond that chord only (worked out once per pitch)."""
+    return list(_circle_corners(pitch.dimensions, tuple(circles), max_share))
+
+
+@functools.lru_cache(maxsize=8)
+def _circle_corners(dimensions, circles: tuple[CircleChord, ...], max_share: float) -> tuple[CircleCorner, ...]:
+    """:func:`circle_corners` of the pitch of these dimensions."""
+    pitch = PitchTemplate(dimensions)
     out = []
     for circle in circles:
         c = np.array([circle.centre_x_m, 0.0])
@@ -111,7 +119,7 @@ def circle_corners(pitch: PitchTemplate, circles: list[CircleChord], max_share: 
             near[axis][offset] = rule
         out += [CircleCorner(circle.centre_x_m, circle.radius_m, x, y, x_rule, y_rule)
                 for x, x_rule in near[0].items() for y, y_rule in near[1].items()]
-    return out
+    return tuple(out)
 
 
 def arc_corner_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], frame_size,

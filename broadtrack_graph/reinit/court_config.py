@@ -25,6 +25,7 @@ class CourtConfig:
     circle: CourtCircleConfig = CourtCircleConfig()
     # a circle's arc and its chord, the camera model asked first (tried last)
     arc: CourtArcConfig = CourtArcConfig()
+    # ... and an arc with one line of each direction, across it or not (tried with it)
     arc_corner: ArcCornerConfig = ArcCornerConfig()
     # three lines of one direction and one across (tried with the circles)
     pencil: CourtPencilConfig = CourtPencilConfig()
