@@ -7,8 +7,9 @@ vanishing point, and forms every camera that puts two lines of each direction on
 plausibility; when none explains the map well, also three lines of one direction with one across,
 :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the
 markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits
-are in, a circle's arc and its chord rectified under the camera model, :mod:`.court_arcs`, fitted apart and taken only
-with a constraint to spare). All hypotheses are scored at once on the
+are in, a circle's arc and its chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each
+direction beside it, :mod:`.court_arc_corners`, fitted apart and taken only with a constraint to spare). All
+hypotheses are scored at once on the
 marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the
 map explained by the template; coarsely first, the precision read only of those whose recall could rank them among
 the best), the best ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of

@@ -173,7 +173,7 @@ def arc_corner_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], f
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 
 
-def _geometry(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, min_sweep_deg: float = 0.0):
+def _geometry(params: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, min_sweep_deg: float):
     """The rectified arc and lines of places (G, 3), with line pairs' ends (P, 2, 2, 2) for every place or (G, 1, 2,
     2, 2) one each: the arc's points off their circle in radii (G, N), the circle's centre (G, 2), whether the arc
     counts (G,), the two lines' unit normals (G, P, 2, 2), their signed distances from the centre in radii (G, P, 2),
