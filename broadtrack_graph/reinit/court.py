@@ -15,8 +15,8 @@ map explained by the template; coarsely first, the precision read only of those 
 the best), the best ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of
 their own (:mod:`.court_refit`: four lines place a narrow view's vanishing points poorly); the best distinct few are
 fitted with the label-and-fit rounds (with no camera kept of them, or no fit explaining the map well, the tiers left
-and the best of each source not fitted are fitted too; for a camera under ``look_further_below`` confident the tiers
-left, their fit replacing it when more confident by ``confidence_margin``) and one fit is kept and judged
+are fitted too; for a camera under ``look_further_below`` confident the tiers left, their fit replacing it when more
+confident by ``confidence_margin``) and one fit is kept and judged
 (:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a constraint to
 spare, counted on the map, and a camera fixed exactly (a circle and a line) only at ``exact_fit_confidence``: laid on
 them, a wrong camera explains them as well. A narrow view's camera returned under ``narrow_view_walk_below``
@@ -97,7 +97,6 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     lines = structures.lines
     hidden = hidden_lengths_px(lines, player_mask, W)
     hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config, hidden)
-    ends = [len(costs)]  # where each source's hypotheses end: the straight markings', each later tier's, the refits'
     tiers = _later_tiers(structures, (W, H), pitch, config, hidden)
     only_confirmed = []  # (start, end) of the hypotheses whose exact fits are not taken (the arcs': court_arcs)
 
@@ -113,13 +112,10 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     # once the first fits are in: a tier of last resort) ...
     while len(tiers) > 1 and not (len(costs) and -costs.min() >= config.circles_below_score):
         hypotheses, costs = joined_tier(hypotheses, costs)
-        ends.append(len(costs))
     hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
                                 structures, (W, H), config)
-    ends.append(len(costs))
     while tiers and not len(hypotheses):  # nothing else: the tier of last resort too
         hypotheses, costs = joined_tier(hypotheses, costs)
-        ends.append(len(costs))
     if not len(hypotheses):
         return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
                                             "straight, no circle with them)")
@@ -170,22 +166,17 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     result = kept_and_judged(fits)
     poor = result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score
     if poor or result.score.jaccard < config.look_further_below:
-        # No camera, or none of the fits explains the map well: the tiers left join and their best are fitted, and
-        # so are the best of each source none of whose hypotheses was fitted (at most unfitted_sources, the best
-        # scoring first). One reading of the markings can score a little better on the map than the right reading of
-        # another (an arc's ellipse taken as the centre circle beside a touchline, against the same arc with its
-        # 16.5 m line across it) and take every fit. One fit is kept of them all, else of the new ones alone (the
-        # rejected ones would be chosen again). A camera kept that is not confident enough to settle the frame has
-        # the tiers left fitted too (a narrow view's penalty arc and 16.5 m line fitted at a third of its distance,
-        # the centre circle beside a touchline not joined while that arc's hypothesis explained the map well), and
-        # only a fit more confident by confidence_margin replaces it: the map's score ranks fits a few pixels apart
-        # well, wrong fits poorly (kept_camera).
+        # No camera, or none of the fits explains the map well: the tiers left join and their best are fitted. One
+        # reading of the markings can score a little better on the map than the right reading of another (an arc's
+        # ellipse taken as the centre circle beside a touchline, against the same arc with its 16.5 m line across it)
+        # and take every fit. One fit is kept of them all, else of the new ones alone (the rejected ones would be
+        # chosen again). The sources none of whose hypotheses was fitted are not fitted here: their best added wrong
+        # cameras more than right ones (docs/BENCHMARKS.md, Why the defaults). A camera kept that is not confident
+        # enough to settle the frame has the tiers left fitted too (a narrow view's penalty arc and 16.5 m line
+        # fitted at a third of its distance, the centre circle beside a touchline not joined while that arc's
+        # hypothesis explained the map well), and only a fit more confident by confidence_margin replaces it: the
+        # map's score ranks fits a few pixels apart well, wrong fits poorly (kept_camera).
         more = []
-        if poor:
-            starts = [0] + ends[:-1]
-            unfitted = sorted((costs[a:b].min(), a, b) for a, b in zip(starts, ends) if b > a and np.isfinite(
-                costs[a:b]).any() and not any(a <= fit.index < b for fit in fits))
-            more = [fit for _, a, b in unfitted[:config.unfitted_sources] for fit in fitted(np.arange(a, b))]
         first = len(costs)
         while tiers:
             hypotheses, costs = joined_tier(hypotheses, costs)

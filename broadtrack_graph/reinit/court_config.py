@@ -45,9 +45,6 @@ class CourtConfig:
     fit_tie_cost: float = 0.005  # ... and after a fit scoring search.accept_fit_score, only those whose map cost is
     #                              within this of its hypothesis's: hypotheses one map explains alike (the members of
     #                              a circle-and-line family, whose images of both are the same) are all fitted
-    unfitted_sources: int = 3  # with no camera returned, or no fit scoring search.accept_fit_score: the best
-    #                            hypotheses of at most this many sources (the straight markings, each later tier, the
-    #                            refits) none of which was fitted, fitted too
     look_further_below: float = 0.9  # a camera kept under this (the tracker's certain_confidence) does not settle the
     #                                  frame: the later tiers not joined yet are fitted too, and a fit of theirs more
     #                                  confident by confidence_margin replaces it
