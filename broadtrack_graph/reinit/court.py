@@ -271,9 +271,10 @@ def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConf
         ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
         points = arc_points(ellipses, structures.points_px, lines, frame_size[0], config.arc)
         focal_range_n = tuple(2.0 * v for v in config.lines.focal_range_per_width)
-        found = arc_line_homographies(points, lines, frame_size, pitch_circle_chords(pitch), focal_range_n, config.arc)
+        chords = pitch_circle_chords(pitch)
+        found = arc_line_homographies(points, lines, frame_size, chords, focal_range_n, config.arc)
         # ... and with one line of each direction beside it, across it or not (:mod:`.court_arc_corners`)
-        corners = circle_corners(pitch, pitch_circle_chords(pitch), config.arc_corner.max_line_share)
+        corners = circle_corners(pitch, chords, config.arc_corner.max_line_share)
         found = np.concatenate([found, arc_corner_homographies(points, lines, frame_size, corners, focal_range_n,
                                                                config.arc.arc_band_px, config.arc_corner)])
         return cameras_from_homographies(found, frame_size, pitch, config.lines)
