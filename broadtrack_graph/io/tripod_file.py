@@ -1,5 +1,8 @@
 """The tripod file (``tripod.json``): {"T_w": [x, y, z], "delta_m": d, "fit": {...}, "cameras": {...}}.
 
+``fit`` is the fit's report (its inliers, condition, why it was rejected or a provisional tripod stands in), one
+per camera id ({camera_id: {...}}) for an offline run of several cameras.
+
 A tripod whose place is uncertain (a provisional one, made from opening frames that disagree) carries ``sigma_m``
 too, its uncertainty in metres (:class:`~broadtrack_graph.geometry.tripod.Tripod`); absent, 0.
 
@@ -28,10 +31,16 @@ def write_tripod(path: str | Path, tripod: Tripod, fit_info: dict | None = None,
     """Write ``tripod.json`` (module docstring) for later runs of the same cameras."""
     data = _tripod_dict(tripod)
     if fit_info:
-        data["fit"] = {k: v for k, v in fit_info.items() if isinstance(v, (int, float, str, list, type(None)))}
+        data["fit"] = _plain(fit_info)
     if cameras:
         data["cameras"] = tripods_to_json(dict(sorted(cameras.items())))
     write_json_atomic(path, data, indent=1)
+
+
+def _plain(info: dict) -> dict:
+    """The fit's report without its arrays (a run of several cameras reports one fit per camera id)."""
+    return {k: _plain(v) if isinstance(v, dict) else v for k, v in info.items()
+            if isinstance(v, (dict, int, float, str, list, type(None)))}
 
 
 def read_tripod(path: str | Path) -> Tripod:

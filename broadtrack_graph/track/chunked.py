@@ -17,20 +17,21 @@ from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
-from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
-from broadtrack_graph.reinit.frame import frame_confidence
+from broadtrack_graph.reinit.frame import frame_confidence, plausible_position
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.result import std_fields
 from broadtrack_graph.track.solver_settings import graph_config_for
+from broadtrack_graph.track.tripod_check import offline_tripod
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.track_record import TrackRecord, carry_repeats
 
 
-def fit_clip_tripod(records: list[TrackRecord], config: TrackingConfig,
-                    graph_config: GraphConfig | None = None) -> tuple[Tripod | None, dict]:
-    """The reduce between the stages: one tripod fitted to every first-pass camera of a clip."""
+def fit_clip_tripod(records: list[TrackRecord], config: TrackingConfig, graph_config: GraphConfig | None = None,
+                    pitch: PitchTemplate | None = None) -> tuple[Tripod | None, dict]:
+    """The reduce between the stages: one tripod for every first-pass camera of a clip, as the one-process offline
+    pass chooses it (:func:`~broadtrack_graph.track.tripod_check.offline_tripod`)."""
     graph = graph_config_for(config, graph_config)
-    return fit_tripod_for_run([r.camera for r in records if r.camera is not None], graph.solver)
+    return offline_tripod([r.camera for r in records if r.camera is not None], config, graph, pitch or PitchTemplate())
 
 
 def refine_window_records(records: list[TrackRecord], observations: dict[int, FrameObservations], width_px: int,
@@ -66,8 +67,11 @@ def refine_window_records(records: list[TrackRecord], observations: dict[int, Fr
 
 def refined_record(record: TrackRecord, estimate: FrameEstimate | None, observations: FrameObservations | None,
                    curves: TemplateCurves, sampling: TemplateSampling) -> TrackRecord:
-    """A first-pass record with the refined camera, its std, confidence and active factors (as is without one)."""
-    if estimate is None or estimate.camera is None or observations is None:
+    """A first-pass record with the refined camera, its std, confidence and active factors (as is without one, or
+    when the refined camera's focal point is not a broadcast camera's,
+    :func:`~broadtrack_graph.reinit.frame.plausible_position`: the first pass judged its own camera)."""
+    if estimate is None or estimate.camera is None or observations is None or \
+            not plausible_position(estimate.camera.position_m, curves.pitch):
         return record
     confidence = (frame_confidence(estimate.camera, observations, None, curves, sampling)
                   if (observations.lines_px or observations.keypoints) else record.confidence)

@@ -18,6 +18,7 @@ from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tr
 from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
+from broadtrack_graph.track.tripod_check import rejected_fit
 from broadtrack_graph.types.shot import MAIN_CAMERA_ID
 
 log = logging.getLogger(__name__)
@@ -30,9 +31,9 @@ class OnlineTripod:
     ``tripod_provisional_frames`` of them a provisional tripod (typical delta and lambda, held as firmly as those
     frames agree where the camera stands,
     :func:`~broadtrack_graph.graph.tripod_fit.provisional_tripod_for_run`) holds the focal point in place; after
-    ``tripod_fit_frames`` the fit replaces it. A fit that explains fewer than
-    ``tripod_fit_min_inliers`` of its frames, or puts the tripod under 3 m, on the pitch or out of the stadium
-    (:func:`~broadtrack_graph.reinit.frame.plausible_position`), is rejected: the older half of the frames is dropped
+    ``tripod_fit_frames`` the fit replaces it. A fit that is not a consistent tripod (it explains fewer than
+    ``tripod_fit_min_inliers`` of its frames, or puts the tripod under 3 m, on the pitch or out of the stadium:
+    :func:`~broadtrack_graph.track.tripod_check.rejected_fit`) is rejected: the older half of the frames is dropped
     and the fit is tried again once enough new ones have come.
 
     Args:
@@ -162,11 +163,10 @@ class OnlineTripod:
         if len(self.cameras) < self.config.tripod_fit_frames:
             return
         tripod, info = fit_tripod_for_run(self.cameras, settings)
-        if tripod is not None and (info.get("inlier_ratio", 0.0) < self.config.tripod_fit_min_inliers
-                                   or not plausible_position(tripod.T_w, self.pitch)):
-            info["rejected"] = (f"inlier ratio {info.get('inlier_ratio', 0.0):.2f}, T {np.round(tripod.T_w, 2).tolist()}: "
-                                f"not a consistent tripod")
-            log.info("online tripod fit rejected: %s", info["rejected"])
+        rejected = None if tripod is None else rejected_fit(tripod, info, self.config, self.pitch)
+        if rejected is not None:
+            info["rejected"] = rejected
+            log.info("online tripod fit rejected: %s", rejected)
             tripod = None
         self.info = info
         if tripod is not None:

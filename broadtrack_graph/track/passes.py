@@ -27,17 +27,17 @@ from pathlib import Path
 
 import cv2
 
+from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.batch import BatchRefiner
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import EstimateSequence, FrameEstimate
-from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod_for_run
 from broadtrack_graph.io.run_folder import RunFolder
 from broadtrack_graph.io.shots_file import SHOTS_FILE, write_shots
 from broadtrack_graph.io.track_writer import TrackWriter
 from broadtrack_graph.reinit.field_model import NO_MODEL
-from broadtrack_graph.reinit.frame import frame_confidence
+from broadtrack_graph.reinit.frame import frame_confidence, plausible_position
 from broadtrack_graph.track.ahead import FramesInProcess, FramesRecipe, feed_in_process
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig
@@ -47,6 +47,7 @@ from broadtrack_graph.track.recover import recover_gaps
 from broadtrack_graph.track.result import RunResult, std_fields
 from broadtrack_graph.track.run_context import RecordObserver, RunContext
 from broadtrack_graph.track.shot_stream import ShotStream
+from broadtrack_graph.track.tripod_check import offline_tripod
 from broadtrack_graph.types.observations import FrameObservations
 from broadtrack_graph.types.shot import MAIN_CAMERA_ID, NO_PITCH_KINDS, place_shot
 from broadtrack_graph.types.status import FrameStatus
@@ -205,7 +206,8 @@ def recover_fixed_lag(result: RunResult, observations: dict[int, FrameObservatio
         track, _ = refiner.refine([observations[r.frame_index] for r in window], initial,
                                   tripod=result.tripod_of(gap_camera), estimate_tripod=False)
         for estimate in track.frames:
-            if estimate is None or estimate.camera is None or estimate.frame_index not in recovered:
+            if estimate is None or estimate.camera is None or estimate.frame_index not in recovered or \
+                    not plausible_position(estimate.camera.position_m, pitch):
                 continue
             i = position[estimate.frame_index]
             obs = observations[estimate.frame_index]
@@ -267,8 +269,8 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
         if given is None and (single or camera_id in (None, MAIN_CAMERA_ID)):
             given = tripod
         start_tripod = given if given is not None else (pass1.tripod if single else pass1.tripod_of(camera_id))
-        track, camera_tripod, info = _refine_camera(refiner, group, observations, config, graph, start_tripod, joint,
-                                                    context.progress, pass1.summary if single else {})
+        track, camera_tripod, info = _refine_camera(refiner, group, observations, config, graph, pitch, start_tripod,
+                                                    joint, context.progress, pass1.summary if single else {})
         by_index.update({e.frame_index: e for e in track.frames if e is not None})
         if info is not None:
             fit_infos[str(camera_id)] = info
@@ -304,9 +306,11 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
 
 
 def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observations: dict[int, FrameObservations],
-                   config: TrackingConfig, graph: GraphConfig, start_tripod: Tripod | None, joint: bool, progress: bool,
+                   config: TrackingConfig, graph: GraphConfig, pitch: PitchTemplate, start_tripod: Tripod | None,
+                   joint: bool, progress: bool,
                    first_pass_summary: dict) -> tuple[EstimateSequence, Tripod | None, dict | None]:
-    """Batch LM over one camera's frames: (refined track, its tripod, the tripod fit's report or None)."""
+    """Batch LM over one camera's frames: (refined track, its tripod, the tripod fit's report or None). Without a
+    tripod given, the one :func:`~broadtrack_graph.track.tripod_check.offline_tripod` chooses."""
     frames = [observations[r.frame_index] for r in tracked]
     initial = EstimateSequence([FrameEstimate(r.frame_index, r.camera, reinitialised=r.reinitialised) for r in tracked])
     # Frames not consecutive in the input (a gap, another camera's shot between) are not linked.
@@ -314,15 +318,8 @@ def _refine_camera(refiner: BatchRefiner, tracked: list[TrackRecord], observatio
         if tracked[k].frame_index != tracked[k - 1].frame_index + 1:
             initial.frames[k].reinitialised = True
     fit_info = None
-    if config.use_tripod and start_tripod is None and not joint:
-        cameras = [r.camera for r in tracked]
-        if len(cameras) < max(1, config.tripod_provisional_frames):
-            # Too few frames to fit T and delta (the pan barely moves): the provisional tripod, typical offsets.
-            start_tripod = provisional_tripod_for_run(cameras, graph)
-            fit_info = {"provisional": True, "frames": len(cameras),
-                        "reason": f"fewer than {config.tripod_provisional_frames} frames: typical delta and lambda"}
-        else:
-            start_tripod, fit_info = fit_tripod_for_run(cameras, graph.solver)
+    if config.use_tripod and start_tripod is None:
+        start_tripod, fit_info = offline_tripod([r.camera for r in tracked], config, graph, pitch)
     track, fitted = refiner.refine(frames, initial, tripod=start_tripod if config.use_tripod else None,
                                    estimate_tripod=joint, progress=progress)
     if config.use_tripod and not joint:

@@ -89,11 +89,13 @@ def test_records_round_trip_and_summary_reread(tmp_path):
 
 def test_tripod_round_trip(tmp_path):
     run = RunFolder(tmp_path)
-    run.write_tripod(Tripod((1.5, 56.0, -12.25), 0.2), {"frames": 150, "inlier_ratio": 0.9, "skip": {"a": 1}})
+    run.write_tripod(Tripod((1.5, 56.0, -12.25), 0.2), {"frames": 150, "inlier_ratio": 0.9, "residuals_m": np.zeros(3),
+                                                        "main-1": {"provisional": True, "inliers": np.ones(3, bool)}})
     assert run.has_tripod()
     tripod = run.read_tripod()
     assert tuple(tripod.T_w) == (1.5, 56.0, -12.25) and tripod.delta_m == 0.2
-    assert json.loads(run.tripod_path.read_text())["fit"] == {"frames": 150, "inlier_ratio": 0.9}
+    assert json.loads(run.tripod_path.read_text())["fit"] == {"frames": 150, "inlier_ratio": 0.9,
+                                                               "main-1": {"provisional": True}}
 
 
 def test_summary_errors_name_the_file(tmp_path):
