@@ -12,7 +12,7 @@ from pathlib import Path
 
 from broadtrack_graph.geometry.template import TemplateSampling
 from broadtrack_graph.io.run_folder import read_track
-from broadtrack_graph.metrics.reliability import merged_summaries, reliability_summary, line_disagreement_px
+from broadtrack_graph.metrics.reliability import line_disagreement_px, merged_summaries, reliability_summary
 
 RIGHT_TAU_PX = 5.0
 """A synthetic camera is right when it lays every marking the true camera shows within this many pixels (at

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
 from reinit_helpers import median_template_error_px
 
 from broadtrack_graph.detect.weightfree import WeightFreeDetector

@@ -29,7 +29,6 @@ def _image_ellipse(camera: Camera) -> ImageEllipse:
     H_px = K @ np.column_stack([R[:, 0], R[:, 1], t])
     Hinv = np.linalg.inv(H_px)
     conic = Hinv.T @ np.diag([1.0, 1.0, -RADIUS**2]) @ Hinv
-    A, B, C = conic[0, 0], conic[0, 1], conic[1, 1]
     centre = np.linalg.solve(conic[:2, :2], -conic[:2, 2])
     value = centre @ conic[:2, :2] @ centre + 2 * conic[:2, 2] @ centre + conic[2, 2]
     eigenvalues, vectors = np.linalg.eigh(conic[:2, :2] / -value)

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
 
 from broadtrack_graph.reinit.court_families import line_families
-from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
 
 W, H = 1280, 720
 

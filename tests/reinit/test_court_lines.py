@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
 
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
@@ -21,7 +22,6 @@ from broadtrack_graph.reinit.court_lines import (
     pitch_line_offsets,
     split_hypotheses,
 )
-from reinit_helpers import BOX_SEGMENTS, box_view, image_lines
 
 PITCH = PitchTemplate()
 W, H = 1280, 720

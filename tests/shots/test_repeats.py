@@ -5,7 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from broadtrack_graph.shots.repeats import RepeatConfig, repeat_grey, repeats, reduced_grey
+from broadtrack_graph.shots.repeats import RepeatConfig, reduced_grey, repeat_grey, repeats
 
 
 def _frame(seed: int = 0, shift_px: float = 0.0, player_at: int | None = None) -> np.ndarray:

@@ -11,8 +11,14 @@ from broadtrack_graph.io.frames import open_frames
 from broadtrack_graph.io.prefetch import PREFETCH_ENV
 from broadtrack_graph.synth.writer import write_synthetic_clip
 from broadtrack_graph.track import ahead
-from broadtrack_graph.track.ahead import (FramesAhead, FramesInProcess, FramesRecipe, feed_in_process, slot_bytes,
-                                          without_pixels)
+from broadtrack_graph.track.ahead import (
+    FramesAhead,
+    FramesInProcess,
+    FramesRecipe,
+    feed_in_process,
+    slot_bytes,
+    without_pixels,
+)
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.inputs import FrameInput, frames_from_source
 from broadtrack_graph.track.shot_stream import ShotStream
