@@ -301,6 +301,8 @@ def refine_run(pass1: RunResult, observations: dict[int, FrameObservations], wid
     if fitted is not None:
         extra["tripod"] = {"T_w": list(map(float, fitted.T_w)), "delta_m": float(fitted.delta_m)}
         RunFolder(out_dir).write_tripod(fitted, refiner.last_info.get("tripod_fit"), fitted_by_camera)
+    if refiner.last_info.get("tripod_fit"):
+        extra["tripod_fit"] = refiner.last_info["tripod_fit"]  # as the online run's summary: why this tripod
     summary = writer.close(extra)
     return RunResult(Path(out_dir), summary, records, fitted, fitted_by_camera)
 

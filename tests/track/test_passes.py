@@ -121,6 +121,8 @@ def test_batch_two_pass_writes_tripod(clip, tmp_path):
     tripod = read_tripod(tmp_path / "batch" / "tripod.json")
     truth = json.loads((clip / "tripod.json").read_text())
     assert result.tripod is not None
+    # The summary says where the tripod came from, as tripod.json does.
+    assert result.summary["tripod_fit"] == json.loads((tmp_path / "batch" / "tripod.json").read_text())["fit"]
     # Horizontal position of T is well determined even on a short clip.
     assert np.hypot(*(np.array(tripod.T_w[:2]) - truth["T_w"][:2])) < 2.0
 
