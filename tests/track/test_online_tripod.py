@@ -6,10 +6,10 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 import numpy as np
+from tripod_cameras import cameras_on
 
-from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.geometry.tripod import Tripod, focal_point
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
@@ -17,17 +17,6 @@ from broadtrack_graph.track.online_tripod import OnlineTripod
 
 CONFIG = TrackingConfig(tripod_provisional_frames=5, tripod_fit_frames=30, tripod_fit_min_confidence=0.6,
                         tripod_fit_min_inliers=0.6)
-
-
-def cameras_on(tripod: Tripod, count: int, seed: int = 1) -> list[Camera]:
-    """Cameras on the tripod; lambda = 0.2 m (the provisional tripod's assumption), wide pan and tilt."""
-    rng = np.random.default_rng(seed)
-    cameras = []
-    for _ in range(count):
-        pan, tilt = np.radians(rng.uniform(-40, 40)), np.radians(rng.uniform(60, 85))
-        R = rotation_from_angles(pan, tilt, 0.0)
-        cameras.append(Camera(2000.0, 0.0, pan, tilt, 0.0, focal_point(R, tripod, 0.2), 1920, 1080))
-    return cameras
 
 
 def policy(config=CONFIG, known=None) -> OnlineTripod:

@@ -5,11 +5,12 @@ is rejected for the cameras' own median; a refined camera under the grass is not
 from __future__ import annotations
 
 import numpy as np
+from tripod_cameras import cameras_on
 
-from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
+from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
-from broadtrack_graph.geometry.tripod import Tripod, focal_point
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
@@ -24,17 +25,6 @@ from broadtrack_graph.types.track_record import TrackRecord
 
 CONFIG = TrackingConfig(tripod_provisional_frames=10, tripod_fit_min_inliers=0.6)
 PITCH = PitchTemplate()
-
-
-def cameras_on(tripod: Tripod, count: int, seed: int = 1) -> list[Camera]:
-    """Cameras on the tripod (lambda 0.2 m), wide pan and tilt."""
-    rng = np.random.default_rng(seed)
-    cameras = []
-    for _ in range(count):
-        pan, tilt = np.radians(rng.uniform(-40, 40)), np.radians(rng.uniform(60, 85))
-        R = rotation_from_angles(pan, tilt, 0.0)
-        cameras.append(Camera(2000.0, 0.0, pan, tilt, 0.0, focal_point(R, tripod, 0.2), 1920, 1080))
-    return cameras
 
 
 def cameras_looking_at(spot_w, count: int, seed: int = 2) -> list[Camera]:
