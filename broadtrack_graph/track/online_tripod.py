@@ -15,10 +15,9 @@ from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run, provisional_tripod_for_run
-from broadtrack_graph.reinit.frame import plausible_position
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.config import TrackingConfig
-from broadtrack_graph.track.tripod_check import rejected_fit
+from broadtrack_graph.track.tripod_check import rejected_fit, standing_provisional
 from broadtrack_graph.types.shot import MAIN_CAMERA_ID
 
 log = logging.getLogger(__name__)
@@ -152,8 +151,8 @@ class OnlineTripod:
         settings = self.graph.solver
         if (solver.tripod is None and self.config.tripod_provisional_frames
                 and len(self.cameras) >= self.config.tripod_provisional_frames):
-            provisional = provisional_tripod_for_run(self.cameras, self.graph)
-            if provisional is not None and plausible_position(provisional.T_w, self.pitch):
+            provisional = standing_provisional(self.cameras, self.graph, self.pitch)
+            if provisional is not None:
                 solver.tripod = provisional
                 self.provisional = True
                 self.info = {"provisional": True, "frames": len(self.cameras),

@@ -37,6 +37,13 @@ def rejected_fit(tripod: Tripod, info: dict, config: TrackingConfig, pitch: Pitc
     return f"inlier ratio {inliers:.2f}, T {np.round(tripod.T_w, 2).tolist()}: not a consistent tripod"
 
 
+def standing_provisional(cameras: list[Camera], graph: GraphConfig, pitch: PitchTemplate) -> Tripod | None:
+    """The cameras' provisional tripod (:func:`~broadtrack_graph.graph.tripod_fit.provisional_tripod_for_run`) where
+    a broadcast camera can stand, else None."""
+    provisional = provisional_tripod_for_run(cameras, graph)
+    return provisional if provisional is not None and plausible_position(provisional.T_w, pitch) else None
+
+
 def offline_tripod(cameras: list[Camera], config: TrackingConfig, graph: GraphConfig,
                    pitch: PitchTemplate) -> tuple[Tripod | None, dict]:
     """The tripod an offline pass holds for one camera's first-pass cameras, and what chose it.
@@ -66,8 +73,8 @@ def offline_tripod(cameras: list[Camera], config: TrackingConfig, graph: GraphCo
         reason = f"the fit rejected ({info.get('rejected') or info.get('reason')}): typical delta and lambda"
     else:
         reason = f"fewer than {config.tripod_provisional_frames} frames: typical delta and lambda"
-    provisional = provisional_tripod_for_run(cameras, graph)
-    if provisional is None or not plausible_position(provisional.T_w, pitch):
+    provisional = standing_provisional(cameras, graph, pitch)
+    if provisional is None:
         return None, {**info, "provisional": False, "frames": len(cameras),
                       "reason": "no tripod: neither a consistent fit nor the cameras' median stands where a "
                                 "broadcast camera can"}
