@@ -12,6 +12,7 @@ from broadtrack_graph.detect.motion_blur import (
     deblurred,
     estimate_motion_blur,
     motion_kernel,
+    periodic_extension,
 )
 
 
@@ -131,6 +132,38 @@ def test_undoing_the_smear_brings_a_line_across_it_back():
     assert contrast(restored) > 2.6 * contrast(blurred)
     assert np.median(restored[row, 300:400]) == pytest.approx(100.0, abs=3.0)
     assert restored.shape == (h, w)
+
+
+def test_the_extension_meets_the_image_s_opposite_borders_without_a_step():
+    """Repeated periodically, the extended image runs from each border to the opposite one in small steps; the image
+    itself is kept as it is."""
+    rng = np.random.default_rng(2)
+    image = np.vstack([np.full((30, 50), 80.0), np.full((30, 50), 160.0)]).astype(np.float32)
+    image += rng.normal(0.0, 1.0, image.shape).astype(np.float32)
+    out = periodic_extension(image, 96, 72)
+    assert out.shape == (96, 72) and out.dtype == np.float32
+    np.testing.assert_array_equal(out[:60, :50], image)
+    tiled = np.vstack([out, out[:1]])  # the first row again after the last: the wrap
+    assert np.abs(np.diff(tiled[:, :50], axis=0))[59:].max() < 80.0 / 36 * 1.6 + 1.0  # 80 levels over 36 rows
+    tiled = np.hstack([out, out[:, :1]])
+    assert np.abs(np.diff(tiled[:60], axis=1))[:, 49:].max() < 5.0  # the left and right borders alike but for noise
+
+
+def test_a_smeared_frame_whose_top_and_bottom_differ_gets_no_band_along_its_borders():
+    """A step between the frame's opposite borders (stands at the top, grass at the bottom) deconvolved as the
+    Fourier transform repeats the image would ring back in along both borders: the bottom rows brightened into a band
+    a ridge detector reads as a marking along the frame's edge. The grass's rows keep their level to the last."""
+    h, w = 540, 960
+    rng = np.random.default_rng(5)
+    image = np.full((h, w), 110.0, np.float32)
+    image[:200] = 85.0  # the stands
+    image += rng.normal(0.0, 2.0, image.shape).astype(np.float32)
+    blurred = np.clip(_smeared(image, 13.0, 99.0), 0, 255).astype(np.uint8)
+    restored = deblurred(blurred, MotionBlur(13.0, 99.0, -0.5, 0.1)).astype(float)
+    bottom = restored[h - 12:, 100:860].mean(axis=1)
+    assert np.abs(bottom - 110.0).max() < 2.0
+    top = restored[:6, 100:860].mean(axis=1)
+    assert np.abs(top - 85.0).max() < 3.0
 
 
 def test_the_detector_finds_a_smeared_frame_s_markings_again():
