@@ -207,7 +207,7 @@ def deblurred(grey: np.ndarray, blur: MotionBlur, nsr: float = MotionBlurConfig.
     """(h, w) uint8: a grey image with its motion blur undone by the Wiener filter (module docstring)."""
     kernel = motion_kernel(blur.length_px, blur.angle_deg)
     h, w = grey.shape
-    pad = kernel.shape[0]
+    pad = kernel.shape[0]  # the blend from each border to the opposite one: at least two kernels long
     H, W = cv2.getOptimalDFTSize(h + 2 * pad), cv2.getOptimalDFTSize(w + 2 * pad)
     image = periodic_extension(np.asarray(grey, np.float32), H, W)
     spread = np.zeros((H, W), np.float32)
@@ -235,7 +235,7 @@ def periodic_extension(image: np.ndarray, height: int, width: int) -> np.ndarray
     h, w = image.shape
     out = np.empty((height, width), np.float32)
     out[:h, :w] = image
-    for axis, size, room in ((0, h, height - h), (1, w, width - w)):
+    for axis, room in ((0, height - h), (1, width - w)):
         if room <= 0:
             continue
         weight = (0.5 - 0.5 * np.cos(np.pi * (np.arange(1, room + 1) / (room + 1)))).astype(np.float32)
