@@ -17,7 +17,8 @@ report merges them under their names; a section whose data is not given is skipp
   visible lines measured without the tracker's detector, re-initialisations, other-view
   frames, cuts, fps, stage timings, overlay videos). With ``--shadow KEPT``, each clip under a
   stand's shadow keeping that share of the light (:mod:`broadtrack_graph.benchmarks.shadow`); with ``--degrade
-  W:Q:N``, as a lower-league feed shows it (:mod:`broadtrack_graph.benchmarks.degrade`); with ``--starts STEP``,
+  W:Q:N``, as a lower-league feed shows it (:mod:`broadtrack_graph.benchmarks.degrade`); with ``--zoom Z``, as a
+  lens Z times longer shows it (:mod:`broadtrack_graph.benchmarks.zoom`); with ``--starts STEP``,
   also tracked from nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`).
 
 Runs are written under ``--out`` (default ./bench-real); real data never belongs in the
@@ -35,6 +36,7 @@ from pathlib import Path
 from broadtrack_graph.arguments import int_at_least, positive_share
 from broadtrack_graph.benchmarks.degrade import parse_degradation
 from broadtrack_graph.benchmarks.options import add_reinit_model
+from broadtrack_graph.benchmarks.zoom import parse_zoom
 from broadtrack_graph.types.modes import MODES
 
 HELP = ("the tracker on real data: TS-WorldCup keypoint clips scored against their ground truth per mode vs a "
@@ -76,6 +78,10 @@ def add_arguments(parser) -> None:
                         help="video: track each clip as a lower-league feed or a web stream shows it, reduced to W "
                              "pixels wide with noise of N grey levels and JPEG quality Q (854:25:3, say), and score "
                              "the cameras on the original frames (with --shadow: shaded first)")
+    parser.add_argument("--zoom", type=parse_zoom, default=None, metavar="Z",
+                        help="video: track each clip as a lens Z times longer shows it (each frame's centre, 1/Z of "
+                             "its width and height, its pixels kept) and score the cameras on those zoomed frames "
+                             "(with --shadow: shaded first; with --degrade: zoomed first)")
 
 
 def tsworldcup_section(args) -> dict | None:

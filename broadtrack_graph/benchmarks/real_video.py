@@ -10,8 +10,10 @@ written cameras (their confidence against the alignment check,
 clip is written beside the runs (never inside the repository). With ``--shadow KEPT`` every
 clip is tracked under a stand's shadow keeping that share of the light
 (:mod:`broadtrack_graph.benchmarks.shadow`), with ``--degrade W:Q:N`` as a lower-league feed shows it
-(:mod:`broadtrack_graph.benchmarks.degrade`), or both (:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras
-tracked on such a copy are scored on the original frames. With ``--starts STEP`` every clip is also tracked from
+(:mod:`broadtrack_graph.benchmarks.degrade`), with ``--zoom Z`` as a lens Z times longer shows it
+(:mod:`broadtrack_graph.benchmarks.zoom`), or several of them in that order
+(:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras tracked on such a copy are scored on the original
+frames (zoomed as the copy is: a zoom is the view itself, not a loss of it). With ``--starts STEP`` every clip is also tracked from
 nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`: how soon a shot's camera is found).
 """
 
@@ -29,6 +31,7 @@ from broadtrack_graph.benchmarks.degrade import degrade_change
 from broadtrack_graph.benchmarks.options import tracker_options
 from broadtrack_graph.benchmarks.real_starts import score_starts, start_frames, starts_figures, track_starts
 from broadtrack_graph.benchmarks.shadow import shadow_change
+from broadtrack_graph.benchmarks.zoom import zoom_change, zoom_label
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
@@ -54,32 +57,43 @@ def run_video_clips(args) -> dict:
     clips = sorted(Path(args.video_dir).glob("*.mp4"))
     if args.clips:
         clips = [c for c in clips if c.stem in set(args.clips)]
-    kept, degradation = getattr(args, "shadow", None), getattr(args, "degrade", None)
+    kept, degradation, zoom = getattr(args, "shadow", None), getattr(args, "degrade", None), getattr(args, "zoom", None)
     changes, suffix = [], ""
     if kept is not None:
         changes.append(shadow_change(kept))
         suffix += f"-shadow-{kept:g}"
+    if zoom is not None:
+        changes.append(zoom_change(zoom))
+        suffix += f"-{zoom_label(zoom)}"
     if degradation is not None:
         changes.append(degrade_change(degradation))
         suffix += f"-{degradation.label}"
     report, start_rows = {}, []
     step, length = getattr(args, "starts", None), getattr(args, "start_frames", 15)
     for video in clips:
-        # A changed copy (--shadow, --degrade) is tracked, its cameras scored on the original frames.
+        # A changed copy (--shadow, --zoom, --degrade) is tracked, its cameras scored on the original frames, zoomed
+        # as the copy is (a copy of its own when the copy is changed in other ways too).
         name = video.stem + suffix
         run_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / name
         tracked = video if not changes else Path(args.out) / "copies" / f"{name}.mp4"
+        scored = video
+        if zoom is not None:
+            scored = tracked if len(changes) == 1 else Path(args.out) / "copies" / f"{video.stem}-{zoom_label(zoom)}.mp4"
         if args.runs is None:
             if changes:
                 write_copy(video, tracked, chained(*changes))
             track_input(tracked, run_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
                         progress=not args.no_progress)
-        report[name] = score_clip(video, run_dir, args.score_every, end=args.end)
+        fresh = args.runs is None and scored != tracked  # the zoom alone, beside a copy changed in other ways too
+        if scored != video and (fresh or not scored.is_file()):
+            write_copy(video, scored, zoom_change(zoom))
+        report[name] = score_clip(scored, run_dir, args.score_every, end=args.end,
+                                  other_views=KNOWN_OTHER_VIEWS.get(video.stem, []))
         if step is not None:
             starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
             runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),
                                 progress=False)
-            rows = score_starts(video, runs)
+            rows = score_starts(scored, runs)
             report[name]["starts"] = starts_figures(rows, step, length)
             start_rows += rows
         if not args.no_overlay and tracked.is_file():
@@ -97,16 +111,20 @@ def run_video_clips(args) -> dict:
         section["shadow_kept"] = kept
     if degradation is not None:
         section["degraded"] = degradation.label
+    if zoom is not None:
+        section["zoom"] = zoom
     return section
 
 
 def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),
-               end: int | None = None) -> dict:
-    """The figures of one tracked clip (module docstring), from its run folder and its frames (those before ``end``)."""
+               end: int | None = None, other_views=None) -> dict:
+    """The figures of one tracked clip (module docstring), from its run folder and its frames (those before ``end``);
+    ``other_views``: its frames known to show no main camera ((start, end exclusive) ranges; default: the
+    :data:`KNOWN_OTHER_VIEWS` of the video's name)."""
     folder = RunFolder(run_dir)
     records = {r.frame_index: r for r in folder.read_track().records if end is None or r.frame_index < end}
     summary = folder.read_summary() if folder.has_summary() else {}
-    known = KNOWN_OTHER_VIEWS.get(video.stem, [])
+    known = KNOWN_OTHER_VIEWS.get(video.stem, []) if other_views is None else other_views
     other_known = {i for a, b in known for i in range(a, b)}
     other_found = {i for i, r in records.items() if r.status == FrameStatus.OTHER_VIEW}
     curves = fitting_curves(PitchTemplate())

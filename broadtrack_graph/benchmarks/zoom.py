@@ -1,0 +1,79 @@
+"""A real clip as a longer lens shows it, for ``bench real --zoom Z``: views narrower than the clip's own.
+
+A broadcast's main camera zooms into the penalty area after a fast pan, and its other cameras often hold a narrow
+view: fewer markings in view, a camera whose depth along its line of sight the markings fix loosely. A clip's frames
+cropped about their centre to ``1/Z`` of their width and height, the pixels kept as they are (:func:`zoom_frame`), are
+what the same camera shows through a lens ``Z`` times longer: the crop keeps the focal length in pixels, the angles,
+the focal point and the principal point at the image's centre (:func:`zoomed_camera`), only the image is smaller. The
+copy is written by :mod:`.clip_copy`; its cameras are scored on the zoomed frames themselves (a camera fixed by the
+markings inside the crop may draw the pitch outside it differently and still be right in the view it has).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from broadtrack_graph.benchmarks.clip_copy import FrameChange
+from broadtrack_graph.geometry.camera import Camera
+
+MAX_ZOOM = 8.0
+"""The longest zoom asked (a 1080p frame's crop is then 240x134 pixels)."""
+
+
+def parse_zoom(text: str) -> float:
+    """``Z`` (e.g. ``2``) as the zoom, over 1 and at most :data:`MAX_ZOOM`; an ``argparse`` type."""
+    try:
+        zoom = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number; give the zoom, e.g. 2") from None
+    if not 1.0 < zoom <= MAX_ZOOM:
+        raise argparse.ArgumentTypeError(f"zoom {zoom:g} is outside (1, {MAX_ZOOM:g}]; give a zoom over 1, e.g. 2")
+    return zoom
+
+
+def zoom_label(zoom: float) -> str:
+    """Its part of the copy's name, e.g. ``zoom2`` or ``zoom1.5``."""
+    return f"zoom{zoom:g}"
+
+
+def zoomed_size(width_px: int, height_px: int, zoom: float) -> tuple[int, int]:
+    """(w, h) of the crop: ``1/zoom`` of each side rounded to an even number (at least 2), so that the crop's centre
+    is the frame's."""
+    def side(length: int) -> int:
+        return max(2, int(round(length / zoom / 2.0)) * 2)
+
+    return min(side(width_px), width_px - width_px % 2), min(side(height_px), height_px - height_px % 2)
+
+
+def zoom_frame(image_bgr: np.ndarray, zoom: float) -> np.ndarray:
+    """The frame's centre, ``1/zoom`` of its width and height (:func:`zoomed_size`), its pixels unchanged.
+
+    Args:
+        image_bgr: (H, W, 3) uint8.
+
+    Returns:
+        (h, w, 3) uint8, a copy; its centre is the frame's ((W - w) and (H - h) even for an even W and H).
+    """
+    H, W = image_bgr.shape[:2]
+    w, h = zoomed_size(W, H, zoom)
+    left, top = (W - w) // 2, (H - h) // 2
+    return np.ascontiguousarray(image_bgr[top:top + h, left:left + w])
+
+
+def zoomed_camera(camera: Camera, zoom: float) -> Camera:
+    """The camera that sees :func:`zoom_frame` of ``camera``'s frame: the same in every parameter, its image the
+    crop's size (the focal length in pixels is the crop's too; a principal point given in pixels moves with the
+    crop's corner, the image centre stays the centre)."""
+    W, H = camera.width_px, camera.height_px
+    w, h = zoomed_size(W, H, zoom)
+    principal = camera.principal_point_px
+    if principal is not None:
+        principal = (principal[0] - (W - w) // 2, principal[1] - (H - h) // 2)
+    return camera.replace(width_px=w, height_px=h, principal_point_px=principal)
+
+
+def zoom_change(zoom: float) -> FrameChange:
+    """:func:`zoom_frame` as a :data:`~.clip_copy.FrameChange`."""
+    return lambda image, index: zoom_frame(image, zoom)

@@ -1,0 +1,86 @@
+"""``bench real --zoom``: a clip as a longer lens shows it, the camera that sees it, and the video section on it."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import cv2
+import numpy as np
+import pytest
+
+from broadtrack_graph.benchmarks.clip_copy import write_copy
+from broadtrack_graph.benchmarks.zoom import parse_zoom, zoom_change, zoom_frame, zoom_label, zoomed_camera, zoomed_size
+from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.pitch import PitchTemplate
+
+
+def test_the_zoom_is_a_number_over_one():
+    assert parse_zoom("2") == 2.0 and parse_zoom("1.5") == 1.5
+    assert zoom_label(2.0) == "zoom2" and zoom_label(1.5) == "zoom1.5"
+    for bad in ("1", "0.5", "9", "two", "nan"):
+        with pytest.raises(argparse.ArgumentTypeError):
+            parse_zoom(bad)
+
+
+def test_the_zoomed_frame_is_the_frame_centre_pixel_for_pixel():
+    image = np.random.default_rng(1).integers(0, 256, (1080, 1920, 3), dtype=np.uint8)
+    assert zoomed_size(1920, 1080, 2.0) == (960, 540) and zoomed_size(1280, 720, 3.0) == (426, 240)
+    assert zoomed_size(854, 480, 1.5) == (570, 320)
+    zoomed = zoom_frame(image, 3.0)
+    assert zoomed.shape == (360, 640, 3) and zoomed.flags["C_CONTIGUOUS"]
+    np.testing.assert_array_equal(zoomed, image[360:720, 640:1280])
+
+
+def test_the_zoomed_camera_draws_the_pitch_where_the_frame_crop_shows_it():
+    camera = Camera.from_degrees(focal_px=2600.0, pan_deg=12.0, tilt_deg=78.0, roll_deg=0.3,
+                                 position_m=[-4.0, 62.0, -16.0], width_px=1920, height_px=1080, k1=0.08)
+    points = np.vstack(list(PitchTemplate().sample_uniform(1.0).values()))
+    for zoom in (1.5, 2.0, 3.0):
+        zoomed = zoomed_camera(camera, zoom)
+        w, h = zoomed_size(1920, 1080, zoom)
+        assert (zoomed.width_px, zoomed.height_px) == (w, h) and zoomed.focal_px == camera.focal_px
+        uv, front = camera.project(points)
+        uv_zoomed, front_zoomed = zoomed.project(points)
+        np.testing.assert_array_equal(front, front_zoomed)
+        # every point lands in the crop where the crop's corner puts it: the same view, a smaller image
+        np.testing.assert_allclose(uv_zoomed[front], uv[front] - [(1920 - w) / 2, (1080 - h) / 2], atol=1e-9)
+        assert math.isclose(2 * math.degrees(math.atan(w / 2 / zoomed.focal_px)),
+                            2 * math.degrees(math.atan(1920 / 2 / zoom / camera.focal_px)), rel_tol=0.01)
+    # A principal point given in pixels moves with the crop's corner.
+    off_centre = camera.replace(principal_point_px=(950.0, 548.0))
+    assert zoomed_camera(off_centre, 2.0).principal_point_px == (950.0 - 480, 548.0 - 270)
+
+
+def test_the_zoomed_copy_of_a_video_has_every_frame_at_the_crop_size(tmp_path, grey_video):
+    video = grey_video(320, 180, 3, 100)
+    out = tmp_path / "out" / "grey-zoom2.mp4"
+    assert write_copy(video, out, zoom_change(2.0)) == 3
+    capture = cv2.VideoCapture(str(out))
+    ok, first = capture.read()
+    capture.release()
+    assert ok and first.shape == (90, 160, 3) and abs(first.mean() - 100) < 8
+
+
+def test_bench_real_tracks_the_zoomed_copy_and_scores_it_on_the_zoomed_frames(bench_real_video_section):
+    section, runs = bench_real_video_section("--zoom", "1.25")
+    name = "main-zoom1.25"
+    assert section["zoom"] == 1.25 and list(section["clips"]) == [name]
+    figures = section["clips"][name]
+    assert figures["frames"] == 8 and figures["frames_decoded"] == 8
+    # The 640x360 main view's centre at 512x288: the same camera seen through a longer lens, found and aligned on
+    # the zoomed frames it was tracked on.
+    assert figures["frames_with_camera"] >= 6 and figures["aligned_share_of_camera_frames"] >= 0.8
+    capture = cv2.VideoCapture(str(runs / "copies" / f"{name}.mp4"))
+    assert (capture.get(cv2.CAP_PROP_FRAME_WIDTH), capture.get(cv2.CAP_PROP_FRAME_HEIGHT)) == (512, 288)
+    capture.release()
+
+
+def test_bench_real_scores_a_zoomed_and_degraded_copy_on_the_zoomed_frames(bench_real_video_section):
+    section, runs = bench_real_video_section("--zoom", "1.25", "--degrade", "400:60:1")
+    name = "main-zoom1.25-400px-q60-n1"
+    assert list(section["clips"]) == [name] and section["clips"][name]["frames_decoded"] == 8
+    for copy, width in ((name, 400), ("main-zoom1.25", 512)):  # tracked on the first, scored on the second
+        capture = cv2.VideoCapture(str(runs / "copies" / f"{copy}.mp4"))
+        assert capture.get(cv2.CAP_PROP_FRAME_WIDTH) == width
+        capture.release()
