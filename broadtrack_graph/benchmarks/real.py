@@ -81,7 +81,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--zoom", type=parse_zoom, default=None, metavar="Z",
                         help="video: track each clip as a lens Z times longer shows it (each frame's centre, 1/Z of "
                              "its width and height, its pixels kept) and score the cameras on those zoomed frames "
-                             "(with --shadow: shaded first; with --degrade: zoomed first)")
+                             "(with --shadow: shaded first; with --degrade: zoomed first); the clip is tracked on its "
+                             "whole frames too (with --runs: read from RUNS/<clip>) to count the zoomed frames whose "
+                             "markings fix a camera")
 
 
 def tsworldcup_section(args) -> dict | None:

@@ -13,7 +13,9 @@ clip is tracked under a stand's shadow keeping that share of the light
 (:mod:`broadtrack_graph.benchmarks.degrade`), with ``--zoom Z`` as a lens Z times longer shows it
 (:mod:`broadtrack_graph.benchmarks.zoom`), or several of them in that order
 (:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras tracked on such a copy are scored on the original
-frames (zoomed as the copy is: a zoom is the view itself, not a loss of it). With ``--starts STEP`` every clip is also tracked from
+frames (zoomed as the copy is: a zoom is the view itself, not a loss of it), and with a zoom the clip is tracked on
+its whole frames too, whose cameras say which zoomed frames' markings fix a camera (``determinable``). With
+``--starts STEP`` every clip is also tracked from
 nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`: how soon a shot's camera is found).
 """
 
@@ -31,7 +33,7 @@ from broadtrack_graph.benchmarks.degrade import degrade_change
 from broadtrack_graph.benchmarks.options import tracker_options
 from broadtrack_graph.benchmarks.real_starts import score_starts, start_frames, starts_figures, track_starts
 from broadtrack_graph.benchmarks.shadow import shadow_change
-from broadtrack_graph.benchmarks.zoom import zoom_change, zoom_label
+from broadtrack_graph.benchmarks.zoom import determinable_figures, zoom_change, zoom_label
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
@@ -89,6 +91,13 @@ def run_video_clips(args) -> dict:
             write_copy(video, scored, zoom_change(zoom))
         report[name] = score_clip(scored, run_dir, args.score_every, end=args.end,
                                   other_views=KNOWN_OTHER_VIEWS.get(video.stem, []))
+        if zoom is not None:
+            # The clip tracked on its whole frames says which zoomed frames' markings fix a camera.
+            whole_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
+            if args.runs is None:
+                track_input(video, whole_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
+                            progress=not args.no_progress)
+            report[name]["determinable"] = determinable_figures(_cameras(whole_dir), _cameras(run_dir), zoom)
         if step is not None:
             starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
             runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),
@@ -113,7 +122,16 @@ def run_video_clips(args) -> dict:
         section["degraded"] = degradation.label
     if zoom is not None:
         section["zoom"] = zoom
+        figures = [clip["determinable"] for clip in report.values()]
+        fixed, found = sum(f["determinable"] for f in figures), sum(f["determinable_with_camera"] for f in figures)
+        section["determinable"] = {"determinable": fixed, "determinable_with_camera": found,
+                                   "share": round(found / fixed, 4) if fixed else None}
     return section
+
+
+def _cameras(run_dir: Path) -> dict:
+    """Frame index -> the camera a run wrote (None: none)."""
+    return {record.frame_index: record.camera for record in RunFolder(run_dir).read_track().records}
 
 
 def score_clip(video: Path, run_dir: Path, score_every: int = 1, config: AlignmentConfig = AlignmentConfig(),

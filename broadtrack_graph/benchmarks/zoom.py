@@ -7,6 +7,10 @@ what the same camera shows through a lens ``Z`` times longer: the crop keeps the
 the focal point and the principal point at the image's centre (:func:`zoomed_camera`), only the image is smaller. The
 copy is written by :mod:`.clip_copy`; its cameras are scored on the zoomed frames themselves (a camera fixed by the
 markings inside the crop may draw the pitch outside it differently and still be right in the view it has).
+
+Which zoomed frames could have a camera at all is read from the clip's own cameras, tracked on its whole frames:
+each one's :func:`zoomed_camera` sees the crop, and the rule of :mod:`broadtrack_graph.geometry.determinable` says
+whether the markings it shows fix a camera (:func:`determinable_figures`).
 """
 
 from __future__ import annotations
@@ -17,6 +21,8 @@ import numpy as np
 
 from broadtrack_graph.benchmarks.clip_copy import FrameChange
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.determinable import determinability
+from broadtrack_graph.geometry.pitch import PitchTemplate
 
 MAX_ZOOM = 8.0
 """The longest zoom asked (a 1080p frame's crop is then 240x134 pixels)."""
@@ -77,3 +83,27 @@ def zoomed_camera(camera: Camera, zoom: float) -> Camera:
 def zoom_change(zoom: float) -> FrameChange:
     """:func:`zoom_frame` as a :data:`~.clip_copy.FrameChange`."""
     return lambda image, index: zoom_frame(image, zoom)
+
+
+def determinable_figures(whole_cameras: dict[int, Camera | None], zoomed_cameras: dict[int, Camera | None],
+                         zoom: float, pitch: PitchTemplate | None = None) -> dict:
+    """How many zoomed frames could have a camera, and how many got one (module docstring).
+
+    Args:
+        whole_cameras: frame index -> the clip's own camera on its whole frame (None: none written).
+        zoomed_cameras: frame index -> the camera written on the zoomed copy's frame (None: none).
+
+    Returns:
+        {"reference_frames": frames with a camera of the whole clip, "determinable": those whose crop's markings fix a
+        camera, "determinable_with_camera": of them with a camera written on the copy, "share": their share (None
+        when none is determinable), "first_determinable", "first_camera": frame indices (None: none)}.
+    """
+    pitch = pitch or PitchTemplate()
+    fixed = sorted(i for i, camera in whole_cameras.items()
+                   if camera is not None and determinability(zoomed_camera(camera, zoom), pitch).determinable)
+    found = [i for i in fixed if zoomed_cameras.get(i) is not None]
+    written = sorted(i for i, camera in zoomed_cameras.items() if camera is not None)
+    return {"reference_frames": sum(1 for camera in whole_cameras.values() if camera is not None),
+            "determinable": len(fixed), "determinable_with_camera": len(found),
+            "share": round(len(found) / len(fixed), 4) if fixed else None,
+            "first_determinable": fixed[0] if fixed else None, "first_camera": written[0] if written else None}

@@ -10,7 +10,15 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.benchmarks.clip_copy import write_copy
-from broadtrack_graph.benchmarks.zoom import parse_zoom, zoom_change, zoom_frame, zoom_label, zoomed_camera, zoomed_size
+from broadtrack_graph.benchmarks.zoom import (
+    determinable_figures,
+    parse_zoom,
+    zoom_change,
+    zoom_frame,
+    zoom_label,
+    zoomed_camera,
+    zoomed_size,
+)
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
@@ -52,6 +60,22 @@ def test_the_zoomed_camera_draws_the_pitch_where_the_frame_crop_shows_it():
     assert zoomed_camera(off_centre, 2.0).principal_point_px == (950.0 - 480, 548.0 - 270)
 
 
+def test_the_zoomed_frames_whose_markings_fix_a_camera_are_read_from_the_whole_frames_cameras():
+    # A main camera 60 m from the centre spot, 20 m up, aimed at it: twice zoomed it shows the whole centre circle
+    # and the halfway line (a circle and a line fix a camera); eight times zoomed, a tenth of the circle and 89 px of
+    # the halfway line (nothing that fixes one). Turned 45 deg to the left penalty area: twice zoomed, its lines.
+    centre = Camera.from_degrees(focal_px=1500.0, pan_deg=0.0, tilt_deg=70.0, roll_deg=0.0,
+                                 position_m=[0.0, 60.0, -20.0], width_px=1280, height_px=720, k1=0.0)
+    box = centre.replace(pan_rad=math.radians(-45.0))
+    whole = {0: centre, 1: box, 2: None, 3: centre}
+    zoomed = {0: zoomed_camera(centre, 2.0), 1: None, 2: None, 3: zoomed_camera(centre, 2.0)}
+    assert determinable_figures(whole, zoomed, 2.0) == {
+        "reference_frames": 3, "determinable": 3, "determinable_with_camera": 2, "share": 0.6667,
+        "first_determinable": 0, "first_camera": 0}
+    tight = determinable_figures(whole, {0: None, 1: None, 2: None, 3: zoomed_camera(centre, 8.0)}, 8.0)
+    assert tight["determinable"] == 0 and tight["share"] is None and tight["first_camera"] == 3
+
+
 def test_the_zoomed_copy_of_a_video_has_every_frame_at_the_crop_size(tmp_path, grey_video):
     video = grey_video(320, 180, 3, 100)
     out = tmp_path / "out" / "grey-zoom2.mp4"
@@ -71,6 +95,11 @@ def test_bench_real_tracks_the_zoomed_copy_and_scores_it_on_the_zoomed_frames(be
     # The 640x360 main view's centre at 512x288: the same camera seen through a longer lens, found and aligned on
     # the zoomed frames it was tracked on.
     assert figures["frames_with_camera"] >= 6 and figures["aligned_share_of_camera_frames"] >= 0.8
+    # The clip tracked on its whole frames too: the crop of every one of its 8 frames shows markings that fix the
+    # camera (the whole view's circle and lines, most of them still in the crop), and the zoomed run placed them.
+    assert figures["determinable"]["reference_frames"] == 8 and figures["determinable"]["determinable"] == 8
+    assert figures["determinable"]["determinable_with_camera"] == figures["frames_with_camera"]
+    assert section["determinable"]["determinable"] == 8 and (runs / "main" / "track.jsonl").is_file()
     capture = cv2.VideoCapture(str(runs / "copies" / f"{name}.mp4"))
     assert (capture.get(cv2.CAP_PROP_FRAME_WIDTH), capture.get(cv2.CAP_PROP_FRAME_HEIGHT)) == (512, 288)
     capture.release()
