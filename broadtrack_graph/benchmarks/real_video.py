@@ -14,7 +14,8 @@ clip is tracked under a stand's shadow keeping that share of the light
 (:mod:`broadtrack_graph.benchmarks.zoom`), or several of them in that order
 (:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras tracked on such a copy are scored on the original
 frames (zoomed as the copy is: a zoom is the view itself, not a loss of it), and with a zoom the clip is tracked on
-its whole frames too, whose cameras say which zoomed frames' markings fix a camera (``determinable``). With
+its whole frames too, whose cameras say which zoomed frames' markings fix a camera (``determinable``) and how far
+the zoomed copy's cameras lie from them (``against_whole_frames``: the crop keeps the camera). With
 ``--starts STEP`` every clip is also tracked from
 nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`: how soon a shot's camera is found).
 """
@@ -33,7 +34,7 @@ from broadtrack_graph.benchmarks.degrade import degrade_change
 from broadtrack_graph.benchmarks.options import tracker_options
 from broadtrack_graph.benchmarks.real_starts import score_starts, start_frames, starts_figures, track_starts
 from broadtrack_graph.benchmarks.shadow import shadow_change
-from broadtrack_graph.benchmarks.zoom import determinable_figures, zoom_change, zoom_label
+from broadtrack_graph.benchmarks.zoom import camera_agreement, determinable_figures, zoom_change, zoom_label
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
 from broadtrack_graph.io.run_folder import RunFolder
@@ -97,7 +98,9 @@ def run_video_clips(args) -> dict:
             if args.runs is None:
                 track_input(video, whole_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
                             progress=not args.no_progress)
-            report[name]["determinable"] = determinable_figures(_cameras(whole_dir), _cameras(run_dir), zoom)
+            whole, zoomed = _cameras(whole_dir), _cameras(run_dir)
+            report[name]["determinable"] = determinable_figures(whole, zoomed, zoom)
+            report[name]["against_whole_frames"] = camera_agreement(whole, zoomed)
         if step is not None:
             starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
             runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),

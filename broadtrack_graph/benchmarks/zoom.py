@@ -10,7 +10,9 @@ markings inside the crop may draw the pitch outside it differently and still be 
 
 Which zoomed frames could have a camera at all is read from the clip's own cameras, tracked on its whole frames:
 each one's :func:`zoomed_camera` sees the crop, and the rule of :mod:`broadtrack_graph.geometry.determinable` says
-whether the markings it shows fix a camera (:func:`determinable_figures`).
+whether the markings it shows fix a camera (:func:`determinable_figures`). The crop keeps the camera, so the two
+runs' cameras of a frame should be one: how far their focal lengths and focal points lie apart
+(:func:`camera_agreement`) shows how loosely a narrow view's markings fix its zoom against its distance.
 """
 
 from __future__ import annotations
@@ -107,3 +109,23 @@ def determinable_figures(whole_cameras: dict[int, Camera | None], zoomed_cameras
             "determinable": len(fixed), "determinable_with_camera": len(found),
             "share": round(len(found) / len(fixed), 4) if fixed else None,
             "first_determinable": fixed[0] if fixed else None, "first_camera": written[0] if written else None}
+
+
+def camera_agreement(whole_cameras: dict[int, Camera | None], zoomed_cameras: dict[int, Camera | None]) -> dict:
+    """The zoomed copy's cameras against the clip's own on the frames where both runs wrote one (module docstring).
+
+    Returns:
+        {"frames": how many, "focal_ratio_error": {"median", "p95"} of ``|f_zoomed / f_whole - 1|``,
+        "position_m": {"median", "p95"} of the focal points' distance, metres}; the figures None with no frame.
+    """
+    both = [i for i, camera in zoomed_cameras.items() if camera is not None and whole_cameras.get(i) is not None]
+    focal = np.array([abs(zoomed_cameras[i].focal_px / whole_cameras[i].focal_px - 1.0) for i in both])
+    apart = np.array([float(np.linalg.norm(zoomed_cameras[i].position_m - whole_cameras[i].position_m)) for i in both])
+
+    def spread(values: np.ndarray, digits: int) -> dict:
+        if not len(values):
+            return {"median": None, "p95": None}
+        return {"median": round(float(np.median(values)), digits),
+                "p95": round(float(np.percentile(values, 95)), digits)}
+
+    return {"frames": len(both), "focal_ratio_error": spread(focal, 4), "position_m": spread(apart, 2)}

@@ -11,6 +11,7 @@ import pytest
 
 from broadtrack_graph.benchmarks.clip_copy import write_copy
 from broadtrack_graph.benchmarks.zoom import (
+    camera_agreement,
     determinable_figures,
     parse_zoom,
     zoom_change,
@@ -76,6 +77,20 @@ def test_the_zoomed_frames_whose_markings_fix_a_camera_are_read_from_the_whole_f
     assert tight["determinable"] == 0 and tight["share"] is None and tight["first_camera"] == 3
 
 
+def test_the_zoomed_runs_cameras_are_compared_with_the_whole_frames_on_the_frames_both_placed():
+    whole = Camera.from_degrees(focal_px=2000.0, pan_deg=0.0, tilt_deg=70.0, roll_deg=0.0,
+                                position_m=[0.0, 60.0, -20.0], width_px=1280, height_px=720, k1=0.0)
+    # one frame the same camera, one 10 % longer and 3-4-0 m off, one the whole run did not place, one neither
+    longer = zoomed_camera(whole, 2.0).replace(focal_px=2200.0, position_m=np.array([3.0, 64.0, -20.0]))
+    figures = camera_agreement({0: whole, 1: whole, 2: None, 3: whole},
+                               {0: zoomed_camera(whole, 2.0), 1: longer, 2: longer, 3: None})
+    assert figures["frames"] == 2
+    assert figures["focal_ratio_error"]["median"] == 0.05 and figures["position_m"]["median"] == 2.5
+    assert math.isclose(figures["focal_ratio_error"]["p95"], 0.095) and math.isclose(figures["position_m"]["p95"], 4.75)
+    assert camera_agreement({0: whole}, {0: None}) == {"frames": 0, "focal_ratio_error": {"median": None, "p95": None},
+                                                      "position_m": {"median": None, "p95": None}}
+
+
 def test_the_zoomed_copy_of_a_video_has_every_frame_at_the_crop_size(tmp_path, grey_video):
     video = grey_video(320, 180, 3, 100)
     out = tmp_path / "out" / "grey-zoom2.mp4"
@@ -100,6 +115,10 @@ def test_bench_real_tracks_the_zoomed_copy_and_scores_it_on_the_zoomed_frames(be
     assert figures["determinable"]["reference_frames"] == 8 and figures["determinable"]["determinable"] == 8
     assert figures["determinable"]["determinable_with_camera"] == figures["frames_with_camera"]
     assert section["determinable"]["determinable"] == 8 and (runs / "main" / "track.jsonl").is_file()
+    # The crop keeps the camera: the two runs' cameras agree (a rendered view wide enough to fix its depth).
+    against = figures["against_whole_frames"]
+    assert against["frames"] == figures["frames_with_camera"]
+    assert against["focal_ratio_error"]["median"] < 0.02 and against["position_m"]["median"] < 1.0
     capture = cv2.VideoCapture(str(runs / "copies" / f"{name}.mp4"))
     assert (capture.get(cv2.CAP_PROP_FRAME_WIDTH), capture.get(cv2.CAP_PROP_FRAME_HEIGHT)) == (512, 288)
     capture.release()
