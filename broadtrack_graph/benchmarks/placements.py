@@ -74,6 +74,7 @@ def run(args) -> dict:
 
     from broadtrack_graph.benchmarks.template_error import template_errors_px
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.aim import aim_angles
     from broadtrack_graph.geometry.camera import Camera
     from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -82,7 +83,6 @@ def run(args) -> dict:
     from broadtrack_graph.reinit.field_model import model_reinit_for
     from broadtrack_graph.reinit.frame import frame_confidence, reinitialise
     from broadtrack_graph.synth.clip import render_clip
-    from broadtrack_graph.synth.field_cameras import aim_angles
     from broadtrack_graph.track.config import TrackingConfig
     from broadtrack_graph.track.reinit_policy import ReinitPolicy
 

@@ -6,7 +6,7 @@ A camera is drawn in two steps (SoccerNet pitch frame, metres, z down):
    :data:`REACH_M` from the centre spot, outside the playing area (``|x| > 52.5`` or ``|y| > 34``: both
    sides, behind both goals, the corners), uniformly :data:`HEIGHT_RANGE_M` high (``z = -height``);
 2. **what it sees**: the optical axis through a ground point drawn uniformly on the pitch
-   (:func:`~broadtrack_graph.synth.field_cameras.aim_angles` gives pan and tilt), the horizontal field of
+   (:func:`~broadtrack_graph.geometry.aim.aim_angles` gives pan and tilt), the horizontal field of
    view log-uniformly in :data:`HFOV_RANGE_DEG` (zoom is a factor), roll uniformly within
    +-:data:`ROLL_MAX_DEG`, and k1 by a broadcast zoom lens's law (:func:`lens_k1`).
 
@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.synth.field_cameras import aim_angles
 from broadtrack_graph.synth.motion import hfov_to_focal_px, pitch_coverage
 
 HALF_LENGTH_M, HALF_WIDTH_M = 52.5, 34.0

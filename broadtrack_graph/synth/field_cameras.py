@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera, rotation_from_angles
 from broadtrack_graph.geometry.tripod import Tripod, focal_point
 from broadtrack_graph.reinit.positions import CAMERA_KINDS, FAR_MAIN_POSITIONS_W, NEAR_MAIN_POSITIONS_W
@@ -121,13 +122,6 @@ class DrawnCamera:
     aim_w: np.ndarray
     mirrored: bool
     reversed: bool
-
-
-def aim_angles(T_w: np.ndarray, aim_w: np.ndarray) -> tuple[float, float]:
-    """Pan and tilt (radians) whose optical axis from T_w passes through the ground point aim_w (3,)."""
-    direction = np.asarray(aim_w, float) - np.asarray(T_w, float)
-    direction /= np.linalg.norm(direction)
-    return math.atan2(direction[0], -direction[1]), math.acos(float(np.clip(direction[2], -1.0, 1.0)))
 
 
 def draw_pitch_camera(kind: FieldCameraKind, rng: np.random.Generator, width_px: int, height_px: int,

@@ -293,7 +293,7 @@ def test_all_classes_at_once_name_the_same_points_as_one_class_at_a_time():
 
 def _zoomed_frame(hfov_deg: float):
     """A main camera's view of a penalty area at hfov_deg, rendered with the markings' true width (1280x720)."""
-    from broadtrack_graph.synth.field_cameras import aim_angles
+    from broadtrack_graph.geometry.aim import aim_angles
     from broadtrack_graph.synth.field_samples import render_look
     from broadtrack_graph.synth.named_looks import draw_named_look, named_look
 

@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.determinable import MIN_LINE_PX, Determinability, determinability, fixes_camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.synth.field_cameras import aim_angles
 
 
 def camera(position, aim, hfov_deg, width_px=1280, height_px=720, k1=0.0) -> Camera:

@@ -23,7 +23,7 @@ W, H = 960, 540
 
 
 def _aimed(position, target, hfov_deg: float, k1: float = 0.02) -> Camera:
-    from broadtrack_graph.synth.field_cameras import aim_angles
+    from broadtrack_graph.geometry.aim import aim_angles
 
     pan, tilt = aim_angles(np.asarray(position, float), np.asarray(target, float))
     return Camera(W / 2 / math.tan(math.radians(hfov_deg) / 2), k1, pan, tilt, 0.004, position, W, H)
@@ -223,8 +223,8 @@ def test_fits_about_as_confident_are_ranked_by_the_map():
     them apart; the map's score, sub-pixel, does."""
     from broadtrack_graph.benchmarks.placements import VIEWS
     from broadtrack_graph.detect.weightfree import WeightFreeDetector
+    from broadtrack_graph.geometry.aim import aim_angles
     from broadtrack_graph.synth.clip import render_clip
-    from broadtrack_graph.synth.field_cameras import aim_angles
 
     w, h = 1280, 720
     position = np.array([0.0, 55.0, -55.0 * math.tan(math.radians(8.0))])

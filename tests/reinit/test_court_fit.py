@@ -18,7 +18,7 @@ W, H = 960, 540
 
 
 def _aimed(position, target, hfov_deg: float) -> Camera:
-    from broadtrack_graph.synth.field_cameras import aim_angles
+    from broadtrack_graph.geometry.aim import aim_angles
 
     pan, tilt = aim_angles(np.asarray(position, float), np.asarray(target, float))
     return Camera(W / 2 / math.tan(math.radians(hfov_deg) / 2), 0.01, pan, tilt, 0.004, position, W, H)

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_lines import pitch_line_offsets
 from broadtrack_graph.reinit.court_refit import pitch_lines, refit_on_lines
-from broadtrack_graph.synth.field_cameras import aim_angles
 
 W, H = 1280, 720
 PITCH = PitchTemplate()

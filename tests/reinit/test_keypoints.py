@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.io.nbjw_keypoints import NBJW_KEYPOINTS_W
 from broadtrack_graph.reinit.keypoints import camera_from_keypoints, reinit_from_keypoints
-from broadtrack_graph.synth.field_cameras import aim_angles
 
 W, H = 960, 540
 PITCH = PitchTemplate()

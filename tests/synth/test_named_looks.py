@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.synth.field_cameras import aim_angles
 from broadtrack_graph.synth.field_samples import render_look
 from broadtrack_graph.synth.named_looks import LOOK_NAMES, draw_named_look, named_look
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 from tripod_cameras import cameras_on
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateSampling, fitting_curves
@@ -15,7 +16,6 @@ from broadtrack_graph.graph.config import GraphConfig
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.graph.tripod_fit import fit_tripod_for_run
 from broadtrack_graph.reinit.frame import plausible_position
-from broadtrack_graph.synth.field_cameras import aim_angles
 from broadtrack_graph.track.chunked import refined_record
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.tripod_check import offline_tripod, rejected_fit
