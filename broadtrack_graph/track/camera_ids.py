@@ -60,7 +60,7 @@ class CameraRegistry:
         self.last_confident: dict[str, tuple[int, object]] = {}  # camera id -> (frame index, Camera)
         self._counts: dict[str, int] = {}
 
-    def identify(self, position_w, sight_w=None, fits=None) -> str:
+    def identify(self, position_w, sight_w=None, fits=None, along_share: float = 0.0) -> str:
         """The id of the camera standing at position_w (a new id when no known camera is there).
 
         sight_w: (3,) the camera's optical axis in the pitch frame (``Camera.R_cw[2]``), or None to
@@ -68,9 +68,14 @@ class CameraRegistry:
         fits: ``camera id -> bool``, whether the frame is explained as well by a camera at that known camera's
         position (None: standing there is enough). A camera that stands near a known one but whose view the known
         tripod does not explain (another stadium's camera at a similar place) gets a new id.
+        along_share: with ``fits``, when no known camera stands there, one off along the line of sight by up to this
+        share of the distance to where the line meets the ground is tried too (a narrow view's markings fix its
+        distance loosely: whether the frame is explained from there decides).
         """
         p = np.asarray(position_w, float).reshape(3)
         nearest = self.nearest(p, sight_w)
+        if nearest is None and fits is not None and sight_w is not None and along_share > 0.0:
+            nearest = self._nearest_along_sight(p, sight_w, along_share)
         if nearest is not None and fits is not None and not fits(nearest):
             nearest = None
         if nearest is not None:
@@ -98,6 +103,25 @@ class CameraRegistry:
             d = float(np.linalg.norm(p - q))
             if d <= best_d:
                 best, best_d = camera_id, d
+        return best
+
+    def _nearest_along_sight(self, position_w: np.ndarray, sight_w, share: float) -> str | None:
+        """The nearest known camera within ``across_sight_m`` of the line of sight and off along it by at most
+        ``share`` of the distance to where the line meets the ground (or ``along_sight_m``, whichever is more); None
+        when there is none or the line does not reach the ground."""
+        axis = np.asarray(sight_w, float).reshape(3)
+        axis = axis / np.linalg.norm(axis)
+        if axis[2] <= 1e-9 or position_w[2] >= 0.0:
+            return None
+        reach = max(self.along_sight_m, share * float(-position_w[2] / axis[2]))
+        best, best_d = None, math.inf
+        for camera_id, known in self.positions.items():
+            offset = known - position_w
+            along = float(offset @ axis)
+            if abs(along) > reach or float(np.linalg.norm(offset - along * axis)) > self.across_sight_m:
+                continue
+            if abs(along) <= best_d:
+                best, best_d = camera_id, abs(along)
         return best
 
     def stands_at(self, camera_id: str, position_w, sight_w=None) -> bool:

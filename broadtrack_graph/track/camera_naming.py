@@ -2,19 +2,31 @@
 
 A trusted chain's camera keeps its chain's id: a shot's camera does not change. Any other camera found (at a shot's
 start, or while its chain is not trusted yet and its id is no more than a guess's) is named by where it stands
-(:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight). A confident one
-takes a known camera's id only when the frame, refined with the focal point at that camera's position, is still
-explained within ``reinit_switch_margin`` of its confidence (a tripod: another stadium's camera at a similar place
-is not), else a new id; one that is not confident takes the nearest known camera's.
+(:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight; a narrow view's
+distance loosely). A confident one takes a known camera's id only when the frame, refined from that camera's position
+with the view kept (:func:`~broadtrack_graph.geometry.aim.moved_keeping_view`), is still explained within
+``reinit_switch_margin`` of its confidence (a tripod: another stadium's camera at a similar place is not), else a new
+id; one that is not confident takes the nearest known camera's.
 """
 
 from __future__ import annotations
 
+from broadtrack_graph.geometry.aim import moved_keeping_view
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.config import TrackingConfig
+
+NARROW_VIEW_FOCAL_PER_WIDTH = CourtConfig().narrow_view_focal_per_width
+"""A view whose focal length is at least this many image widths (about 37 deg across or less) is narrow: nearly
+affine, its distance along its line of sight and its focal length trade off."""
+NARROW_ALONG_SIGHT_SHARE = 0.6
+"""A narrow view's camera is tried as a known camera standing off along its line of sight by up to this share of its
+distance to the ground it looks at (:meth:`~broadtrack_graph.track.camera_ids.CameraRegistry.identify`): the real dev
+clips' views zoomed three times (``bench real --zoom 3``, 6.6-10 deg across) were placed from nothing up to 57 % of
+their distance off along it, their focal lengths as far off, with every marking drawn right."""
 
 
 class CameraNaming:
@@ -43,17 +55,22 @@ class CameraNaming:
             return self.chain.camera_id
         camera = result.camera
         if confidence >= self.config.confidence_threshold:
+            narrow = camera.focal_px >= NARROW_VIEW_FOCAL_PER_WIDTH * camera.width_px
             return self.registry.identify(camera.position_m, camera.R_cw[2], fits=lambda camera_id: self._fits_known(
-                camera_id, camera, confidence, frame))
+                camera_id, camera, confidence, frame, narrow), along_share=NARROW_ALONG_SIGHT_SHARE if narrow else 0.0)
         return self.registry.nearest(camera.position_m, camera.R_cw[2])
 
-    def _fits_known(self, camera_id: str, camera: Camera, confidence: float, frame) -> bool:
+    def _fits_known(self, camera_id: str, camera: Camera, confidence: float, frame, narrow: bool = False) -> bool:
         """Whether the frame's view, moved to the known camera's position and refined there, is still explained within
-        the margin of ``confidence``."""
+        the margin of ``confidence``: moved with its angles and focal length kept, or, a narrow view's from a known
+        camera further along its line of sight than the registry's gate, with its view kept (its ground aim and image
+        scale there: its angles and focal length kept, a fit would start tens of metres from where it is)."""
         detections, curves, score = frame
         if getattr(detections, "marking_mask", None) is None:
             return True  # labelled detections: where it stands decides
-        moved = camera.replace(position_m=self.registry.positions[camera_id])
+        known = self.registry.positions[camera_id]
+        far_along = narrow and not self.registry.stands_at(camera_id, camera.position_m, camera.R_cw[2])
+        moved = (moved_keeping_view(camera, known) if far_along else None) or camera.replace(position_m=known)
         refined = self.refine([(f"at the position of {camera_id}", moved)], detections, curves)
         if refined.camera is None:
             return False

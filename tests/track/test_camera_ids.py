@@ -96,3 +96,29 @@ def test_a_camera_near_a_known_one_whose_view_its_tripod_does_not_explain_gets_a
     registry = CameraRegistry(known={"main": (0.0, 60.0, -18.0)})
     assert registry.identify((0.5, 61.0, -18.5), fits=lambda camera_id: camera_id == "main") == "main"
     assert registry.identify((0.0, -60.0, -18.0), fits=fits) != "main" and asked == ["main"]  # nowhere near: not asked
+
+
+def test_a_narrow_view_far_along_its_line_of_sight_is_tried_as_the_known_camera_when_the_frame_can_tell():
+    # The main camera 77 m back and 13 m up looking at the centre spot; a narrow view found 25 m along that line,
+    # 0.5 m across it (a zoomed view's distance fixed loosely): 25 m is past the 12 m gate, within 0.6 of the 52 m
+    # from there to the ground it looks at.
+    position = np.array([0.2, 77.0, -13.0])
+    sight = -position / np.linalg.norm(position)
+    found = position + 25.0 * sight + np.array([0.5, 0.0, 0.0])
+    asked: list = []
+
+    def fits(camera_id):
+        asked.append(camera_id)
+        return True
+
+    assert CameraRegistry(known={"main": position}).identify(found, sight, fits=fits, along_share=0.6) == "main"
+    assert asked == ["main"]
+    # Without the share, or with the frame telling it is not (fits False), a new id; 5 m across, another camera.
+    assert CameraRegistry(known={"main": position}).identify(found, sight, fits=fits) == "main-1"
+    assert CameraRegistry(known={"main": position}).identify(found, sight, fits=lambda _: False,
+                                                             along_share=0.6) == "main-1"
+    aside = position + 25.0 * sight + np.array([5.0, 0.0, 0.0])
+    assert CameraRegistry(known={"main": position}).identify(aside, sight, fits=fits, along_share=0.6) == "main-1"
+    # Too far along: 40 m is over 0.6 of the 37 m left to the ground.
+    farther = position + 40.0 * sight
+    assert CameraRegistry(known={"main": position}).identify(farther, sight, fits=fits, along_share=0.6) == "main-1"

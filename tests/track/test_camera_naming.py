@@ -7,6 +7,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
@@ -77,3 +78,33 @@ def test_a_trusted_chain_keeps_its_own_id_wherever_the_camera_stands():
     naming.chain.trust(0)
     far = _camera((-75.0, 0.0, -24.0))
     assert naming.id_of(ReinitResult(far, None, ""), 0.95, MAP_FRAME) == "main"
+
+
+def test_a_narrow_view_far_along_its_line_of_sight_is_refined_from_the_known_tripod_with_its_view_kept():
+    # A 9 deg view (f 8000 px at 1280) of the centre spot found 20 m nearer than the main camera's tripod, along its
+    # line of sight: the refit starts at the tripod aimed at the same ground point, its focal length scaled by the
+    # distances (the same image there), and the id is main's.
+    aim = np.zeros(3)
+    tripod = MAIN_W
+    sight = (aim - tripod) / np.linalg.norm(aim - tripod)
+    near = tripod + 20.0 * sight
+    pan, tilt = aim_angles(near, aim)
+    camera = Camera(8000.0, 0.0, pan, tilt, 0.0, near, 1280, 720)
+    calls: list = []
+    seen: list = []
+
+    def refine(guesses, detections, curves):
+        seen.append(guesses[0][1])
+        return _refine_scoring(0.85, calls)(guesses, detections, curves)
+
+    registry = CameraRegistry(known={"main": tripod})
+    naming = CameraNaming(CONFIG, registry, Chain(CONFIG, registry), refine)
+    assert naming.id_of(ReinitResult(camera, None, ""), 0.9, MAP_FRAME) == "main"
+    start = seen[0]
+    np.testing.assert_allclose(start.position_m, tripod)
+    np.testing.assert_allclose(start.project(aim[None])[0][0], [640.0, 360.0], atol=1e-6)  # still aimed at it
+    distance_ratio = np.linalg.norm(tripod) / np.linalg.norm(near)
+    np.testing.assert_allclose(start.focal_px, 8000.0 * distance_ratio)
+    # The same view 37 deg across or wider (f 1500 px) is not narrow: 20 m along its line of sight, another camera.
+    wide = camera.replace(focal_px=1500.0)
+    assert naming.id_of(ReinitResult(wide, None, ""), 0.9, MAP_FRAME) not in (None, "main")
