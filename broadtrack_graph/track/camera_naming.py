@@ -55,7 +55,9 @@ class CameraNaming:
             return self.chain.camera_id
         camera = result.camera
         if confidence >= self.config.confidence_threshold:
-            narrow = camera.focal_px >= NARROW_VIEW_FOCAL_PER_WIDTH * camera.width_px
+            # a narrow view is tried further along its line of sight only where the frame can tell (a marking map)
+            narrow = camera.focal_px >= NARROW_VIEW_FOCAL_PER_WIDTH * camera.width_px and \
+                getattr(frame[0], "marking_mask", None) is not None
             return self.registry.identify(camera.position_m, camera.R_cw[2], fits=lambda camera_id: self._fits_known(
                 camera_id, camera, confidence, frame, narrow), along_share=NARROW_ALONG_SIGHT_SHARE if narrow else 0.0)
         return self.registry.nearest(camera.position_m, camera.R_cw[2])

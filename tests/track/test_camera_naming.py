@@ -105,6 +105,9 @@ def test_a_narrow_view_far_along_its_line_of_sight_is_refined_from_the_known_tri
     np.testing.assert_allclose(start.project(aim[None])[0][0], [640.0, 360.0], atol=1e-6)  # still aimed at it
     distance_ratio = np.linalg.norm(tripod) / np.linalg.norm(near)
     np.testing.assert_allclose(start.focal_px, 8000.0 * distance_ratio)
-    # The same view 37 deg across or wider (f 1500 px) is not narrow: 20 m along its line of sight, another camera.
+    # The same view 37 deg across or wider (f 1500 px) is not narrow: 20 m along its line of sight, another camera;
+    # nor is the narrow view tried there without a marking map to tell (labelled detections).
     wide = camera.replace(focal_px=1500.0)
     assert naming.id_of(ReinitResult(wide, None, ""), 0.9, MAP_FRAME) not in (None, "main")
+    labelled = (SimpleNamespace(marking_mask=None), None, lambda camera: 0.9)
+    assert naming.id_of(ReinitResult(camera, None, ""), 0.9, labelled) not in (None, "main")
