@@ -15,7 +15,8 @@ clip is tracked under a stand's shadow keeping that share of the light
 (:mod:`broadtrack_graph.benchmarks.clip_copy`); the cameras tracked on such a copy are scored on the original
 frames (zoomed as the copy is: a zoom is the view itself, not a loss of it), and with a zoom the clip is tracked on
 its whole frames too, whose cameras say which zoomed frames' markings fix a camera (``determinable``) and how far
-the zoomed copy's cameras lie from them (``against_whole_frames``: the crop keeps the camera). With
+the zoomed copy's cameras lie from them (``against_whole_frames``: the crop keeps the camera); the clip followed by a
+cut to its zoomed frames is tracked too (``cut_to_zoom``: the zoomed shot against the wide one). With
 ``--starts STEP`` every clip is also tracked from
 nothing from every STEP-th frame (:mod:`broadtrack_graph.benchmarks.real_starts`: how soon a shot's camera is found).
 """
@@ -34,10 +35,17 @@ from broadtrack_graph.benchmarks.degrade import degrade_change
 from broadtrack_graph.benchmarks.options import tracker_options
 from broadtrack_graph.benchmarks.real_starts import score_starts, start_frames, starts_figures, track_starts
 from broadtrack_graph.benchmarks.shadow import shadow_change
-from broadtrack_graph.benchmarks.zoom import camera_agreement, determinable_figures, zoom_change, zoom_label
+from broadtrack_graph.benchmarks.zoom import (
+    camera_agreement,
+    cut_figures,
+    determinable_figures,
+    write_zoom_cut,
+    zoom_change,
+    zoom_label,
+)
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
-from broadtrack_graph.io.run_folder import RunFolder
+from broadtrack_graph.io.run_folder import RunFolder, read_frame_camera_ids
 from broadtrack_graph.io.shots_file import SHOTS_FILE, read_shots
 from broadtrack_graph.metrics.line_alignment import AlignmentConfig, line_alignment, line_pixels
 from broadtrack_graph.metrics.reliability import merged_summaries, reliability_summary
@@ -101,6 +109,16 @@ def run_video_clips(args) -> dict:
             whole, zoomed = _cameras(whole_dir), _cameras(run_dir)
             report[name]["determinable"] = determinable_figures(whole, zoomed, zoom)
             report[name]["against_whole_frames"] = camera_agreement(whole, zoomed)
+            # The clip, then a cut to its zoomed frames enlarged to its size: the zoomed shot on the wide one's tripod.
+            cut_name = f"{video.stem}-{zoom_label(zoom)}-cut"
+            cut_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / cut_name
+            cut_video = Path(args.out) / "copies" / f"{cut_name}.mp4"
+            wide_frames, factor = write_zoom_cut(video, cut_video, zoom, end=args.end)
+            if args.runs is None:
+                track_input(cut_video, cut_dir, TrackingConfig(mode="online", **tracker_options(args)),
+                            progress=not args.no_progress)
+            report[name]["cut_to_zoom"] = cut_figures(_cameras(cut_dir), read_frame_camera_ids(cut_dir), wide_frames,
+                                                      factor)
         if step is not None:
             starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
             runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),
@@ -129,6 +147,11 @@ def run_video_clips(args) -> dict:
         fixed, found = sum(f["determinable"] for f in figures), sum(f["determinable_with_camera"] for f in figures)
         section["determinable"] = {"determinable": fixed, "determinable_with_camera": found,
                                    "share": round(found / fixed, 4) if fixed else None}
+        cuts = [clip["cut_to_zoom"] for clip in report.values()]
+        placed = sum(cut["with_camera"] for cut in cuts)
+        same = sum(round(cut["same_id_share"] * cut["with_camera"]) for cut in cuts if cut["same_id_share"] is not None)
+        section["cut_to_zoom"] = {"zoomed_frames_with_camera": placed, "same_id_share": round(same / placed, 4)
+                                  if placed else None}
     return section
 
 

@@ -13,18 +13,28 @@ each one's :func:`zoomed_camera` sees the crop, and the rule of :mod:`broadtrack
 whether the markings it shows fix a camera (:func:`determinable_figures`). The crop keeps the camera, so the two
 runs' cameras of a frame should be one: how far their focal lengths and focal points lie apart
 (:func:`camera_agreement`) shows how loosely a narrow view's markings fix its zoom against its distance.
+
+A broadcast cuts back to a camera it has shown wide, zoomed in: the clip's frames followed by its zoomed frames
+enlarged back to the clip's size (:func:`write_zoom_cut`: the same camera, its focal length times the enlargement)
+are tracked as one video, and the zoomed shot's cameras are compared with the wide shot's of the same frames and
+their camera id with its (:func:`cut_figures`): the zoomed shot is the wide shot's camera, on its tripod.
 """
 
 from __future__ import annotations
 
 import argparse
+from collections import Counter
+from pathlib import Path
 
+import cv2
 import numpy as np
 
 from broadtrack_graph.benchmarks.clip_copy import FrameChange
+from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.determinable import determinability
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.io.video import VideoSource, open_video_writer
 
 MAX_ZOOM = 8.0
 """The longest zoom asked (a 1080p frame's crop is then 240x134 pixels)."""
@@ -129,3 +139,67 @@ def camera_agreement(whole_cameras: dict[int, Camera | None], zoomed_cameras: di
                 "p95": round(float(np.percentile(values, 95)), digits)}
 
     return {"frames": len(both), "focal_ratio_error": spread(focal, 4), "position_m": spread(apart, 2)}
+
+
+def write_zoom_cut(video: Path, out_path: Path, zoom: float, end: int | None = None) -> tuple[int, float]:
+    """Write the clip's decodable frames (those before ``end``), then the same frames zoomed (:func:`zoom_frame`) and
+    enlarged back to the clip's size by cubic interpolation, as one video (mp4v, the clip's rate).
+
+    Returns:
+        (frames of the clip: the zoomed shot starts there, the focal length's factor from the wide shot to the
+        zoomed one: the frame's width over the crop's).
+
+    Raises:
+        InputError: the video cannot be read or has no decodable frame, or the copy cannot be written.
+    """
+    writer, frames, factor = None, 0, 1.0
+    try:
+        for zoomed in (False, True):
+            limit = frames if zoomed else end  # the zoomed shot repeats the wide shot's frames
+            with VideoSource(video) as source:
+                for index, frame in enumerate(source):
+                    if frame.image_bgr is None or (limit is not None and index >= limit):
+                        break
+                    image = frame.image_bgr
+                    if writer is None:
+                        writer = open_video_writer(out_path, source.fps, (image.shape[1], image.shape[0]))
+                    if zoomed:
+                        crop = zoom_frame(image, zoom)
+                        factor = image.shape[1] / crop.shape[1]
+                        image = cv2.resize(crop, (image.shape[1], image.shape[0]), interpolation=cv2.INTER_CUBIC)
+                    else:
+                        frames += 1
+                    writer.write(image)
+    finally:
+        if writer is not None:
+            writer.release()
+    if frames == 0:
+        raise InputError(video, "no frame could be decoded")
+    return frames, factor
+
+
+def cut_figures(cameras: dict[int, Camera | None], camera_ids: dict[int, str | None], frames: int,
+                factor: float) -> dict:
+    """The zoomed shot of :func:`write_zoom_cut`'s video (frames ``frames`` on) against its wide shot.
+
+    Args:
+        cameras, camera_ids: frame index -> the camera written (None: none) and its camera id.
+        frames: the wide shot's length; factor: the focal length's factor from the wide shot to the zoomed one.
+
+    Returns:
+        {"zoomed_frames", "with_camera": zoomed frames with a camera, "wide_id": the wide shot's most written id,
+        "same_id_share": of the zoomed frames with a camera, the share written under that id (None: none),
+        "focal_ratio_error", "position_m": as :func:`camera_agreement`, the wide camera's focal length times
+        ``factor``}.
+    """
+    wide_ids = Counter(camera_ids.get(i) for i in range(frames) if cameras.get(i) is not None)
+    wide_id = wide_ids.most_common(1)[0][0] if wide_ids else None
+    zoomed = [i for i in range(frames, 2 * frames) if cameras.get(i) is not None]
+    same = sum(1 for i in zoomed if wide_id is not None and camera_ids.get(i) == wide_id)
+    widened = {i: cameras[i - frames].replace(focal_px=cameras[i - frames].focal_px * factor)
+               for i in zoomed if cameras.get(i - frames) is not None}
+    agreement = camera_agreement(widened, {i: cameras[i] for i in zoomed})
+    return {"zoomed_frames": frames, "with_camera": len(zoomed), "wide_id": wide_id,
+            "same_id_share": round(same / len(zoomed), 4) if zoomed else None,
+            "focal_ratio_error": agreement["focal_ratio_error"], "position_m": agreement["position_m"],
+            "compared_frames": agreement["frames"]}

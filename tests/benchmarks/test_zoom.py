@@ -12,14 +12,17 @@ import pytest
 from broadtrack_graph.benchmarks.clip_copy import write_copy
 from broadtrack_graph.benchmarks.zoom import (
     camera_agreement,
+    cut_figures,
     determinable_figures,
     parse_zoom,
+    write_zoom_cut,
     zoom_change,
     zoom_frame,
     zoom_label,
     zoomed_camera,
     zoomed_size,
 )
+from broadtrack_graph.errors import InputError
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
@@ -119,6 +122,11 @@ def test_bench_real_tracks_the_zoomed_copy_and_scores_it_on_the_zoomed_frames(be
     against = figures["against_whole_frames"]
     assert against["frames"] == figures["frames_with_camera"]
     assert against["focal_ratio_error"]["median"] < 0.02 and against["position_m"]["median"] < 1.0
+    # The clip, then a cut to its zoomed frames: the zoomed shot placed as the wide shot's camera, on its tripod.
+    cut = figures["cut_to_zoom"]
+    assert cut["zoomed_frames"] == 8 and cut["with_camera"] >= 6 and cut["same_id_share"] == 1.0
+    assert cut["focal_ratio_error"]["median"] < 0.02 and cut["position_m"]["median"] < 1.0
+    assert section["cut_to_zoom"]["same_id_share"] == 1.0
     capture = cv2.VideoCapture(str(runs / "copies" / f"{name}.mp4"))
     assert (capture.get(cv2.CAP_PROP_FRAME_WIDTH), capture.get(cv2.CAP_PROP_FRAME_HEIGHT)) == (512, 288)
     capture.release()
@@ -132,3 +140,46 @@ def test_bench_real_scores_a_zoomed_and_degraded_copy_on_the_zoomed_frames(bench
         capture = cv2.VideoCapture(str(runs / "copies" / f"{copy}.mp4"))
         assert capture.get(cv2.CAP_PROP_FRAME_WIDTH) == width
         capture.release()
+
+
+def test_the_cut_to_the_zoomed_shot_repeats_the_clip_enlarged(tmp_path):
+    # A clip of 3 frames whose left half is dark and right half bright, with a bright square at the centre.
+    video = tmp_path / "clip.mp4"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 25.0, (320, 180))
+    image = np.full((180, 320, 3), 40, np.uint8)
+    image[:, 160:] = 200
+    image[80:100, 150:170] = 255
+    for _ in range(3):
+        writer.write(image)
+    writer.release()
+    out = tmp_path / "cut.mp4"
+    assert write_zoom_cut(video, out, 2.0) == (3, 2.0)
+    assert write_zoom_cut(video, tmp_path / "short.mp4", 2.0, end=2) == (2, 2.0)
+    capture = cv2.VideoCapture(str(out))
+    frames = []
+    while True:
+        ok, frame = capture.read()
+        if not ok:
+            break
+        frames.append(frame)
+    capture.release()
+    assert len(frames) == 6 and all(frame.shape == (180, 320, 3) for frame in frames)
+    wide, zoomed = frames[0].astype(float), frames[3].astype(float)
+    assert abs(wide[90, 40].mean() - 40) < 10 and abs(zoomed[90, 40].mean() - 40) < 10  # the dark half both times
+    # the centre square, 20 px wide, twice as wide in the zoomed shot
+    assert wide[90, 135:185].mean(axis=1).max() > 240 and zoomed[90, 125:195].mean() > wide[90, 125:195].mean() + 20
+    with pytest.raises(InputError):
+        write_zoom_cut(tmp_path / "none.mp4", tmp_path / "bad.mp4", 2.0)
+
+
+def test_the_zoomed_shot_after_the_cut_is_compared_with_the_wide_shot_on_its_tripod():
+    wide = Camera.from_degrees(focal_px=2000.0, pan_deg=0.0, tilt_deg=70.0, roll_deg=0.0,
+                               position_m=[0.0, 60.0, -20.0], width_px=1280, height_px=720, k1=0.0)
+    tight = wide.replace(focal_px=6000.0)
+    off = tight.replace(focal_px=4200.0, position_m=np.array([0.0, 40.0, -14.0]))
+    cameras = {0: wide, 1: wide, 2: wide, 3: tight, 4: off, 5: None}
+    ids = {0: "main", 1: "main", 2: "main", 3: "main", 4: "main-1", 5: None}
+    figures = cut_figures(cameras, ids, 3, 3.0)
+    assert figures["wide_id"] == "main" and figures["with_camera"] == 2 and figures["same_id_share"] == 0.5
+    assert figures["compared_frames"] == 2 and figures["focal_ratio_error"]["median"] == pytest.approx(0.15)
+    assert figures["position_m"]["median"] == pytest.approx(0.5 * np.hypot(20.0, 6.0), abs=0.01)  # rounded to cm
