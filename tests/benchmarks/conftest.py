@@ -46,3 +46,21 @@ def grey_video(tmp_path):
         return video
 
     return make
+
+
+@pytest.fixture
+def read_video():
+    """``read(path) -> [frames]``: every frame a video decodes to, BGR uint8, in order."""
+
+    def read(path) -> list:
+        capture = cv2.VideoCapture(str(path))
+        frames = []
+        while True:
+            ok, image = capture.read()
+            if not ok:
+                break
+            frames.append(image)
+        capture.release()
+        return frames
+
+    return read

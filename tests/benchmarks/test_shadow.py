@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 import pytest
 
@@ -25,17 +24,11 @@ def test_the_shadow_keeps_its_share_of_the_light_right_of_a_soft_edge():
     assert shade.shape == (120, 200, 1) and 0.0 <= shade.min() and shade.max() <= 1.0
 
 
-def test_the_shaded_copy_of_a_video_has_every_frame(tmp_path, grey_video):
+def test_the_shaded_copy_of_a_video_has_every_frame(tmp_path, grey_video, read_video):
     video = grey_video(160, 96, 5, 200)
     out = tmp_path / "out" / "grey-shadow.mp4"
     assert write_shadowed(video, out, 0.5) == 5
-    capture = cv2.VideoCapture(str(out))
-    frames = []
-    while True:
-        ok, image = capture.read()
-        if not ok:
-            break
-        frames.append(image)
+    frames = read_video(out)
     assert len(frames) == 5 and frames[0].shape == (96, 160, 3)
     assert abs(frames[2][:, :40].mean() - 200) < 6 and abs(frames[2][:, 130:].mean() - 100) < 6
     with pytest.raises(InputError, match="share of light"):

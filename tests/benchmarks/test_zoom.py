@@ -142,7 +142,7 @@ def test_bench_real_scores_a_zoomed_and_degraded_copy_on_the_zoomed_frames(bench
         capture.release()
 
 
-def test_the_cut_to_the_zoomed_shot_repeats_the_clip_enlarged(tmp_path):
+def test_the_cut_to_the_zoomed_shot_repeats_the_clip_enlarged(tmp_path, read_video):
     # A clip of 3 frames whose left half is dark and right half bright, with a bright square at the centre.
     video = tmp_path / "clip.mp4"
     writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"mp4v"), 25.0, (320, 180))
@@ -155,14 +155,7 @@ def test_the_cut_to_the_zoomed_shot_repeats_the_clip_enlarged(tmp_path):
     out = tmp_path / "cut.mp4"
     assert write_zoom_cut(video, out, 2.0) == (3, 2.0)
     assert write_zoom_cut(video, tmp_path / "short.mp4", 2.0, end=2) == (2, 2.0)
-    capture = cv2.VideoCapture(str(out))
-    frames = []
-    while True:
-        ok, frame = capture.read()
-        if not ok:
-            break
-        frames.append(frame)
-    capture.release()
+    frames = read_video(out)
     assert len(frames) == 6 and all(frame.shape == (180, 320, 3) for frame in frames)
     wide, zoomed = frames[0].astype(float), frames[3].astype(float)
     assert abs(wide[90, 40].mean() - 40) < 10 and abs(zoomed[90, 40].mean() - 40) < 10  # the dark half both times
