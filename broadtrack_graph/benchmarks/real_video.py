@@ -101,24 +101,7 @@ def run_video_clips(args) -> dict:
         report[name] = score_clip(scored, run_dir, args.score_every, end=args.end,
                                   other_views=KNOWN_OTHER_VIEWS.get(video.stem, []))
         if zoom is not None:
-            # The clip tracked on its whole frames says which zoomed frames' markings fix a camera.
-            whole_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / video.stem
-            if args.runs is None:
-                track_input(video, whole_dir, TrackingConfig(mode="online", **tracker_options(args)), end=args.end,
-                            progress=not args.no_progress)
-            whole, zoomed = _cameras(whole_dir), _cameras(run_dir)
-            report[name]["determinable"] = determinable_figures(whole, zoomed, zoom)
-            report[name]["against_whole_frames"] = camera_agreement(whole, zoomed)
-            # The clip, then a cut to its zoomed frames enlarged to its size: the zoomed shot on the wide one's tripod.
-            cut_name = f"{video.stem}-{zoom_label(zoom)}-cut"
-            cut_dir = (Path(args.runs) if args.runs is not None else Path(args.out)) / cut_name
-            cut_video = Path(args.out) / "copies" / f"{cut_name}.mp4"
-            wide_frames, factor = write_zoom_cut(video, cut_video, zoom, end=args.end)
-            if args.runs is None:
-                track_input(cut_video, cut_dir, TrackingConfig(mode="online", **tracker_options(args)),
-                            progress=not args.no_progress)
-            report[name]["cut_to_zoom"] = cut_figures(_cameras(cut_dir), read_frame_camera_ids(cut_dir), wide_frames,
-                                                      factor)
+            report[name].update(_zoom_figures(video, run_dir, zoom, args))
         if step is not None:
             starts = start_frames(report[name]["frames_decoded"], step, length, KNOWN_OTHER_VIEWS.get(video.stem, []))
             runs = track_starts(tracked, Path(args.out) / "starts" / name, starts, length, tracker_options(args),
@@ -153,6 +136,27 @@ def run_video_clips(args) -> dict:
         section["cut_to_zoom"] = {"zoomed_frames_with_camera": placed, "same_id_share": round(same / placed, 4)
                                   if placed else None}
     return section
+
+
+def _zoom_figures(video: Path, zoomed_dir: Path, zoom: float, args) -> dict:
+    """A zoomed copy's figures beside its clip's own (module docstring): the clip tracked on its whole frames says
+    which zoomed frames' markings fix a camera and where its cameras stand; the clip followed by a cut to its zoomed
+    frames enlarged to its size puts the zoomed shot on the wide one's tripod, or not. Runs read from ``--runs`` or
+    tracked under ``--out``."""
+    runs = Path(args.runs) if args.runs is not None else Path(args.out)
+    config = TrackingConfig(mode="online", **tracker_options(args))
+    whole_dir = runs / video.stem
+    if args.runs is None:
+        track_input(video, whole_dir, config, end=args.end, progress=not args.no_progress)
+    whole, zoomed = _cameras(whole_dir), _cameras(zoomed_dir)
+    cut_name = f"{video.stem}-{zoom_label(zoom)}-cut"
+    cut_video, cut_dir = Path(args.out) / "copies" / f"{cut_name}.mp4", runs / cut_name
+    wide_frames, factor = write_zoom_cut(video, cut_video, zoom, end=args.end)
+    if args.runs is None:
+        track_input(cut_video, cut_dir, config, progress=not args.no_progress)
+    return {"determinable": determinable_figures(whole, zoomed, zoom),
+            "against_whole_frames": camera_agreement(whole, zoomed),
+            "cut_to_zoom": cut_figures(_cameras(cut_dir), read_frame_camera_ids(cut_dir), wide_frames, factor)}
 
 
 def _cameras(run_dir: Path) -> dict:
