@@ -25,8 +25,9 @@ affine, its distance along its line of sight and its focal length trade off."""
 NARROW_ALONG_SIGHT_SHARE = 0.6
 """A narrow view's camera is tried as a known camera standing off along its line of sight by up to this share of its
 distance to the ground it looks at (:meth:`~broadtrack_graph.track.camera_ids.CameraRegistry.identify`): the real dev
-clips' views zoomed three times (``bench real --zoom 3``, 6.6-10 deg across) were placed from nothing up to 57 % of
-their distance off along it, their focal lengths as far off, with every marking drawn right."""
+clips' views zoomed three times (``bench real --zoom 3``, 6.6-10 deg across) were placed up to 59 % of that distance
+off along it (the clips' own cameras on their whole frames the truth), their focal lengths as far off, with every
+marking drawn right."""
 
 
 class CameraNaming:
