@@ -75,7 +75,9 @@ class CameraRegistry:
         p = np.asarray(position_w, float).reshape(3)
         nearest = self.nearest(p, sight_w)
         if nearest is None and fits is not None and sight_w is not None and along_share > 0.0:
-            nearest = self._nearest_along_sight(p, sight_w, along_share)
+            axis = np.asarray(sight_w, float).reshape(3) / np.linalg.norm(sight_w)
+            if axis[2] > 1e-9 and p[2] < 0.0:  # its distance to where its line of sight meets the ground
+                nearest = self.nearest(p, sight_w, along_m=max(self.along_sight_m, along_share * -p[2] / axis[2]))
         if nearest is not None and fits is not None and not fits(nearest):
             nearest = None
         if nearest is not None:
@@ -93,45 +95,27 @@ class CameraRegistry:
         self.untrusted.add(camera_id)
         return camera_id
 
-    def nearest(self, position_w, sight_w=None) -> str | None:
-        """The nearest known camera standing where position_w is (see :meth:`identify`), or None."""
+    def nearest(self, position_w, sight_w=None, along_m: float | None = None) -> str | None:
+        """The nearest known camera standing where position_w is (see :meth:`identify`; ``along_m``: the reach along
+        the line of sight, default ``along_sight_m``), or None."""
         p = np.asarray(position_w, float).reshape(3)
         best, best_d = None, math.inf
         for camera_id, q in self.positions.items():
-            if not self.stands_at(camera_id, p, sight_w):
+            if not self.same_place(q, p, sight_w, along_m):
                 continue
             d = float(np.linalg.norm(p - q))
             if d <= best_d:
                 best, best_d = camera_id, d
         return best
 
-    def _nearest_along_sight(self, position_w: np.ndarray, sight_w, share: float) -> str | None:
-        """The nearest known camera within ``across_sight_m`` of the line of sight and off along it by at most
-        ``share`` of the distance to where the line meets the ground (or ``along_sight_m``, whichever is more); None
-        when there is none or the line does not reach the ground."""
-        axis = np.asarray(sight_w, float).reshape(3)
-        axis = axis / np.linalg.norm(axis)
-        if axis[2] <= 1e-9 or position_w[2] >= 0.0:
-            return None
-        reach = max(self.along_sight_m, share * float(-position_w[2] / axis[2]))
-        best, best_d = None, math.inf
-        for camera_id, known in self.positions.items():
-            offset = known - position_w
-            along = float(offset @ axis)
-            if abs(along) > reach or float(np.linalg.norm(offset - along * axis)) > self.across_sight_m:
-                continue
-            if abs(along) <= best_d:
-                best, best_d = camera_id, abs(along)
-        return best
-
     def stands_at(self, camera_id: str, position_w, sight_w=None) -> bool:
         """True when a camera at position_w (looking along sight_w) can be the known camera ``camera_id``."""
         return self.same_place(self.positions[camera_id], position_w, sight_w)
 
-    def same_place(self, known_w, position_w, sight_w=None) -> bool:
+    def same_place(self, known_w, position_w, sight_w=None, along_m: float | None = None) -> bool:
         """True when a camera at position_w (looking along sight_w) can stand where one at known_w stands: within
-        ``along_sight_m`` along its line of sight and ``across_sight_m`` across it (``same_camera_m`` without a
-        sight)."""
+        ``along_m`` (default ``along_sight_m``) along its line of sight and ``across_sight_m`` across it
+        (``same_camera_m`` without a sight)."""
         offset = np.asarray(position_w, float).reshape(3) - np.asarray(known_w, float).reshape(3)
         if sight_w is None:
             return float(np.linalg.norm(offset)) <= self.same_camera_m
@@ -139,7 +123,7 @@ class CameraRegistry:
         axis = axis / np.linalg.norm(axis)
         along = float(offset @ axis)
         across = float(np.linalg.norm(offset - along * axis))
-        return abs(along) <= self.along_sight_m and across <= self.across_sight_m
+        return abs(along) <= (self.along_sight_m if along_m is None else along_m) and across <= self.across_sight_m
 
     def update(self, camera_id: str, position_w) -> None:
         """A better position for a known camera (its fitted tripod): the camera is trusted."""

@@ -3,10 +3,12 @@
 A trusted chain's camera keeps its chain's id: a shot's camera does not change. Any other camera found (at a shot's
 start, or while its chain is not trusted yet and its id is no more than a guess's) is named by where it stands
 (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight; a narrow view's
-distance loosely). A confident one takes a known camera's id only when the frame, refined from that camera's position
-with the view kept (:func:`~broadtrack_graph.geometry.aim.moved_keeping_view`), is still explained within
-``reinit_switch_margin`` of its confidence (a tripod: another stadium's camera at a similar place is not), else a new
-id; one that is not confident takes the nearest known camera's.
+distance loosely, up to ``NARROW_ALONG_SIGHT_SHARE`` of it along). A confident one takes a known camera's id only when
+the frame, refined with the focal point at that camera's position, is still explained within ``reinit_switch_margin``
+of its confidence (a tripod: another stadium's camera at a similar place is not), else a new id; one that is not
+confident takes the nearest known camera's. The refit starts from the camera moved there with its angles and focal
+length kept, or, a narrow view's from further along its line of sight than the registry's gate, with its view kept
+(:func:`~broadtrack_graph.geometry.aim.moved_keeping_view`).
 """
 
 from __future__ import annotations
