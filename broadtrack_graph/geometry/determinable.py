@@ -47,6 +47,9 @@ CAMERA_UNKNOWNS = 7
 """Unknowns of a camera with its principal point at the image centre, lens distortion aside: f, three angles, the
 focal point."""
 
+TRIPOD_CAMERA_UNKNOWNS = 4
+"""Unknowns of such a camera standing on a known tripod: f and three angles (its focal point known)."""
+
 EXPLAINED_PX = 2.5
 """A sample within this of a detected marking pixel is on it (pixels at 960 px wide, the detector's and the
 confidence's working width)."""
@@ -165,11 +168,12 @@ def _on_map(uv_px: np.ndarray, marking_map: np.ndarray, width_px: int) -> np.nda
     return inside & near[rows, cols]
 
 
-def fixes_camera(seen: Determinability, surplus: int = 0) -> bool:
+def fixes_camera(seen: Determinability, surplus: int = 0, unknowns: int = CAMERA_UNKNOWNS) -> bool:
     """Whether the markings counted in ``seen`` give a camera's unknowns as many constraints (and ``surplus`` more): 2
     for each distinct straight marking, 5 for a circle shown over MIN_CURVE_SHARE of its length (an ellipse), 3 for an
-    arc over MIN_ARC_SHARE (its place, size and bend), at least CAMERA_UNKNOWNS + ``surplus`` in all, with lines of
-    both directions or a circle among them (parallel lines alone leave the camera free to slide along them).
+    arc over MIN_ARC_SHARE (its place, size and bend), at least ``unknowns`` (CAMERA_UNKNOWNS; a camera on a known
+    tripod: TRIPOD_CAMERA_UNKNOWNS) + ``surplus`` in all, with lines of both directions or a circle among them
+    (parallel lines alone leave the camera free to slide along them).
 
     Two lines of each direction, or a circle and a line, as the rule of the module docstring; three lines of one
     direction and one of the other also fix it; two and one do not (one unknown is left). A camera the markings fix
@@ -179,4 +183,4 @@ def fixes_camera(seen: Determinability, surplus: int = 0) -> bool:
     shares = list(seen.curve_shares.values())
     constraints += sum(5 if share >= MIN_CURVE_SHARE else 3 if share >= MIN_ARC_SHARE else 0 for share in shares)
     crossing = (seen.x_lines >= 1 and seen.y_lines >= 1) or any(share >= MIN_ARC_SHARE for share in shares)
-    return constraints >= CAMERA_UNKNOWNS + surplus and crossing
+    return constraints >= unknowns + surplus and crossing

@@ -55,7 +55,9 @@ the search place a camera from nothing, for a chain's start or a lost chain):
      guess) is what a search at its position would find. When it drops under ``lost_confidence`` the
      chain ends and the next frame is placed from nothing.
    * Where the court model looks at the marking map (it places a camera wherever it stands, a returning one too): a
-     new shot is not searched, a shot whose camera is known only at that camera's position.
+     new shot only at the known cameras' positions, for a returning camera found at its own position confident by
+     the margin (its view's markings may fix it only on its tripod: a zoomed view of an arc and a touchline), a
+     shot whose camera is known only at that camera's position.
 
 Camera ids: a shot keeps the id of its first trusted camera; a camera found at a shot's start, or while its chain
 is not trusted yet (its id then is only a guess's), is identified by where it stands
@@ -72,7 +74,9 @@ field model or a search would lay a camera on a close-up's few markings. A chain
 
 **One gate** for a chain's first camera (not a trusted chain's, whose frames are being written), whatever route
 gave it: on a marking map it is kept only when the markings it explains fix it
-(:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check).
+(:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check); a camera on its
+trusted camera id's known tripod (within ``ON_TRIPOD_M``) has its focal point known, and is kept when they fix its
+focal length and angles with a constraint to spare.
 
 **One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
 replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
@@ -96,7 +100,7 @@ from typing import Callable
 import numpy as np
 
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.determinable import determinability, fixes_camera
+from broadtrack_graph.geometry.determinable import TRIPOD_CAMERA_UNKNOWNS, determinability, fixes_camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.camera_naming import CameraNaming
@@ -107,6 +111,10 @@ from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import TrySchedule
 from broadtrack_graph.track.search_route import SearchRoute
 from broadtrack_graph.track.search_stages import search_plan
+
+ON_TRIPOD_M = 1.0
+"""A camera whose focal point is within this of its camera id's known tripod stands on it (the focal point moves by
+the tripod's offset, 0.2-0.5 m, with the zoom; the known cameras' search holds it at the tripod)."""
 
 Search = Callable[..., ReinitResult]
 """``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
@@ -194,12 +202,21 @@ class ReinitPolicy:
             self.held_schedule.tried(observations.frame_index, decision.camera is not None)
         mask = getattr(self._frame[0] if decision.faint_look else detections, "marking_mask", None)
         if decision.camera is not None and not self.chain.trusted and mask is not None and pitch is not None:
-            # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it.
+            # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it (on its known
+            # tripod, its focal point known: with one constraint to spare).
             fixed = determinability(decision.camera, pitch, explained_by=mask)
-            if not fixes_camera(fixed):
+            if not fixes_camera(fixed) and not (self._on_known_tripod(decision) and fixes_camera(
+                    fixed, surplus=1, unknowns=TRIPOD_CAMERA_UNKNOWNS)):
                 return ReinitDecision(None, None, None, False, decision.searched, "the markings the camera explains "
                                       f"do not fix it ({decision.reason})")
         return decision
+
+    def _on_known_tripod(self, decision: ReinitDecision) -> bool:
+        """Whether the decision's camera stands on the tripod of its camera id, a trusted camera's (within
+        ``ON_TRIPOD_M``): its focal point is known."""
+        known = self.registry.positions.get(decision.camera_id)
+        return known is not None and decision.camera_id not in self.registry.untrusted and float(
+            np.linalg.norm(decision.camera.position_m - known)) <= ON_TRIPOD_M
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                 held_confidence: float | None = None, image=None, faint_look=None,

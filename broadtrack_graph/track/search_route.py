@@ -6,7 +6,8 @@ stages in order and keeps the best camera.
 
 Which camera a search keeps: the best of its stages' (:mod:`~broadtrack_graph.track.search_stages`). The search ends
 at the first stage whose best camera reaches ``certain_confidence`` for a new shot (``confidence_threshold``
-mid-shot), or a known camera found at its own position confident by ``reinit_switch_margin``.
+mid-shot), or a known camera found at its own position confident by ``reinit_switch_margin``. A plan that looks for a
+returning camera only (a new shot where the court model looks) keeps only the latter.
 Without a marking map (keypoints or labelled lines of a detections file) the plan is cheap and labelled: the known
 cameras' positions, then the default positions (mirrored too) only.
 
@@ -114,4 +115,6 @@ class SearchRoute:
         if best is None:
             why = "; ".join(dict.fromkeys(r.split(": ", 1)[-1] for r in reasons)) or "nothing found"
             return None, 0.0, why
+        if plan.returning_only and not (best_known and best_confidence >= threshold + margin):
+            return None, 0.0, f"no known camera explains the frame where it stands (best {best_confidence:.2f})"
         return best, best_confidence, label

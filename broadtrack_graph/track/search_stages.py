@@ -3,9 +3,11 @@
 Used by :class:`~broadtrack_graph.track.reinit_policy.ReinitPolicy` (its module docstring says when
 each stage runs); the positions and where their numbers come from are :mod:`broadtrack_graph.reinit.positions`'.
 A search reads at most two stages. Where the court model looks at the marking map it places a camera wherever it
-stands (a returning camera too, named by where it stands), so a new shot is not searched there and a shot whose
-camera is known only at that camera's position (a known camera lost mid-shot). The known cameras' and the default
-positions are searched without it, and on labelled detections (no map).
+stands (a returning camera too, named by where it stands), so a shot whose camera is known is searched only at that
+camera's position (a known camera lost mid-shot), and a new shot only at the known cameras' positions, for a
+returning camera alone: a known camera's view whose markings do not fix a camera from nothing (a zoomed view of a
+circle's arc beside a touchline) fixes it on its known tripod, where the court model does not place it. The default
+positions are searched without the court model, and on labelled detections (no map).
 """
 
 from __future__ import annotations
@@ -23,11 +25,12 @@ KNOWN_CAMERAS = "known cameras"
 
 
 class SearchPlan(NamedTuple):
-    """One search's stages, (label, positions) in order, and whether it is a new shot's search on a marking map (read
-    until a camera is certain)."""
+    """One search's stages, (label, positions) in order, whether it is a new shot's search on a marking map (read
+    until a camera is certain), and whether only a returning camera is kept (:func:`search_plan`)."""
 
     stages: list
     new_shot: bool = False
+    returning_only: bool = False
 
 
 def search_plan(known_positions: dict, camera_id: str | None, search_positions, with_map: bool,
@@ -43,7 +46,8 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         held_trusted: the shot's camera holds a trusted chain (its frames are being written), dipping under the
             threshold.
         court_looks: the court model looks at the frame's marking map: the shot's own camera's position alone (a
-            new shot's plan is empty).
+            new shot's plan: the known cameras', ``returning_only``: only a known camera found at its own position
+            is kept).
     """
     if search_positions is not None:
         return SearchPlan([("the given positions", search_positions)])
@@ -57,8 +61,8 @@ def search_plan(known_positions: dict, camera_id: str | None, search_positions, 
         if not court_places and not held_trusted and camera_kind(own_position)[0] == MAIN_KIND:
             own.append(DEFAULT_STAGE)
         return SearchPlan(own)
-    if court_places:
-        return SearchPlan([], new_shot=True)
     known = [tuple(p) for p in known_positions.values()]
     first = [(KNOWN_CAMERAS, known)] if known else []
+    if court_places:
+        return SearchPlan(first, new_shot=True, returning_only=True)
     return SearchPlan(first + [DEFAULT_STAGE], new_shot=with_map)

@@ -10,7 +10,13 @@ import pytest
 
 from broadtrack_graph.geometry.aim import aim_angles
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.determinable import MIN_LINE_PX, Determinability, determinability, fixes_camera
+from broadtrack_graph.geometry.determinable import (
+    MIN_LINE_PX,
+    TRIPOD_CAMERA_UNKNOWNS,
+    Determinability,
+    determinability,
+    fixes_camera,
+)
 from broadtrack_graph.geometry.pitch import PitchTemplate
 
 
@@ -118,6 +124,19 @@ def test_a_camera_is_fixed_by_as_many_constraints_as_it_has_unknowns(x_lines, y_
 def test_a_surplus_asks_for_that_many_constraints_over_the_unknowns(x_lines, y_lines, shares, surplus, fixed):
     seen = Determinability(False, x_lines, y_lines, (), curve_shares=shares)
     assert fixes_camera(seen, surplus) is fixed
+
+
+@pytest.mark.parametrize("x_lines, y_lines, shares, fixed", [
+    (1, 0, {"Circle central": 0.27}, True),  # an arc and a touchline: 5 constraints, f and three angles unknown
+    (0, 0, {"Circle central": 1.0}, True),  # a whole circle: its roll about the centre is the tripod's
+    (2, 1, {}, True),
+    (1, 1, {}, False),  # one line of each direction fixes it exactly, with nothing over
+    (3, 0, {}, False),  # parallel lines alone stay refused
+])
+def test_a_camera_on_a_known_tripod_has_four_unknowns(x_lines, y_lines, shares, fixed):
+    seen = Determinability(False, x_lines, y_lines, (), curve_shares=shares)
+    assert fixes_camera(seen, 1, unknowns=TRIPOD_CAMERA_UNKNOWNS) is fixed
+    assert not fixes_camera(seen, 1)  # from nothing, none of these
 
 
 @pytest.mark.parametrize("x_lines, y_lines, curves, grid", [

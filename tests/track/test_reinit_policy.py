@@ -571,19 +571,67 @@ def _court_policy_mid_shot(fakes, court_camera, court_confidence, untrusted=Fals
     return policy, calls
 
 
-def test_an_unconfident_court_camera_is_dropped_and_a_known_camera_is_searched_at_its_position():
+def test_an_unconfident_court_camera_is_dropped_and_known_cameras_are_searched_at_their_positions():
     fakes = Fakes({OWN_POSITION: (MAIN, 0.62), None: (CORNER, 0.95)})
     policy, _ = _court_policy_mid_shot(fakes, CORNER, 0.3)
     decision = _decide(policy, 5)
     assert decision.camera is MAIN and decision.searched and policy.counts["court_used"] == 0
     assert fakes.searched == [OWN_POSITION]  # the default positions are not searched where the court model looks
-    # A new shot: nothing to search, the known cameras' positions neither (the court model places a returning camera).
-    fakes = Fakes({None: (MAIN, 0.95), OWN_POSITION: (MAIN, 0.95)}, guess_confidence=0.1)
+    # A new shot: the known cameras' positions alone, for a returning camera (never the default positions).
+    fakes = Fakes({None: (MAIN, 0.95), OWN_POSITION: (MAIN, 0.95)}, guess_confidence=0.95)
     policy, _ = _court_policy(fakes, CORNER, 0.3)
     policy.tripod("main", MAIN.position_m)
     decision = _decide(policy, 0)
+    assert decision.camera is MAIN and decision.searched and fakes.searched == [OWN_POSITION]
+    assert decision.camera_id == "main"  # (no confident camera of it seen yet: no guess of it to refine)
+    # ... and nothing else: a camera the known cameras' stage finds elsewhere, even certain, is the court model's to
+    # place; with no known camera there is nothing to search.
+    elsewhere = CORNER.replace(position_m=(20.0, 80.0, -15.0))
+    fakes = Fakes({OWN_POSITION: (elsewhere, 0.99)}, guess_confidence=0.1)
+    policy, _ = _court_policy(fakes, CORNER, 0.3)
+    policy.tripod("main", MAIN.position_m)
+    decision = _decide(policy, 0)
+    assert decision.camera is None and decision.searched and fakes.searched == [OWN_POSITION]
+    fakes = Fakes({None: (MAIN, 0.95)}, guess_confidence=0.1)
+    policy, _ = _court_policy(fakes, CORNER, 0.3)
+    decision = _decide(policy, 0)
     assert decision.camera is None and not decision.searched and fakes.searched == []
     assert decision.reason == "no search: the court model looks wherever the camera stands"
+
+
+def _drawn_map(camera: Camera, pitch) -> np.ndarray:
+    """The marking map of every ground marking as the camera draws it (its 0.1 m samples, 3 px wide)."""
+    import cv2
+
+    marks = np.zeros((camera.height_px, camera.width_px), np.uint8)
+    for name, points in pitch.sample_uniform(0.1).items():
+        uv, front = camera.project(points) if pitch.is_on_ground(name) else (np.zeros((0, 2)), np.zeros(0, bool))
+        uv = np.rint(uv[front]).astype(int)
+        inside = (uv[:, 0] >= 0) & (uv[:, 0] < camera.width_px) & (uv[:, 1] >= 0) & (uv[:, 1] < camera.height_px)
+        marks[uv[inside, 1], uv[inside, 0]] = 1
+    return cv2.dilate(marks, np.ones((3, 3), np.uint8)) > 0
+
+
+def test_a_returning_camera_s_view_fixed_only_on_its_tripod_is_taken_there_and_nowhere_else():
+    """A zoomed view of the main camera after a cut, the far touchline and a fifth of the centre circle: 5 constraints,
+    a camera's 7 unknowns from nothing, 4 on a known tripod (its focal point known)."""
+    from broadtrack_graph.geometry.aim import aim_angles
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+    position = np.array([0.0, 55.0, -12.0])
+    pan, tilt = aim_angles(position, np.array([10.0, -25.0, 0.0]))
+    zoomed = Camera(640.0 / np.tan(np.radians(6.0)), 0.0, pan, tilt, 0.0, position, W, H)  # 12 deg across
+    detections = SimpleNamespace(marking_mask=_drawn_map(zoomed, pitch))
+    fakes = Fakes({(tuple(position),): (zoomed, 0.9)}, guess_confidence=0.9)
+    policy, _ = _court_policy(fakes, None, 0.0)  # the court model places nothing
+    policy.tripod("main", position)
+    decision = policy.decide(FrameObservations(0, W, H), detections, pitch, None, None)
+    assert decision.camera is zoomed and decision.camera_id == "main" and decision.searched
+    # The same view as the court model's camera where no known camera stands: refused by the same gate.
+    policy, _ = _court_policy(Fakes(), zoomed, 0.9)
+    decision = policy.decide(FrameObservations(0, W, H), detections, pitch, None, None)
+    assert decision.camera is None and "do not fix it" in decision.reason
 
 
 def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():

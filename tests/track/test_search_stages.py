@@ -38,9 +38,11 @@ def test_given_positions_are_searched_alone():
         assert search_plan(KNOWN, camera_id, given, with_map=True).stages == [("the given positions", given)]
 
 
-def test_where_the_court_model_looks_a_new_shot_is_not_searched_and_a_known_camera_only_at_its_position():
-    assert search_plan(KNOWN, None, None, with_map=True, court_looks=True).stages == []
+def test_where_the_court_model_looks_a_new_shot_is_searched_for_a_returning_camera_and_a_known_one_at_its_position():
+    new_shot = search_plan(KNOWN, None, None, with_map=True, court_looks=True)
+    assert new_shot.stages == [(KNOWN_CAMERAS, list(KNOWN.values()))] and new_shot.returning_only
     assert search_plan({}, None, None, with_map=True, court_looks=True).stages == []
+    assert not search_plan(KNOWN, None, None, with_map=True).returning_only
     assert _labels(search_plan(KNOWN, "main", None, with_map=True, court_looks=True)) == ["camera main"]
     # Labelled detections have no map for it: the default positions are searched.
     assert _labels(search_plan(KNOWN, None, None, with_map=False, court_looks=True)) == [KNOWN_CAMERAS,
