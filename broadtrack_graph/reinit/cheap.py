@@ -22,13 +22,14 @@ from broadtrack_graph.reinit.scoring import LabelledScore, ReinitResult
 
 
 def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | None, curves: TemplateCurves,
-                   config: MaskSearchConfig = MaskSearchConfig()) -> ReinitResult:
+                   config: MaskSearchConfig = MaskSearchConfig(), hold_position: bool = False) -> ReinitResult:
     """The best of the guesses after a local label-and-fit on the marking map.
 
     Args:
         guesses: (label, camera) pairs; cameras at any resolution (rescaled to the frame's).
         detections: the frame's detections; needs a marking map and marking points.
         curves: sampled template.
+        hold_position: each guess's focal point held where it stands (a known tripod's): f, k1 and the angles fitted.
 
     Returns:
         ReinitResult whose ``score.jaccard`` is the confidence of the camera (as
@@ -46,7 +47,7 @@ def refine_guesses(guesses: list[tuple[str, Camera]], detections: Detections | N
     best: ReinitResult | None = None
     for label, guess in guesses:
         start = guess.rescaled(W, H)
-        camera = refine_on_map(start, points, start.position_m, curves, config, config.schedule)
+        camera = refine_on_map(start, points, start.position_m, curves, config, config.schedule, hold_position)
         if not plausible_position(camera.position_m, curves.pitch):
             continue  # the gate every camera passes: a fit that slid under the grass or onto the pitch
         confidence = camera_confidence(camera, detections.marking_mask, curves, field_mask=detections.field_mask,

@@ -27,6 +27,10 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.reinit.positions import MAIN_KIND, camera_kind
 
+ON_TRIPOD_M = 1.0
+"""A focal point within this of a known camera's position stands on its tripod (the focal point moves by the tripod's
+offset, 0.2-0.5 m, with the zoom; a search at a known camera's position holds it there)."""
+
 
 @dataclass(frozen=True)
 class Guess:
@@ -111,6 +115,13 @@ class CameraRegistry:
     def stands_at(self, camera_id: str, position_w, sight_w=None) -> bool:
         """True when a camera at position_w (looking along sight_w) can be the known camera ``camera_id``."""
         return self.same_place(self.positions[camera_id], position_w, sight_w)
+
+    def on_tripod(self, camera_id: str, position_w) -> bool:
+        """True when a focal point at position_w stands on the known camera ``camera_id``'s tripod (within
+        ``ON_TRIPOD_M`` of its position): its focal point, not only its place."""
+        known = self.positions.get(camera_id)
+        return known is not None and float(np.linalg.norm(np.asarray(position_w, float).reshape(3) - known)) <= \
+            ON_TRIPOD_M
 
     def same_place(self, known_w, position_w, sight_w=None, along_m: float | None = None) -> bool:
         """True when a camera at position_w (looking along sight_w) can stand where one at known_w stands: within

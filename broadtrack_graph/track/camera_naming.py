@@ -5,7 +5,8 @@ start, or while its chain is not trusted yet and its id is no more than a guess'
 (:class:`~broadtrack_graph.track.camera_ids.CameraRegistry`: along and across its line of sight; a narrow view's
 distance loosely, up to ``NARROW_ALONG_SIGHT_SHARE`` of it along). A confident one takes a known camera's id only when
 the frame, refined with the focal point at that camera's position, is still explained within ``reinit_switch_margin``
-of its confidence (a tripod: another stadium's camera at a similar place is not), else a new id; one that is not
+of its confidence (a tripod: another stadium's camera at a similar place is not; a camera found on that tripod is
+explained there already), else a new id; one that is not
 confident takes the nearest known camera's. The refit starts from the camera moved there with its angles and focal
 length kept, or, a narrow view's from further along its line of sight than the registry's gate, with its view kept
 (:func:`~broadtrack_graph.geometry.aim.moved_keeping_view`).
@@ -73,6 +74,8 @@ class CameraNaming:
         detections, curves, score = frame
         if getattr(detections, "marking_mask", None) is None:
             return True  # labelled detections: where it stands decides
+        if self.registry.on_tripod(camera_id, camera.position_m):
+            return True  # found on the known camera's tripod (its search holds it there): explained from there already
         known = self.registry.positions[camera_id]
         far_along = narrow and not self.registry.stands_at(camera_id, camera.position_m, camera.R_cw[2])
         moved = (moved_keeping_view(camera, known) if far_along else None) or camera.replace(position_m=known)

@@ -75,8 +75,8 @@ field model or a search would lay a camera on a close-up's few markings. A chain
 **One gate** for a chain's first camera (not a trusted chain's, whose frames are being written), whatever route
 gave it: on a marking map it is kept only when the markings it explains fix it
 (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check); a camera on its
-trusted camera id's known tripod (within ``ON_TRIPOD_M``) has its focal point known, and is kept when they fix its
-focal length and angles with a constraint to spare.
+trusted camera id's known tripod (within :data:`~broadtrack_graph.track.camera_ids.ON_TRIPOD_M`) has its focal point
+known, and is kept when they fix its focal length and angles with a constraint to spare.
 
 **One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
 replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
@@ -99,8 +99,10 @@ from typing import Callable
 
 import numpy as np
 
+from broadtrack_graph.geometry.aim import moved_keeping_view
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.determinable import TRIPOD_CAMERA_UNKNOWNS, determinability, fixes_camera
+from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.camera_naming import CameraNaming
@@ -112,14 +114,15 @@ from broadtrack_graph.track.search_budget import TrySchedule
 from broadtrack_graph.track.search_route import SearchRoute
 from broadtrack_graph.track.search_stages import search_plan
 
-ON_TRIPOD_M = 1.0
-"""A camera whose focal point is within this of its camera id's known tripod stands on it (the focal point moves by
-the tripod's offset, 0.2-0.5 m, with the zoom; the known cameras' search holds it at the tripod)."""
-
 Search = Callable[..., ReinitResult]
 """``(observations, detections, pitch, positions or None, curves, sampling) -> ReinitResult``: one global search."""
-Refiner = Callable[[list, object, object], ReinitResult]
-"""``(guesses [(label, Camera)], detections, curves) -> ReinitResult``: the best guess after a local fit."""
+Refiner = Callable[..., ReinitResult]
+"""``(guesses [(label, Camera)], detections, curves, hold_position=False) -> ReinitResult``: the best guess after a
+local fit (``hold_position``: each guess's focal point held where it stands)."""
+
+EXACT_FIT_CONFIDENCE = CourtConfig().exact_fit_confidence
+"""A camera its markings fix exactly, with no constraint to spare, is taken from this confidence (the court model's
+bar for its exact fits: laid on them, a wrong camera explains them as well)."""
 Confidence = Callable[..., float | None]
 """``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
 
@@ -205,18 +208,42 @@ class ReinitPolicy:
             # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it (on its known
             # tripod, its focal point known: with one constraint to spare).
             fixed = determinability(decision.camera, pitch, explained_by=mask)
-            if not fixes_camera(fixed) and not (self._on_known_tripod(decision) and fixes_camera(
-                    fixed, surplus=1, unknowns=TRIPOD_CAMERA_UNKNOWNS)):
+            if not fixes_camera(fixed) and not (self._on_known_tripod(decision) and (
+                    fixes_camera(fixed, surplus=1, unknowns=TRIPOD_CAMERA_UNKNOWNS)
+                    or (fixes_camera(fixed, unknowns=TRIPOD_CAMERA_UNKNOWNS)
+                        and decision.confidence >= EXACT_FIT_CONFIDENCE))):
                 return ReinitDecision(None, None, None, False, decision.searched, "the markings the camera explains "
                                       f"do not fix it ({decision.reason})")
         return decision
 
     def _on_known_tripod(self, decision: ReinitDecision) -> bool:
-        """Whether the decision's camera stands on the tripod of its camera id, a trusted camera's (within
-        ``ON_TRIPOD_M``): its focal point is known."""
-        known = self.registry.positions.get(decision.camera_id)
-        return known is not None and decision.camera_id not in self.registry.untrusted and float(
-            np.linalg.norm(decision.camera.position_m - known)) <= ON_TRIPOD_M
+        """Whether the decision's camera stands on the tripod of its camera id, a trusted camera's
+        (:meth:`~broadtrack_graph.track.camera_ids.CameraRegistry.on_tripod`): its focal point is known."""
+        return decision.camera_id not in self.registry.untrusted and self.registry.on_tripod(
+            decision.camera_id, decision.camera.position_m)
+
+    def _onto_its_tripod(self, found: ReinitResult, confidence: float, detections, pitch, curves,
+                         score) -> tuple[ReinitResult, float]:
+        """A searched camera whose markings do not fix it from nothing, standing at a trusted known camera's place
+        but off its tripod (the search frees the focal point near its candidates), refitted with its focal point held
+        on the tripod, its view kept: taken, with its confidence, when the frame is still explained within the
+        margin (the markings may fix it there, :meth:`decide`'s gate)."""
+        mask = getattr(detections, "marking_mask", None)
+        camera = found.camera
+        camera_id = self.registry.nearest(camera.position_m, camera.R_cw[2]) if mask is not None else None
+        if camera_id is None or pitch is None or camera_id in self.registry.untrusted \
+                or self.registry.on_tripod(camera_id, camera.position_m) \
+                or fixes_camera(determinability(camera, pitch, explained_by=mask)):
+            return found, confidence
+        tripod = self.registry.positions[camera_id]
+        start = moved_keeping_view(camera, tripod) or camera.replace(position_m=tripod)
+        held = self.refine([(f"on the tripod of {camera_id}", start)], detections, curves, hold_position=True)
+        if held.camera is None:
+            return found, confidence
+        held_confidence = held.score.jaccard if held.score is not None else score(held.camera)
+        if held_confidence is None or held_confidence < confidence - self.config.reinit_switch_margin:
+            return found, confidence
+        return replace(found, camera=held.camera, hypothesis=held.hypothesis), float(held_confidence)
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                 held_confidence: float | None = None, image=None, faint_look=None,
@@ -316,6 +343,9 @@ class ReinitPolicy:
                                             held_confidence, new_camera)
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
+        searched = found
+        found, found_confidence = self._onto_its_tripod(found, found_confidence, detections, pitch, curves, score)
+        label += f", {found.hypothesis}" if found is not searched else ""
         camera_id = self.naming.id_of(found, found_confidence, self._frame)
         return self._decision(found, found_confidence, camera_id, False, True, label, held, held_confidence, new_camera)
 

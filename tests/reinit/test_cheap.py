@@ -36,6 +36,16 @@ def test_a_nearby_guess_is_refined_onto_the_markings_and_the_best_guess_wins():
     assert refine_guesses([("near", near)], None, CURVES).camera is None
 
 
+def test_a_guess_held_on_its_tripod_is_refined_there():
+    frame = render_clip("main", 1, 960, 540, seed=2).frames[0]
+    truth = frame.camera
+    det = WeightFreeDetector(PITCH).detect(frame.image)
+    near = truth.replace(pan_rad=truth.pan_rad + math.radians(0.6), focal_px=truth.focal_px * 1.03)
+    held = refine_guesses([("near", near)], det, CURVES, hold_position=True)
+    np.testing.assert_array_equal(held.camera.position_m, truth.position_m)
+    assert median_template_error_px(held.camera, truth) < 1.5
+
+
 def test_a_guess_refined_onto_the_pitch_is_dropped_like_any_implausible_camera():
     from types import SimpleNamespace
 

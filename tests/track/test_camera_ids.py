@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from broadtrack_graph.reinit.positions import CAMERA_KINDS, camera_kind, mirrored_position
-from broadtrack_graph.track.camera_ids import CameraRegistry
+from broadtrack_graph.track.camera_ids import ON_TRIPOD_M, CameraRegistry
 
 
 @pytest.mark.parametrize("kind", CAMERA_KINDS, ids=[k.name for k in CAMERA_KINDS])
@@ -122,3 +122,11 @@ def test_a_narrow_view_far_along_its_line_of_sight_is_tried_as_the_known_camera_
     # Too far along: 40 m is over 0.6 of the 37 m left to the ground.
     farther = position + 40.0 * sight
     assert CameraRegistry(known={"main": position}).identify(farther, sight, fits=fits, along_share=0.6) == "main-1"
+
+
+def test_a_focal_point_stands_on_a_known_tripod_only_within_a_metre_of_it():
+    registry = CameraRegistry(known={"main": (0.0, 55.0, -12.0)})
+    assert registry.on_tripod("main", (0.3, 55.4, -12.5))
+    assert not registry.on_tripod("main", (0.0, 55.0 + 1.5 * ON_TRIPOD_M, -12.0))
+    assert registry.stands_at("main", (0.0, 55.0 + 1.5 * ON_TRIPOD_M, -12.0))  # its place, not its tripod
+    assert not registry.on_tripod("high-behind-1", (0.0, 55.0, -12.0))

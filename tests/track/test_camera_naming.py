@@ -56,6 +56,17 @@ def test_a_confident_camera_the_known_tripod_does_not_explain_gets_a_new_id():
     assert camera_id not in (None, "main") and camera_id in naming.registry.untrusted
 
 
+def test_a_camera_found_on_a_known_tripod_takes_its_id_without_a_refit():
+    # The known camera's search holds its focal point there: the frame is explained from there already (a refit with
+    # the focal point free can slide off a narrow view's few markings and score lower).
+    calls: list = []
+    naming = _naming(0.1, calls)
+    on_it = _camera(MAIN_W + [0.3, -0.4, 0.2])
+    assert naming.id_of(ReinitResult(on_it, None, ""), 0.9, MAP_FRAME) == "main" and calls == []
+    beside = _camera(MAIN_W + [1.0, 2.0, 0.5])  # off the tripod: refitted there (0.1, under the margin)
+    assert naming.id_of(ReinitResult(beside, None, ""), 0.9, MAP_FRAME) != "main" and len(calls) == 1
+
+
 def test_labelled_detections_without_a_map_are_named_by_where_the_camera_stands():
     calls: list = []
     naming = _naming(0.0, calls)

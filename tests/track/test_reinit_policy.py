@@ -43,8 +43,9 @@ class Fakes:
         self.confidences[id(camera)] = confidence
         return ReinitResult(camera, LabelledScore(0.99, 0, 0, 0, 0.0, 0.0), "fake search")
 
-    def refine(self, guesses, detections, curves):
+    def refine(self, guesses, detections, curves, hold_position=False):
         self.refined.append(guesses[0][0])
+        self.held = hold_position
         return ReinitResult(guesses[0][1], LabelledScore(self.guess_confidence, 0, 0, 0, 0.0, 0.0), "fake fit")
 
     def confidence(self, camera, observations, detections, curves, sampling):
@@ -632,6 +633,58 @@ def test_a_returning_camera_s_view_fixed_only_on_its_tripod_is_taken_there_and_n
     policy, _ = _court_policy(Fakes(), zoomed, 0.9)
     decision = policy.decide(FrameObservations(0, W, H), detections, pitch, None, None)
     assert decision.camera is None and "do not fix it" in decision.reason
+
+
+def _zoomed_main(aim, hfov_deg: float, position=(0.0, 55.0, -12.0)) -> Camera:
+    from broadtrack_graph.geometry.aim import aim_angles
+
+    position = np.asarray(position, float)
+    pan, tilt = aim_angles(position, np.asarray(aim, float))
+    return Camera(640.0 / np.tan(np.radians(hfov_deg / 2)), 0.0, pan, tilt, 0.0, position, W, H)
+
+
+def test_a_searched_camera_off_its_known_tripod_is_refitted_on_it_when_its_markings_fix_it_only_there():
+    """The known camera's search frees the focal point near its position: a narrow view slides along its line of
+    sight. Its markings (a touchline and a fifth of the centre circle) do not fix it from nothing; held on the tripod,
+    its view kept, they do."""
+    from broadtrack_graph.geometry.aim import moved_keeping_view
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+    tripod = np.array([0.0, 55.0, -12.0])
+    truth = _zoomed_main((10.0, -25.0, 0.0), 12.0)
+    slid = moved_keeping_view(truth, tripod + 3.0 * truth.R_cw[2])  # 3 m down its line of sight
+    detections = SimpleNamespace(marking_mask=_drawn_map(truth, pitch))
+    fakes = Fakes({(tuple(tripod),): (slid, 0.9)}, guess_confidence=0.88)
+    policy, _ = _court_policy(fakes, None, 0.0)
+    policy.tripod("main", tripod)
+    decision = policy.decide(FrameObservations(0, W, H), detections, pitch, None, None)
+    assert decision.camera is not None and decision.camera_id == "main" and fakes.held
+    np.testing.assert_allclose(decision.camera.position_m, tripod)
+    assert abs(decision.camera.focal_px / truth.focal_px - 1.0) < 1e-9 and fakes.refined[-1] == "on the tripod of main"
+    # Not explained there within the margin: the slid camera stays, and the gate refuses it.
+    fakes = Fakes({(tuple(tripod),): (slid, 0.9)}, guess_confidence=0.9 - TrackingConfig().reinit_switch_margin - 0.01)
+    policy, _ = _court_policy(fakes, None, 0.0)
+    policy.tripod("main", tripod)
+    assert policy.decide(FrameObservations(0, W, H), detections, pitch, None, None).camera is None
+
+
+@pytest.mark.parametrize("confidence, taken", [(0.85, True), (0.75, False)])
+def test_a_camera_its_markings_fix_exactly_on_its_tripod_is_taken_at_the_exact_fit_bar(confidence, taken):
+    """One line of each direction (the far touchline and the halfway line, 8 deg across): 4 constraints, exactly the
+    unknowns of a camera on a known tripod; taken from the court model's bar for exact fits."""
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+    from broadtrack_graph.track.reinit_policy import EXACT_FIT_CONFIDENCE
+
+    pitch = PitchTemplate()
+    tripod = (0.0, 55.0, -12.0)
+    view = _zoomed_main((0.0, -30.0, 0.0), 8.0)
+    fakes = Fakes({(tripod,): (view, confidence)}, guess_confidence=0.9)
+    policy, _ = _court_policy(fakes, None, 0.0)
+    policy.tripod("main", tripod)
+    decision = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=_drawn_map(view, pitch)), pitch,
+                             None, None)
+    assert (decision.camera is view) is taken and (confidence >= EXACT_FIT_CONFIDENCE) is taken
 
 
 def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():
