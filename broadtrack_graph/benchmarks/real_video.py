@@ -42,6 +42,7 @@ from broadtrack_graph.benchmarks.zoom import (
     write_zoom_cut,
     zoom_change,
     zoom_label,
+    zoomed_size,
 )
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import fitting_curves
@@ -151,12 +152,17 @@ def _zoom_figures(video: Path, zoomed_dir: Path, zoom: float, args) -> dict:
     whole, zoomed = _cameras(whole_dir), _cameras(zoomed_dir)
     cut_name = f"{video.stem}-{zoom_label(zoom)}-cut"
     cut_video, cut_dir = Path(args.out) / "copies" / f"{cut_name}.mp4", runs / cut_name
-    wide_frames, factor = write_zoom_cut(video, cut_video, zoom, end=args.end)
     if args.runs is None:
+        wide_frames, factor = write_zoom_cut(video, cut_video, zoom, end=args.end)
         track_input(cut_video, cut_dir, config, progress=not args.no_progress)
+    cut = _cameras(cut_dir)
+    if args.runs is not None:  # the run says the cut's length (its two shots as long) and size (the crop's factor)
+        summary = RunFolder(cut_dir).read_summary()
+        wide_frames = len(cut) // 2
+        factor = summary["width_px"] / zoomed_size(summary["width_px"], summary["height_px"], zoom)[0]
     return {"determinable": determinable_figures(whole, zoomed, zoom),
             "against_whole_frames": camera_agreement(whole, zoomed),
-            "cut_to_zoom": cut_figures(_cameras(cut_dir), read_frame_camera_ids(cut_dir), wide_frames, factor)}
+            "cut_to_zoom": cut_figures(cut, read_frame_camera_ids(cut_dir), wide_frames, factor)}
 
 
 def _cameras(run_dir: Path) -> dict:

@@ -130,6 +130,10 @@ def test_bench_real_tracks_the_zoomed_copy_and_scores_it_on_the_zoomed_frames(be
     capture = cv2.VideoCapture(str(runs / "copies" / f"{name}.mp4"))
     assert (capture.get(cv2.CAP_PROP_FRAME_WIDTH), capture.get(cv2.CAP_PROP_FRAME_HEIGHT)) == (512, 288)
     capture.release()
+    # The runs scored again (--runs): the cut's length and the crop's factor read from its run, the same figures.
+    (runs / "copies" / f"{name}-cut.mp4").unlink()
+    again, _ = bench_real_video_section("--zoom", "1.25", "--runs", str(runs))
+    assert again["clips"][name]["cut_to_zoom"] == cut and not (runs / "copies" / f"{name}-cut.mp4").exists()
 
 
 def test_bench_real_scores_a_zoomed_and_degraded_copy_on_the_zoomed_frames(bench_real_video_section):
