@@ -76,7 +76,8 @@ field model or a search would lay a camera on a close-up's few markings. A chain
 gave it: on a marking map it is kept only when the markings it explains fix it
 (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check); a camera on its
 trusted camera id's known tripod (within :data:`~broadtrack_graph.track.camera_ids.ON_TRIPOD_M`) has its focal point
-known, and is kept when they fix its focal length and angles with a constraint to spare.
+known, and is kept when they fix its focal length and angles with a constraint to spare at the court model's bar
+(exactly, at its exact-fit bar).
 
 **One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
 replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
@@ -208,19 +209,24 @@ class ReinitPolicy:
             # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it (on its known
             # tripod, its focal point known: with one constraint to spare).
             fixed = determinability(decision.camera, pitch, explained_by=mask)
-            if not fixes_camera(fixed) and not (self._on_known_tripod(decision) and (
-                    fixes_camera(fixed, surplus=1, unknowns=TRIPOD_CAMERA_UNKNOWNS)
-                    or (fixes_camera(fixed, unknowns=TRIPOD_CAMERA_UNKNOWNS)
-                        and decision.confidence >= EXACT_FIT_CONFIDENCE))):
+            if not fixes_camera(fixed) and not self._fixed_on_known_tripod(decision, fixed):
                 return ReinitDecision(None, None, None, False, decision.searched, "the markings the camera explains "
                                       f"do not fix it ({decision.reason})")
         return decision
 
-    def _on_known_tripod(self, decision: ReinitDecision) -> bool:
+    def _fixed_on_known_tripod(self, decision: ReinitDecision, fixed) -> bool:
         """Whether the decision's camera stands on the tripod of its camera id, a trusted camera's
-        (:meth:`~broadtrack_graph.track.camera_ids.CameraRegistry.on_tripod`): its focal point is known."""
-        return decision.camera_id not in self.registry.untrusted and self.registry.on_tripod(
-            decision.camera_id, decision.camera.position_m)
+        (:meth:`~broadtrack_graph.track.camera_ids.CameraRegistry.on_tripod`: its focal point known), and the
+        markings it explains (``fixed``) fix its focal length and angles there, as sure as the court model's camera
+        from nothing must be: with a constraint to spare at ``court_accept_confidence``, exactly at
+        :data:`EXACT_FIT_CONFIDENCE` (a tripod fitted on narrow views stands loosely along their line of sight, and a
+        camera just over the threshold held there drifts)."""
+        if decision.camera_id in self.registry.untrusted or not self.registry.on_tripod(decision.camera_id,
+                                                                                        decision.camera.position_m):
+            return False
+        if fixes_camera(fixed, surplus=1, unknowns=TRIPOD_CAMERA_UNKNOWNS):
+            return decision.confidence >= self.config.court_accept_confidence
+        return fixes_camera(fixed, unknowns=TRIPOD_CAMERA_UNKNOWNS) and decision.confidence >= EXACT_FIT_CONFIDENCE
 
     def _onto_its_tripod(self, found: ReinitResult, confidence: float, detections, pitch, curves,
                          score) -> tuple[ReinitResult, float]:

@@ -669,6 +669,24 @@ def test_a_searched_camera_off_its_known_tripod_is_refitted_on_it_when_its_marki
     assert policy.decide(FrameObservations(0, W, H), detections, pitch, None, None).camera is None
 
 
+@pytest.mark.parametrize("confidence, taken", [(0.75, True), (0.65, False)])
+def test_a_camera_its_markings_fix_only_on_its_tripod_is_taken_at_the_court_model_s_bar(confidence, taken):
+    """A touchline and a fifth of the centre circle: fixed on a known tripod with a constraint to spare, taken there
+    as sure as the court model's camera from nothing must be (0.7), not at the search's 0.6."""
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+    tripod = (0.0, 55.0, -12.0)
+    view = _zoomed_main((10.0, -25.0, 0.0), 12.0)
+    fakes = Fakes({(tripod,): (view, confidence)}, guess_confidence=0.9)
+    policy, _ = _court_policy(fakes, None, 0.0)
+    policy.tripod("main", tripod)
+    decision = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=_drawn_map(view, pitch)), pitch,
+                             None, None)
+    assert (decision.camera is view) is taken
+    assert (confidence >= TrackingConfig().court_accept_confidence) is taken
+
+
 @pytest.mark.parametrize("confidence, taken", [(0.85, True), (0.75, False)])
 def test_a_camera_its_markings_fix_exactly_on_its_tripod_is_taken_at_the_exact_fit_bar(confidence, taken):
     """One line of each direction (the far touchline and the halfway line, 8 deg across): 4 constraints, exactly the
