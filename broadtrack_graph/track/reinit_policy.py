@@ -207,7 +207,7 @@ class ReinitPolicy:
         mask = getattr(self._frame[0] if decision.faint_look else detections, "marking_mask", None)
         if decision.camera is not None and not self.chain.trusted and mask is not None and pitch is not None:
             # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it (on its known
-            # tripod, its focal point known: with one constraint to spare).
+            # tripod, with its focal point known: _fixed_on_known_tripod).
             fixed = determinability(decision.camera, pitch, explained_by=mask)
             if not fixes_camera(fixed) and not self._fixed_on_known_tripod(decision, fixed):
                 return ReinitDecision(None, None, None, False, decision.searched, "the markings the camera explains "
