@@ -669,21 +669,26 @@ def test_a_searched_camera_off_its_known_tripod_is_refitted_on_it_when_its_marki
     assert policy.decide(FrameObservations(0, W, H), detections, pitch, None, None).camera is None
 
 
+def _found_on_the_main_tripod(view: Camera, confidence: float):
+    """The decision for a new shot whose known cameras' search finds ``view`` on the main camera's tripod at
+    ``confidence`` (the court model placing nothing), its marking map drawn from ``view``."""
+    from broadtrack_graph.geometry.pitch import PitchTemplate
+
+    pitch = PitchTemplate()
+    tripod = tuple(view.position_m)
+    fakes = Fakes({(tripod,): (view, confidence)}, guess_confidence=0.9)
+    policy, _ = _court_policy(fakes, None, 0.0)
+    policy.tripod("main", tripod)
+    return policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=_drawn_map(view, pitch)), pitch,
+                         None, None)
+
+
 @pytest.mark.parametrize("confidence, taken", [(0.75, True), (0.65, False)])
 def test_a_camera_its_markings_fix_only_on_its_tripod_is_taken_at_the_court_model_s_bar(confidence, taken):
     """A touchline and a fifth of the centre circle: fixed on a known tripod with a constraint to spare, taken there
     as sure as the court model's camera from nothing must be (0.7), not at the search's 0.6."""
-    from broadtrack_graph.geometry.pitch import PitchTemplate
-
-    pitch = PitchTemplate()
-    tripod = (0.0, 55.0, -12.0)
     view = _zoomed_main((10.0, -25.0, 0.0), 12.0)
-    fakes = Fakes({(tripod,): (view, confidence)}, guess_confidence=0.9)
-    policy, _ = _court_policy(fakes, None, 0.0)
-    policy.tripod("main", tripod)
-    decision = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=_drawn_map(view, pitch)), pitch,
-                             None, None)
-    assert (decision.camera is view) is taken
+    assert (_found_on_the_main_tripod(view, confidence).camera is view) is taken
     assert (confidence >= TrackingConfig().court_accept_confidence) is taken
 
 
@@ -691,18 +696,11 @@ def test_a_camera_its_markings_fix_only_on_its_tripod_is_taken_at_the_court_mode
 def test_a_camera_its_markings_fix_exactly_on_its_tripod_is_taken_at_the_exact_fit_bar(confidence, taken):
     """One line of each direction (the far touchline and the halfway line, 8 deg across): 4 constraints, exactly the
     unknowns of a camera on a known tripod; taken from the court model's bar for exact fits."""
-    from broadtrack_graph.geometry.pitch import PitchTemplate
     from broadtrack_graph.track.reinit_policy import EXACT_FIT_CONFIDENCE
 
-    pitch = PitchTemplate()
-    tripod = (0.0, 55.0, -12.0)
     view = _zoomed_main((0.0, -30.0, 0.0), 8.0)
-    fakes = Fakes({(tripod,): (view, confidence)}, guess_confidence=0.9)
-    policy, _ = _court_policy(fakes, None, 0.0)
-    policy.tripod("main", tripod)
-    decision = policy.decide(FrameObservations(0, W, H), SimpleNamespace(marking_mask=_drawn_map(view, pitch)), pitch,
-                             None, None)
-    assert (decision.camera is view) is taken and (confidence >= EXACT_FIT_CONFIDENCE) is taken
+    assert (_found_on_the_main_tripod(view, confidence).camera is view) is taken
+    assert (confidence >= EXACT_FIT_CONFIDENCE) is taken
 
 
 def test_a_court_camera_under_its_bar_is_dropped_even_when_the_search_finds_less():
