@@ -77,7 +77,8 @@ gave it: on a marking map it is kept only when the markings it explains fix it
 (:func:`~broadtrack_graph.geometry.determinable.fixes_camera`, the court model's own check); a camera on its
 trusted camera id's known tripod (within :data:`~broadtrack_graph.track.camera_ids.ON_TRIPOD_M`) has its focal point
 known, and is kept when they fix its focal length and angles with a constraint to spare at the court model's bar
-(exactly, at its exact-fit bar).
+(exactly, at its exact-fit bar), and a searched camera off that tripod is refitted on it
+(:mod:`~broadtrack_graph.track.known_tripod`).
 
 **One margin**, ``reinit_switch_margin``: the held camera of a trusted chain (its frames are being written) is
 replaced only by a camera that much more confident, confident or not (one frame's camera just over the threshold
@@ -100,16 +101,15 @@ from typing import Callable
 
 import numpy as np
 
-from broadtrack_graph.geometry.aim import moved_keeping_view
 from broadtrack_graph.geometry.camera import Camera
-from broadtrack_graph.geometry.determinable import TRIPOD_CAMERA_UNKNOWNS, determinability, fixes_camera
-from broadtrack_graph.reinit.court_config import CourtConfig
+from broadtrack_graph.geometry.determinable import determinability, fixes_camera
 from broadtrack_graph.reinit.scoring import ReinitResult
 from broadtrack_graph.track.camera_ids import CameraRegistry
 from broadtrack_graph.track.camera_naming import CameraNaming
 from broadtrack_graph.track.chain import Chain
 from broadtrack_graph.track.config import TrackingConfig
 from broadtrack_graph.track.frame_tries import CourtCamera, FrameTries, ModelCamera, court_accept_at
+from broadtrack_graph.track.known_tripod import fixed_on_known_tripod, onto_its_tripod
 from broadtrack_graph.track.reinit_decision import Candidate, ReinitDecision
 from broadtrack_graph.track.search_budget import TrySchedule
 from broadtrack_graph.track.search_route import SearchRoute
@@ -121,9 +121,6 @@ Refiner = Callable[..., ReinitResult]
 """``(guesses [(label, Camera)], detections, curves, hold_position=False) -> ReinitResult``: the best guess after a
 local fit (``hold_position``: each guess's focal point held where it stands)."""
 
-EXACT_FIT_CONFIDENCE = CourtConfig().exact_fit_confidence
-"""A camera its markings fix exactly, with no constraint to spare, is taken from this confidence (the court model's
-bar for its exact fits: laid on them, a wrong camera explains them as well)."""
 Confidence = Callable[..., float | None]
 """``(camera, observations, detections, curves, sampling) -> confidence``: the tracker's confidence."""
 
@@ -207,49 +204,13 @@ class ReinitPolicy:
         mask = getattr(self._frame[0] if decision.faint_look else detections, "marking_mask", None)
         if decision.camera is not None and not self.chain.trusted and mask is not None and pitch is not None:
             # A chain's first camera, whatever gave it, is kept only if the markings it explains fix it (on its known
-            # tripod, with its focal point known: _fixed_on_known_tripod).
+            # tripod, with its focal point known: track/known_tripod.py).
             fixed = determinability(decision.camera, pitch, explained_by=mask)
-            if not fixes_camera(fixed) and not self._fixed_on_known_tripod(decision, fixed):
+            if not fixes_camera(fixed) and not fixed_on_known_tripod(self.registry, self.config, decision.camera_id,
+                                                                     decision.camera, decision.confidence, fixed):
                 return ReinitDecision(None, None, None, False, decision.searched, "the markings the camera explains "
                                       f"do not fix it ({decision.reason})")
         return decision
-
-    def _fixed_on_known_tripod(self, decision: ReinitDecision, fixed) -> bool:
-        """Whether the decision's camera stands on the tripod of its camera id, a trusted camera's
-        (:meth:`~broadtrack_graph.track.camera_ids.CameraRegistry.on_tripod`: its focal point known), and the
-        markings it explains (``fixed``) fix its focal length and angles there, as sure as the court model's camera
-        from nothing must be: with a constraint to spare at ``court_accept_confidence``, exactly at
-        :data:`EXACT_FIT_CONFIDENCE` (a tripod fitted on narrow views stands loosely along their line of sight, and a
-        camera just over the threshold held there drifts)."""
-        if decision.camera_id in self.registry.untrusted or not self.registry.on_tripod(decision.camera_id,
-                                                                                        decision.camera.position_m):
-            return False
-        if fixes_camera(fixed, surplus=1, unknowns=TRIPOD_CAMERA_UNKNOWNS):
-            return decision.confidence >= self.config.court_accept_confidence
-        return fixes_camera(fixed, unknowns=TRIPOD_CAMERA_UNKNOWNS) and decision.confidence >= EXACT_FIT_CONFIDENCE
-
-    def _onto_its_tripod(self, found: ReinitResult, confidence: float, detections, pitch, curves,
-                         score) -> tuple[ReinitResult, float]:
-        """A searched camera whose markings do not fix it from nothing, standing at a trusted known camera's place
-        but off its tripod (the search frees the focal point near its candidates), refitted with its focal point held
-        on the tripod, its view kept: taken, with its confidence, when the frame is still explained within the
-        margin (the markings may fix it there, :meth:`decide`'s gate)."""
-        mask = getattr(detections, "marking_mask", None)
-        camera = found.camera
-        camera_id = self.registry.nearest(camera.position_m, camera.R_cw[2]) if mask is not None else None
-        if camera_id is None or pitch is None or camera_id in self.registry.untrusted \
-                or self.registry.on_tripod(camera_id, camera.position_m) \
-                or fixes_camera(determinability(camera, pitch, explained_by=mask)):
-            return found, confidence
-        tripod = self.registry.positions[camera_id]
-        start = moved_keeping_view(camera, tripod) or camera.replace(position_m=tripod)
-        held = self.refine([(f"on the tripod of {camera_id}", start)], detections, curves, hold_position=True)
-        if held.camera is None:
-            return found, confidence
-        held_confidence = held.score.jaccard if held.score is not None else score(held.camera)
-        if held_confidence is None or held_confidence < confidence - self.config.reinit_switch_margin:
-            return found, confidence
-        return replace(found, camera=held.camera, hypothesis=held.hypothesis), float(held_confidence)
 
     def _decide(self, observations, detections, pitch, curves, sampling, held: Camera | None = None,
                 held_confidence: float | None = None, image=None, faint_look=None,
@@ -350,7 +311,8 @@ class ReinitPolicy:
         if found is None:
             return ReinitDecision(None, None, None, False, True, f"global search: {label}")
         searched = found
-        found, found_confidence = self._onto_its_tripod(found, found_confidence, detections, pitch, curves, score)
+        found, found_confidence = onto_its_tripod(self.registry, self.config, self.refine, found, found_confidence,
+                                                  detections, pitch, curves, score)
         label += f", {found.hypothesis}" if found is not searched else ""
         camera_id = self.naming.id_of(found, found_confidence, self._frame)
         return self._decision(found, found_confidence, camera_id, False, True, label, held, held_confidence, new_camera)

@@ -696,7 +696,7 @@ def test_a_camera_its_markings_fix_only_on_its_tripod_is_taken_at_the_court_mode
 def test_a_camera_its_markings_fix_exactly_on_its_tripod_is_taken_at_the_exact_fit_bar(confidence, taken):
     """One line of each direction (the far touchline and the halfway line, 8 deg across): 4 constraints, exactly the
     unknowns of a camera on a known tripod; taken from the court model's bar for exact fits."""
-    from broadtrack_graph.track.reinit_policy import EXACT_FIT_CONFIDENCE
+    from broadtrack_graph.track.known_tripod import EXACT_FIT_CONFIDENCE
 
     view = _zoomed_main((0.0, -30.0, 0.0), 8.0)
     assert (_found_on_the_main_tripod(view, confidence).camera is view) is taken
