@@ -155,14 +155,13 @@ def _zoom_figures(video: Path, zoomed_dir: Path, zoom: float, args) -> dict:
     if args.runs is None:
         wide_frames, factor = write_zoom_cut(video, cut_video, zoom, end=args.end)
         track_input(cut_video, cut_dir, config, progress=not args.no_progress)
-    cut = _cameras(cut_dir)
-    if args.runs is not None:  # the run says the cut's length (its two shots as long) and size (the crop's factor)
+    else:  # the run says the cut's length (its two shots as long) and size (the crop's factor)
         summary = RunFolder(cut_dir).read_summary()
-        wide_frames = len(cut) // 2
+        wide_frames = summary["frames_written"] // 2
         factor = summary["width_px"] / zoomed_size(summary["width_px"], summary["height_px"], zoom)[0]
     return {"determinable": determinable_figures(whole, zoomed, zoom),
             "against_whole_frames": camera_agreement(whole, zoomed),
-            "cut_to_zoom": cut_figures(cut, read_frame_camera_ids(cut_dir), wide_frames, factor)}
+            "cut_to_zoom": cut_figures(_cameras(cut_dir), read_frame_camera_ids(cut_dir), wide_frames, factor)}
 
 
 def _cameras(run_dir: Path) -> dict:
