@@ -18,7 +18,7 @@ with the vanishing points of its own lines (where its two lines of a family meet
 family without being a pitch line bends no other hypothesis). Two conditions every camera's homography meets are
 asked first, of many pairings at once: some focal length in range makes the two vanishing points' directions
 orthogonal (:func:`orthogonal_in_range`) and the two axes of equal norm (:func:`equal_norms_in_range`), within the
-gate's mismatch; a pairing failing either is not formed (most of them on random views: docs/BENCHMARKS.md).
+gate's mismatch; a pairing failing either is not formed.
 :func:`cameras_from_homographies` turns the homographies into cameras (principal point at the
 image centre, square pixels: ``f`` from the orthogonality and equal norm of ``K^-1 h1`` and
 ``K^-1 h2``) and gates them on plausibility. The families themselves (which image lines run along which pitch

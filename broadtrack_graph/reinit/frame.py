@@ -70,7 +70,7 @@ MIN_CAMERA_HEIGHT_M = 3.0
 """A broadcast camera's focal point stands at least this high above the grass: of 1417 cameras a published
 calibrator fitted to SoccerNet's test frames, 1412 stand 5 m or more up and 2 under 3 m (one of them under the grass).
 Fitted lower, a camera sees the markings at a grazing angle, where grass texture lines up into faint runs that a
-wrong camera explains (docs/BENCHMARKS.md, `bench broadcast`)."""
+wrong camera explains (docs/BENCHMARKS.md, Why the defaults)."""
 
 
 def plausible_position(position_w, pitch: PitchTemplate, min_height_m: float = MIN_CAMERA_HEIGHT_M,

@@ -12,7 +12,7 @@ The test: on grey images reduced to ``work_width_px``, the share of pixels whose
 by more than ``change_grey_levels`` is under ``max_changed_share``. A re-encoded repeat changes by
 compression noise only (a few grey levels); any real frame moves some edges (players walk, the
 camera turns) by far more: a pan of one pixel changes every edge in the image (on the real clips of
-``bench real --video-dir``, docs/BENCHMARKS.md: repeats change 0-0.4 % of the image, other frames
+``bench real --video-dir``: repeats change 0-0.4 % of the image, other frames
 1.0 % and up). A frame of a still camera where little moves (a player or two) can pass too: its
 camera, which moved well under a pixel, is the previous frame's either way. A slow pan over a narrow view of bare
 grass changes as little: a frame that passes is also registered on the one it would repeat (phase correlation) and
