@@ -13,6 +13,9 @@ the one before (flow, motion prior). A cut, a frame without a pitch, a failed de
   better camera of the same id replacing a trusted chain's held camera mid-shot keeps the trust too);
 - whether the run is **lost** (the next frame is re-initialised) and how many frames in a row were **carried** on
   the motion prior alone;
+- how many of its scored frames reached the **tripod's bar** (``tripod_fit_min_confidence``): a chain under it on
+  most of its frames, with no tripod holding its focal point, writes only its frames at the bar
+  (:mod:`~broadtrack_graph.track.judge`, rule 7);
 - whether its frames take the **faint look** (:mod:`~broadtrack_graph.detect.faint_lines`): a chain whose first
   camera the court model found on its frame's faint look keeps it while that camera is under the chain's bar
   without it.
@@ -50,6 +53,7 @@ class Chain:
         carried: frames in a row carried on the motion prior alone.
         faint_look: the chain's frames take the faint look (detect.faint_lines): its first camera needed it to be
             confident (set by the frame loop).
+        frames_rated, frames_sure: the chain's frames scored so far (:meth:`rated`), and those at the tripod's bar.
     """
 
     def __init__(self, config: TrackingConfig, registry: CameraRegistry, tripod: OnlineTripod | None = None,
@@ -64,6 +68,8 @@ class Chain:
         self.lost = True
         self.carried = 0
         self.faint_look = False
+        self.frames_rated = 0
+        self.frames_sure = 0
 
     # ----------------------------------------------------------------- the camera id
 
@@ -112,6 +118,7 @@ class Chain:
         elif decision.camera_id is None and self.camera_id is None and self._tripod is not None:
             self._tripod.release(self._solver)  # not identified yet (untrusted): no other camera's tripod
         if not decision.continues_chain:
+            self.frames_rated = self.frames_sure = 0
             if self._tripod is not None:  # the cameras collected for a tripod elsewhere are dropped
                 self._tripod.new_chain(self._solver, decision.camera, self.registry)
             if not replaces_trusted:
@@ -119,6 +126,18 @@ class Chain:
                 self.trust_at = bar if self.trusted else max(self.trust_at, bar)
                 self.trusted, self.trusted_since = False, None
         self.continued = decision.continues_chain
+
+    def mostly_sure(self, confidence: float | None) -> bool:
+        """With a frame at ``confidence`` added (None: not scored), at least half the chain's scored frames reach the
+        tripod's bar."""
+        scored = confidence is not None
+        sure = scored and confidence >= self.config.tripod_fit_min_confidence
+        return 2 * (self.frames_sure + sure) >= self.frames_rated + scored
+
+    def rated(self, confidence: float) -> None:
+        """One more of the chain's frames was scored, at ``confidence``."""
+        self.frames_rated += 1
+        self.frames_sure += confidence >= self.config.tripod_fit_min_confidence
 
     def trust(self, frame_index: int) -> None:
         """A frame at the bar: the chain is trusted (since this frame, if it was not)."""
@@ -144,5 +163,6 @@ class Chain:
     def end(self) -> None:
         """The chain ends: the next frame is not linked to it but re-initialised, the bar back at the threshold."""
         self.lost, self.carried, self.continued, self.faint_look = True, 0, False, False
+        self.frames_rated = self.frames_sure = 0
         self.trusted, self.trusted_since = False, None
         self.trust_at = self.config.confidence_threshold

@@ -264,7 +264,8 @@ class TrackingRun:
             across = frame_recall_across_motion(camera, self._history[-1], detections, self.curves)
         facts = FrameFacts(confidence, camera is not None, self.chain.trusted, self.chain.trust_at, reinitialised,
                            from_marking_map=detections is not None and detections.marking_mask is not None,
-                           carried=carried, image_motion_px=moved, recall_across_motion=across)
+                           carried=carried, image_motion_px=moved, recall_across_motion=across,
+                           place_held=self._place_held(confidence))
         verdict = judge(facts, self.config)
         replaced = False  # the solved camera was replaced by the decision's
         if verdict.action is Action.REINITIALISE and camera is not None and self.chain.trusted \
@@ -286,8 +287,11 @@ class TrackingRun:
                                     replaced=replaced, chain_trusted=self.chain.trusted,
                                     trust_at=self.chain.trust_at,
                                     image_motion_px=None if replaced else facts.image_motion_px,
-                                    recall_across_motion=None if replaced else facts.recall_across_motion), self.config)
+                                    recall_across_motion=None if replaced else facts.recall_across_motion,
+                                    place_held=self._place_held(confidence)), self.config)
         entry.confidence, entry.confidence_camera = confidence, camera
+        if verdict.action is not Action.LOST and confidence is not None and not carried:
+            self.chain.rated(confidence)
         if verdict.withholds_camera:
             entry.status, entry.reason, entry.suppress_camera = FrameStatus.FAILED, verdict.reason, True
             entry.override_camera = None
@@ -312,6 +316,11 @@ class TrackingRun:
         tripod = self.chain.settled_tripod()
         if tripod is not None:
             self.policy.tripod(self.chain.camera_id, tripod.T_w)  # the fitted tripod identifies the camera
+
+    def _place_held(self, confidence: float | None) -> bool:
+        """A tripod holds the chain's focal point, or half its scored frames, this one at ``confidence`` counted, reach
+        the tripod's bar (the judge's rule 7)."""
+        return self.solver.tripod is not None or self.chain.mostly_sure(confidence)
 
     def _start_chain(self, frame: FrameInput, observations: FrameObservations, decision: ReinitDecision) -> None:
         """A decision's camera starts the chain; the chain keeps the faint look when the camera was found on the

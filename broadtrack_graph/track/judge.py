@@ -23,6 +23,14 @@ confidence threshold, ``L`` the lost confidence and the chain's bar ``T`` once t
    smears exactly those, and a camera that only the markings along the sweep explain is not checked along it
    (it may be off by tens of pixels along the sweep at any confidence).
 6. **Write** any other camera (mid-chain under ``T``: the policy found no better one).
+7. **Hold back** a camera rule 3 or 6 would write when it is under the tripod's own bar (``tripod_fit_min_confidence``:
+   the confidence a frame needs to place the tripod) while its focal point is not held: no tripod holds it (online,
+   before the provisional one) and fewer than half the chain's scored frames, this one counted, reached that bar
+   (:meth:`~broadtrack_graph.track.chain.Chain.mostly_sure`). On such frames a camera metres off along its line of
+   sight, with another focal length and pan, explains the markings about as well (the depth of a narrow view,
+   degraded markings): only the camera's place tells them apart, and a chain mostly under the bar has not shown it.
+   The verdict is otherwise rule 3's or 6's (the chain goes on, trusted, its camera its id's guess), so only what is
+   written changes (in every mode: the offline modes' first pass is online).
 
 A written camera at ``T`` (not a frame carried on the motion prior) is its camera id's guess from now on
 (:attr:`Verdict.confident`). Pure: no I/O, no solver.
@@ -61,6 +69,8 @@ class FrameFacts:
     image_motion_px: float | None = None  # how far the image moved from the chain's previous frame (960 wide; None:
     #                                       no previous frame, or the camera was re-initialised)
     recall_across_motion: float | None = None  # the recall of the markings crossing that motion (None: not measured)
+    place_held: bool = True  # the chain's focal point is held: a tripod (fitted, given or provisional), or half the
+    #                          chain's scored frames at the tripod's bar (rule 7)
 
 
 @dataclass(frozen=True)
@@ -87,8 +97,21 @@ def judge(facts: FrameFacts, config: TrackingConfig) -> Verdict:
 
     Args:
         facts: the frame's camera, its confidence and the chain's trust.
-        config: the thresholds (``confidence_threshold``, ``lost_confidence``, ``max_unsure_motion_px``).
+        config: the thresholds (``confidence_threshold``, ``lost_confidence``, ``max_unsure_motion_px``,
+            ``tripod_fit_min_confidence``).
     """
+    verdict = _judge_chain(facts, config)
+    confidence = facts.confidence
+    if verdict.action is Action.WRITE and not facts.place_held and confidence is not None \
+            and confidence < config.tripod_fit_min_confidence:
+        return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {config.tripod_fit_min_confidence:.2f} "
+                       "with no tripod holding the focal point; camera not written", withholds_camera=True,
+                       trusted=verdict.trusted, confident=verdict.confident)
+    return verdict
+
+
+def _judge_chain(facts: FrameFacts, config: TrackingConfig) -> Verdict:
+    """Rules 1-6 (module docstring)."""
     threshold, lost_at = config.confidence_threshold, config.lost_confidence
     confidence = facts.confidence
     bar = threshold if facts.chain_trusted else facts.trust_at

@@ -82,7 +82,10 @@ def test_staged_batch_matches_the_same_windows_in_one_process(tmp_path):
     again = track_many(clip, tmp_path / "a", config, options)
     assert sorted(again.ran) == ["long.refine-001", "long.stitch"] and len(again.skipped) == 6
     redone = read_track(tmp_path / "a" / "long").records
-    assert np.array_equal([r.camera.to_vector() for r in records], [r.camera.to_vector() for r in redone])
+    def cameras(rows):
+        return [None if r.camera is None else r.camera.to_vector().tolist() for r in rows]
+
+    assert any(r.camera is not None for r in records) and cameras(records) == cameras(redone)
 
 
 def test_track_many_on_ray_with_two_local_workers(clips, tmp_path):

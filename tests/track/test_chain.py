@@ -80,6 +80,26 @@ def test_frames_carried_on_the_motion_prior_are_bounded_and_start_over():
     assert chain.carried == 0
 
 
+def test_a_chain_is_mostly_sure_while_half_its_scored_frames_reach_the_tripods_bar():
+    chain = Chain(CONFIG, CameraRegistry())  # the tripod's bar: tripod_fit_min_confidence = 0.6
+    chain.start(decision("main", new_camera=True))
+    assert chain.mostly_sure(0.55) is False and chain.mostly_sure(0.6) and chain.mostly_sure(None)
+    for confidence in (0.65, 0.62, 0.55):
+        chain.rated(confidence)
+    assert chain.mostly_sure(0.5)  # 2 of 4 with it
+    chain.rated(0.5)
+    assert not chain.mostly_sure(0.55) and chain.mostly_sure(0.7)  # 2 of 5; 3 of 5
+    assert chain.mostly_sure(None)  # a frame not scored is not counted: 2 of 4
+    # A refitted guess continues the chain and its count; a new chain, or the end, starts it over.
+    chain.start(decision("main", continues=True))
+    assert (chain.frames_rated, chain.frames_sure) == (4, 2)
+    chain.start(decision("main"))
+    assert (chain.frames_rated, chain.frames_sure) == (0, 0) and chain.mostly_sure(0.5) is False
+    chain.rated(0.9)
+    chain.end()
+    assert (chain.frames_rated, chain.frames_sure) == (0, 0)
+
+
 def test_the_online_tripod_is_told_of_a_new_camera_id_through_the_chain():
     main, other = Tripod((0.0, 60.0, -15.0), 0.2), Tripod((-30.0, 55.0, -10.0), 0.3)
     solver = SimpleNamespace(tripod=None)

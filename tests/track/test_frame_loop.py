@@ -9,6 +9,7 @@ import pytest
 
 from broadtrack_graph.detect.detector import Detections
 from broadtrack_graph.geometry.camera import Camera
+from broadtrack_graph.geometry.tripod import Tripod
 from broadtrack_graph.graph.estimates import FrameEstimate
 from broadtrack_graph.io.run_folder import read_track
 from broadtrack_graph.reinit.scoring import ReinitResult
@@ -36,18 +37,30 @@ def reinit_camera(i: int) -> Camera:
     return camera(-0.01 * i)
 
 
+HELD_TRIPOD = Tripod((0.0, 60.0, -15.0), 0.2)  # a tripod held by the solver (the judge's rule 7 does not apply)
+
+
 class FakeSolver:
     """A streaming solver that releases frame t after frame t + lag (lag 0: at once).
 
     Returns the guess, else ``solved(i)``; ``lost`` frames get no camera. With ``smooth``,
-    released cameras differ from the current ones (as a smoother's do).
+    released cameras differ from the current ones (as a smoother's do). With ``held_tripod``, that tripod holds
+    every frame's focal point whatever the run sets (the judge's rule 7 never holds a camera back).
     """
 
-    def __init__(self, lag: int = 0, lost=(), smooth: bool = False) -> None:
+    def __init__(self, lag: int = 0, lost=(), smooth: bool = False, held_tripod: Tripod | None = None) -> None:
         self.lag, self.lost, self.smooth = lag, set(lost), smooth
         self.pushed, self.resets, self.replaced, self.held, self.holds = [], [], [], [], []
-        self.tripod = None
+        self.held_tripod, self._tripod = held_tripod, None
         self.rebuilds = 0
+
+    @property
+    def tripod(self):
+        return self.held_tripod or self._tripod
+
+    @tripod.setter
+    def tripod(self, tripod):
+        self._tripod = tripod
 
     def push(self, observations, guess, trust_previous, fallback=None):
         i = observations.frame_index
@@ -327,8 +340,8 @@ def test_a_cut_breaks_the_chain_and_other_views_get_no_camera(tmp_path):
 def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_chain(tmp_path):
     script = Scripted(confidence={0: 0.3, 1: 0.4, 3: 0.4}, reinit_confidence={1: 0.35, 3: 0.3})
 
-    def run_with(with_map: bool, folder):
-        solver = FakeSolver()
+    def run_with(with_map: bool, folder, held_tripod=HELD_TRIPOD):
+        solver = FakeSolver(held_tripod=held_tripod)
         # The scripted search is the camera from nothing (with the court model on, a map's new shot is not searched).
         config = TrackingConfig(use_flow=False, court_reinit=False)
         run = TrackingRun(W, H, folder, RunContext(config, FakeDetector(with_map=with_map),
@@ -354,10 +367,16 @@ def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_
     # Labelled lines without a marking map: the same confidences are written (lines name what they show).
     records, _ = run_with(False, tmp_path / "lines")
     assert all(r.camera is not None for r in records)
+    # No tripod holding the focal point: frame 3 (0.4) is held back too, the chain having 1 of its 4 frames at the
+    # tripod's bar (0.6); the chain goes on (frame 4, 0.9, written).
+    records, _ = run_with(True, tmp_path / "no-tripod", held_tripod=None)
+    assert [(r.frame_index, r.camera is not None) for r in records] == [(0, False), (1, False), (2, True), (3, False),
+                                                                       (4, True)]
+    assert records[3].reason == "confidence 0.40 below 0.60 with no tripod holding the focal point; camera not written"
 
 
 def test_a_trusted_chain_switches_only_to_a_camera_clearly_better_confident_or_not(tmp_path):
-    solver = FakeSolver()
+    solver = FakeSolver(held_tripod=HELD_TRIPOD)
     script = Scripted(confidence={2: 0.45, 15: 0.45}, reinit_confidence={2: 0.52, 15: 0.58})
     run = run_of(tmp_path, solver, script)
     for i in range(16):
@@ -405,7 +424,8 @@ def test_each_shot_gets_its_camera_s_id_and_a_returning_camera_its_own(tmp_path)
 def test_a_trusted_chain_s_camera_under_the_threshold_is_tried_after_growing_waits(tmp_path):
     # Frames 1-20 are solved at 0.4: under the threshold, over the lost confidence, in a trusted chain. The
     # re-initialisation finds nothing better (0.3), so the held camera stays and the next try waits 1, 2, 4, 8 frames.
-    solver = FakeSolver()
+    # A tripod holds the focal point (without one, a chain under 0.6 on most frames writes none of them: rule 7).
+    solver = FakeSolver(held_tripod=HELD_TRIPOD)
     low = {i: 0.4 for i in range(1, 21)}
     script = Scripted(confidence=low, reinit_confidence={i: 0.3 for i in range(1, 21)})
     run = run_of(tmp_path, solver, script)

@@ -107,3 +107,21 @@ def test_a_fast_sweep_whose_crossing_markings_are_not_found_is_held_back_at_any_
     assert judge(replace(sweep, recall_across_motion=bar), CONFIG).action is Action.WRITE
     assert judge(replace(sweep, recall_across_motion=None), CONFIG).action is Action.WRITE
     assert judge(replace(sweep, image_motion_px=limit), CONFIG).action is Action.WRITE
+
+
+def test_online_with_no_tripod_a_camera_under_the_tripods_bar_is_held_back_not_dropped():
+    unheld = replace(TRUSTED, confidence=0.55, place_held=False)  # under 0.6, over the threshold 0.5
+    verdict = judge(unheld, CONFIG)
+    assert verdict.action is Action.HOLD_BACK and verdict.withholds_camera
+    assert verdict.reason == "confidence 0.55 below 0.60 with no tripod holding the focal point; camera not written"
+    # Otherwise rule 3's verdict: the chain goes on, trusted, and the camera stays its id's guess.
+    assert verdict.trusted and verdict.confident
+    # Held by a tripod, the same frame is written; at the tripod's bar it is written without one.
+    assert judge(replace(unheld, place_held=True), CONFIG) == Verdict(
+        Action.WRITE, "confidence 0.55 at the bar 0.50", trusted=True, confident=True)
+    assert judge(replace(unheld, confidence=0.6), CONFIG).action is Action.WRITE
+    # Rule 6's camera (mid-chain under the threshold, nothing better found) is held back too, and never trusts.
+    low = judge(replace(unheld, confidence=0.45, asked=True), CONFIG)
+    assert low.action is Action.HOLD_BACK and not low.trusted and not low.confident
+    # The bar is the tripod's own.
+    assert judge(unheld, replace(CONFIG, tripod_fit_min_confidence=0.5)).action is Action.WRITE
