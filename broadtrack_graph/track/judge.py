@@ -105,8 +105,8 @@ def judge(facts: FrameFacts, config: TrackingConfig) -> Verdict:
     if verdict.action is Action.WRITE and not facts.place_held and confidence is not None \
             and confidence < config.tripod_fit_min_confidence:
         return Verdict(Action.HOLD_BACK, f"confidence {confidence:.2f} below {config.tripod_fit_min_confidence:.2f} "
-                       "with no tripod holding the focal point; camera not written", withholds_camera=True,
-                       trusted=verdict.trusted, confident=verdict.confident)
+                       "with no tripod holding the focal point, most of the chain's frames under it; camera not "
+                       "written", withholds_camera=True, trusted=verdict.trusted, confident=verdict.confident)
     return verdict
 
 

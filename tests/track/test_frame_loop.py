@@ -372,7 +372,8 @@ def test_no_camera_is_written_before_the_first_confident_frame_of_a_marking_map_
     records, _ = run_with(True, tmp_path / "no-tripod", held_tripod=None)
     assert [(r.frame_index, r.camera is not None) for r in records] == [(0, False), (1, False), (2, True), (3, False),
                                                                        (4, True)]
-    assert records[3].reason == "confidence 0.40 below 0.60 with no tripod holding the focal point; camera not written"
+    assert records[3].reason == ("confidence 0.40 below 0.60 with no tripod holding the focal point, most of the "
+                                 "chain's frames under it; camera not written")
 
 
 def test_a_trusted_chain_switches_only_to_a_camera_clearly_better_confident_or_not(tmp_path):
