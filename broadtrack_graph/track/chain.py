@@ -131,13 +131,15 @@ class Chain:
         """With a frame at ``confidence`` added (None: not scored), at least half the chain's scored frames reach the
         tripod's bar."""
         scored = confidence is not None
-        sure = scored and confidence >= self.config.tripod_fit_min_confidence
-        return 2 * (self.frames_sure + sure) >= self.frames_rated + scored
+        return 2 * (self.frames_sure + (scored and self._at_tripod_bar(confidence))) >= self.frames_rated + scored
 
     def rated(self, confidence: float) -> None:
         """One more of the chain's frames was scored, at ``confidence``."""
         self.frames_rated += 1
-        self.frames_sure += confidence >= self.config.tripod_fit_min_confidence
+        self.frames_sure += self._at_tripod_bar(confidence)
+
+    def _at_tripod_bar(self, confidence: float) -> bool:
+        return confidence >= self.config.tripod_fit_min_confidence
 
     def trust(self, frame_index: int) -> None:
         """A frame at the bar: the chain is trusted (since this frame, if it was not)."""
