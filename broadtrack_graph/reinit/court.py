@@ -4,27 +4,27 @@
 (:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two directions by
 vanishing point, and forms every camera that puts two lines of each direction on two pitch lines of that direction
 (:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
-plausibility; when none explains the map well, also three lines of one direction with one across,
-:mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the
-markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits
-are in, a circle's arc and its chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each
-direction beside it, :mod:`.court_arc_corners`, fitted apart and taken only with a constraint to spare). All
-hypotheses are scored at once on the
-marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the
-map explained by the template; coarsely first, the precision read only of those whose recall could rank them among
-the best), the best ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of
-their own (:mod:`.court_refit`: four lines place a narrow view's vanishing points poorly); the best distinct few are
-fitted with the label-and-fit rounds (with no camera kept of them, or no fit explaining the map well, the tiers left
-are fitted too; for a camera under ``look_further_below`` confident the tiers left, their fit replacing it when more
-confident by ``confidence_margin``) and one fit is kept and judged
-(:mod:`.court_fit`): it is returned with its confidence when the markings it explains fix it with a constraint to
-spare, counted on the map, and a camera fixed exactly (a circle and a line) only at ``exact_fit_confidence``: laid on
-them, a wrong camera explains them as well. A narrow view's camera returned under ``narrow_view_walk_below``
-confident is fitted again from starts along its line of sight and the most confident fit kept (:mod:`.court_depth`:
-its distance and focal length trade off). A camera returned ``polish_from`` confident is fitted once more on up to
-``polish_points`` of the markings' points (the fits take fewer, for their speed) and judged again. Every hypothesis
-has a twin turned half round the centre spot that explains the map as well; the main camera's side (y > 0) is kept
-(:func:`~broadtrack_graph.reinit.court_fit.main_side`) and ``ReinitResult.twin`` carries the other.
+plausibility; when none explains the map well, also three lines of one direction with one across, :mod:`.court_pencil`,
+and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the markings' centre points,
+:mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits are in, a circle's arc and
+its chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each direction beside it,
+:mod:`.court_arc_corners`, fitted apart, taken only with a constraint to spare, and joined only when the tiers before it
+leave the frame without a camera ``look_further_below`` confident). All hypotheses are scored at once on the marking map
+(:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the map explained
+by the template; coarsely first, the precision read only of those whose recall could rank them among the best), the best
+``refit_top`` are solved again on every straight marking each explains and join as hypotheses of their own
+(:mod:`.court_refit`: four lines place a narrow view's vanishing points poorly); the best distinct few are fitted with
+the label-and-fit rounds (with no camera kept of them, or no fit explaining the map well, the tiers left are fitted too;
+for a camera under ``look_further_below`` confident the tiers left, their fit replacing it when more confident by
+``confidence_margin``) and one fit is kept and judged (:mod:`.court_fit`): it is returned with its confidence when the
+markings it explains fix it with a constraint to spare, counted on the map, and a camera fixed exactly (a circle and a
+line) only at ``exact_fit_confidence``: laid on them, a wrong camera explains them as well. A narrow view's camera
+returned under ``narrow_view_walk_below`` confident is fitted again from starts along its line of sight and the most
+confident fit kept (:mod:`.court_depth`: its distance and focal length trade off). A camera returned ``polish_from``
+confident is fitted once more on up to ``polish_points`` of the markings' points (the fits take fewer, for their speed)
+and judged again. Every hypothesis has a twin turned half round the centre spot that explains the map as well; the main
+camera's side (y > 0) is kept (:func:`~broadtrack_graph.reinit.court_fit.main_side`) and ``ReinitResult.twin`` carries
+the other.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down. No I/O.
 """
@@ -176,33 +176,38 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         # fitted at a third of its distance, the centre circle beside a touchline not joined while that arc's
         # hypothesis explained the map well), and only a fit more confident by confidence_margin replaces it: the
         # map's score ranks fits a few pixels apart well, wrong fits poorly (kept_camera).
-        more = []
-        first = len(costs)
-        while tiers:
-            hypotheses, costs = joined_tier(hypotheses, costs)
-        late = np.arange(first, len(costs))
-        arcs = np.zeros(len(late), bool)
-        for a, b in only_confirmed:
-            arcs |= (late >= a) & (late < b)
-        for among in (late[~arcs], late[arcs]):  # the arcs' hypotheses fitted apart: they take no other's slot
-            if len(among):
-                more += fitted(among)
-        if poor:
-            for candidates in ([fits + more, more] if fits else [more]) if more else []:  # each list judged once
-                later = kept_and_judged(candidates)
-                if later.camera is not None:
-                    result = later
-                    break
-        else:  # a camera kept but not settled: only a fit more confident by confidence_margin replaces it (the
-            #    most confident of the others when an arc's is not taken)
+        def replacing(more: list) -> ReinitResult:  # the camera the fits of the tiers left give, else result
+            if poor:
+                for candidates in ([fits + more, more] if fits else [more]) if more else []:  # each judged once
+                    later = kept_and_judged(candidates)
+                    if later.camera is not None:
+                        return later
+                return result
+            # a camera kept but not settled: only a fit more confident by confidence_margin replaces it (the most
+            # confident of the others when an arc's is not taken)
             for pool in (more, [fit for fit in more if not from_arcs(fit.index)]):
                 confident = max(pool, key=lambda fit: fit.confidence, default=None)
                 if confident is None or confident.confidence < result.score.jaccard + config.confidence_margin:
                     break
                 later = kept_and_judged([confident])
                 if later.camera is not None or not from_arcs(confident.index):
-                    result = later if later.camera is not None else result
-                    break
+                    return later if later.camera is not None else result
+            return result
+
+        def fitted_tiers(last_resort: bool) -> list:  # the tiers left joined (the arcs' alone, or all but theirs)
+            nonlocal hypotheses, costs
+            first = len(costs)
+            while tiers and tiers[0][0] == last_resort:
+                hypotheses, costs = joined_tier(hypotheses, costs)
+            return fitted(np.arange(first, len(costs))) if len(costs) > first else []
+
+        # The arcs' tier (the slowest, and the last resort) is joined only when the others leave the frame unsettled.
+        more = fitted_tiers(last_resort=False)
+        later = replacing(more)
+        if tiers and (later.camera is None or later.score.jaccard < config.look_further_below):
+            more += fitted_tiers(last_resort=True)  # fitted apart: they take no other's slot
+            later = replacing(more)
+        result = later
     if (result.camera is not None and result.score.jaccard < config.narrow_view_walk_below
             and result.camera.focal_px >= config.narrow_view_focal_per_width * W):
         # A narrow view's depth along its line of sight: the most confident of the fits from starts along it, judged

@@ -222,8 +222,10 @@ def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, kinds: n
     ends_each, kinds_each = ends_n[:, None], kinds[:, None, None]
 
     def residuals(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (Q, N + 3): their squares sum to the error's
-        off, cosine, off_share, ok = _residual_parts(np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), arc_n, ends_each,
-                                                     kinds_each, config.min_sweep_deg)
+        copies = len(x) // len(place)  # x: the places' parameters, stacked that many times
+        off, cosine, off_share, ok = _residual_parts(np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), arc_n,
+                                                     np.tile(ends_each, (copies, 1, 1, 1, 1)),
+                                                     np.tile(kinds_each, (copies, 1, 1, 1)), config.min_sweep_deg)
         return np.column_stack([off / math.sqrt(N), cosine[:, 0], off_share[:, 0, 0]]), ok[:, 0, 0]
 
     return narrowed(np.column_stack([np.log(place[:, 0]), place[:, 1:]]), residuals, [0, 1, 2], config.narrow_rounds,

@@ -298,7 +298,9 @@ def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, shares: 
     ends_each, shares_each = ends_n[:, None], shares[:, None, None]
 
     def residuals(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # (P, N + 1) scaled to sum to the error squared
-        off, line_off, ok = _residuals(np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), arc_n, ends_each, shares_each,
+        copies = len(x) // len(place)  # x: the places' parameters, stacked that many times
+        off, line_off, ok = _residuals(np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), arc_n,
+                                       np.tile(ends_each, (copies, 1, 1, 1)), np.tile(shares_each, (copies, 1, 1)),
                                        config.min_sweep_deg)
         return np.column_stack([off / math.sqrt(N), line_off[:, 0, 0]]), ok[:, 0, 0]
 
@@ -310,14 +312,17 @@ def narrowed(x: np.ndarray, residuals, free_axes: list[int], rounds: int, focal_
              ) -> tuple[np.ndarray, np.ndarray]:
     """Places x (P, 3) as (log f / s, tilt, roll) narrowed by ``rounds`` Levenberg-Marquardt steps in ``free_axes``
     (forward-difference Jacobians), every place at once, f kept in ``focal_range_n``; ``residuals(x)`` gives (P, R)
-    residuals and (P,) whether they count. Returns (P, 3) places as (f / s, tilt, roll) and (P,) root sum square
-    errors (inf where they do not count)."""
+    residuals and (P,) whether they count, and for k copies of the places stacked (k P, 3) theirs in that order (the
+    Jacobian's shifted places are asked in one call). Returns (P, 3) places as (f / s, tilt, roll) and (P,) root sum
+    square errors (inf where they do not count)."""
     r, ok = residuals(x)
     cost = np.where(ok, np.sum(r**2, axis=1), np.inf)
     damping = np.full(len(x), 1e-3)
     step = 1e-6
     for _ in range(rounds):
-        J = np.stack([(residuals(x + step * np.eye(3)[k])[0] - r) / step for k in free_axes], axis=2)  # (P, R, F)
+        shifted = residuals(np.concatenate([x + step * np.eye(3)[k] for k in free_axes]))[0]  # (F P, R)
+        J = ((shifted.reshape(len(free_axes), *r.shape) - r) / step).transpose(1, 2, 0)
+        J = np.ascontiguousarray(J)  # (P, R, F), laid out as the einsums below have always read it
         JtJ = np.einsum("pnf,png->pfg", J, J)
         Jtr = np.einsum("pnf,pn->pf", J, r)
         scaled = JtJ + damping[:, None, None] * (np.eye(len(free_axes)) * (np.diagonal(JtJ, axis1=1, axis2=2)[

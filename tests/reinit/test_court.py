@@ -485,3 +485,25 @@ def test_a_penalty_arc_and_one_line_alone_are_not_taken_from_the_arcs_hypotheses
                                det.field_mask, motion_blur=det.motion_blur)
     assert result.camera is None
     assert "exactly" in result.reason
+
+
+def test_the_arcs_tier_joins_only_when_the_other_tiers_leave_the_frame_unsettled(one_opencv_thread, monkeypatch):
+    """The arcs' tier is the slowest and the last resort. Plain frame 87 (a test above): the centre circle's tier,
+    fitted once the first fit is under ``look_further_below``, settles the frame at 1.0, and the arcs are not asked
+    (they were, before). Plain seed 5 frame 250 (a test above): no other tier gives a camera; the arcs give it."""
+    from broadtrack_graph.reinit import court
+
+    asked = []
+    original = court.arc_line_homographies
+    monkeypatch.setattr(court, "arc_line_homographies", lambda *a, **k: asked.append(1) or original(*a, **k))
+
+    def court_on(index: int, seed: int):
+        truth, det = _plain_placement(index, seed)
+        result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
+                                   det.field_mask, motion_blur=det.motion_blur)
+        return _found_or_twin_px(result, truth), result
+
+    error_px, result = court_on(87, 3)
+    assert error_px < 1.0 and result.score.jaccard > 0.95 and not asked
+    error_px, result = court_on(250, 5)
+    assert error_px < 3.0 and asked, result.reason
