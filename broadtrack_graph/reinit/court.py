@@ -197,7 +197,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         def fitted_tiers(last_resort: bool) -> list:  # the tiers left joined (the arcs' alone, or all but theirs)
             nonlocal hypotheses, costs
             first = len(costs)
-            while tiers and tiers[0][0] == last_resort:
+            while tiers and tiers[0][0] == last_resort:  # that flag (taken only with a constraint to spare) marks
+                #                                             the arcs' tier alone, always the last
                 hypotheses, costs = joined_tier(hypotheses, costs)
             return fitted(np.arange(first, len(costs))) if len(costs) > first else []
 
