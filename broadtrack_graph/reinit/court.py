@@ -4,7 +4,8 @@
 (:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two directions by
 vanishing point, and forms every camera that puts two lines of each direction on two pitch lines of that direction
 (:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
-plausibility; when none explains the map well, also three lines of one direction with one across, :mod:`.court_pencil`,
+plausibility; of the likeliest split first, of the others only when none of its cameras explains the map well; when
+none explains it well, also three lines of one direction with one across, :mod:`.court_pencil`,
 and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the markings' centre points,
 :mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits are in, a circle's arc and
 its chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each direction beside it,
@@ -108,9 +109,9 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
             only_confirmed.append((start, len(costs)))
         return hypotheses, costs
 
-    # Each later tier joins while nothing explains the map well yet (circles_below_score), but the arcs' (joined only
+    # Each later tier joins while nothing explains the map well yet (explained_well_score), but the arcs' (joined only
     # once the first fits are in: a tier of last resort) ...
-    while len(tiers) > 1 and not (len(costs) and -costs.min() >= config.circles_below_score):
+    while len(tiers) > 1 and not _explains_well(costs, config):
         hypotheses, costs = joined_tier(hypotheses, costs)
     hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
                                 structures, (W, H), config)
@@ -300,14 +301,29 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
 
 def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
                      hidden_px: np.ndarray | None = None):
-    """The straight markings' hypotheses (the likeliest splits of the lines first, until ``max_hypotheses``: a
-    frame full of lines stays bounded) and their map costs."""
+    """The straight markings' hypotheses and their map costs: of the likeliest split of the lines first, of every split
+    (likeliest first, until ``max_hypotheses``: a frame full of lines stays bounded) only when none of its hypotheses
+    explains the map well (``explained_well_score``), as a later tier joins. The splits are scored together: the
+    coarse passes rank the hypotheses of a set against one another."""
     lines = structures.lines
     support = np.array([line.support_px for line in lines])
-    hypotheses = split_hypotheses(line_families(lines, frame_size, config.lines, hidden_px), support, pitch,
-                                  frame_size, config.lines, config.max_hypotheses)
-    return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top,
-                               config.prescore_keep, config.prescore_thin)
+    splits = line_families(lines, frame_size, config.lines, hidden_px)
+
+    def scored(some: list):
+        hypotheses = split_hypotheses(some, support, pitch, frame_size, config.lines, config.max_hypotheses)
+        return hypotheses, _scores(hypotheses, structures.scorer, frame_size, config.search, config.rescore_top,
+                                   config.prescore_keep, config.prescore_thin)
+
+    if len(splits) > 1:
+        hypotheses, costs = scored(splits[:1])
+        if _explains_well(costs, config):
+            return hypotheses, costs
+    return scored(splits)
+
+
+def _explains_well(costs: np.ndarray, config: CourtConfig) -> bool:
+    """Whether a hypothesis of these map costs explains the map well (``explained_well_score``)."""
+    return bool(len(costs)) and -float(costs.min()) >= config.explained_well_score
 
 
 def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):

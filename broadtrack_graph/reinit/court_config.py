@@ -83,6 +83,8 @@ class CourtConfig:
     #                           and marking point first, these best go on (four times rescore_top: the best of that
     #                           rough pass hold the best of every second sample, docs/BENCHMARKS.md)
     prescore_thin: int = 8
-    circles_below_score: float = 0.6  # the centre circle is tried when no straight markings' hypothesis scores this
+    # a hypothesis scoring this on the map explains it well: the splits of the lines after the likeliest, and each
+    # later tier (the circles first), are tried only while none before it does
+    explained_well_score: float = 0.6
     centre_circle_min_coverage: float = 0.7  # map pixels per pixel of outline in view of an ellipse taken as the
     #                                          centre circle beside a touchline (painted all round; an arc is not)

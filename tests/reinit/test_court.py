@@ -507,3 +507,33 @@ def test_the_arcs_tier_joins_only_when_the_other_tiers_leave_the_frame_unsettled
     assert error_px < 1.0 and result.score.jaccard > 0.95 and not asked
     error_px, result = court_on(250, 5)
     assert error_px < 3.0 and asked, result.reason
+
+
+def test_the_lines_other_splits_are_formed_only_when_the_likeliest_explains_the_map_poorly(one_opencv_thread,
+                                                                                            monkeypatch):
+    """The straight markings' hypotheses come from the likeliest split of the lines first. Plain frame 1's map (from
+    the far side) is explained well by them: the other splits are not formed. Behind a goal (plain frame 41) none of
+    the likeliest split's cameras explains the map well; the splits after it give the camera (without them, none)."""
+    from dataclasses import replace
+
+    from broadtrack_graph.reinit import court
+
+    asked = []
+    original = court.split_hypotheses
+    monkeypatch.setattr(court, "split_hypotheses", lambda splits, *a, **k: asked.append(len(splits)) or
+                        original(splits, *a, **k))
+
+    def court_on(index: int, config: CourtConfig | None = None):
+        asked.clear()
+        truth, det = _plain_placement(index)
+        result = reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, fitting_curves(PITCH),
+                                   det.field_mask, config=config or CourtConfig(), motion_blur=det.motion_blur)
+        return _found_or_twin_px(result, truth), result
+
+    error_px, _ = court_on(1)
+    assert asked == [1] and error_px < 1.0
+    error_px, result = court_on(41)
+    assert asked[0] == 1 and asked[1] > 1 and error_px < 1.0, result.reason
+    # The likeliest split alone (any score taken as explaining the map well): no camera.
+    _, alone = court_on(41, replace(CourtConfig(), explained_well_score=-math.inf))
+    assert asked == [1] and alone.camera is None
