@@ -250,11 +250,7 @@ class ImageEllipse:
 
     def signed_distances_px(self, points_px: np.ndarray) -> np.ndarray:
         """(N,) :meth:`distances_px` signed: negative inside the ellipse."""
-        c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
-        d = np.asarray(points_px, float) - self.centre_px
-        x, y = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
-        a, b = self.semi_axes_px
-        return ((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a**2, y / b**2), 1e-12)
+        return signed_distances_to_ellipses([(self.centre_px, self.semi_axes_px, self.angle_rad)], points_px)[0]
 
     def outline_px(self, samples: int = 64) -> np.ndarray:
         """(samples, 2) points of the outline, evenly spaced in the parametric angle, frame pixels."""
@@ -262,6 +258,20 @@ class ImageEllipse:
         c, s = math.cos(self.angle_rad), math.sin(self.angle_rad)
         x, y = self.semi_axes_px[0] * np.cos(t), self.semi_axes_px[1] * np.sin(t)
         return np.column_stack([self.centre_px[0] + c * x - s * y, self.centre_px[1] + s * x + c * y])
+
+
+def signed_distances_to_ellipses(ellipses, points_px: np.ndarray) -> np.ndarray:
+    """(K, N) first-order signed distances (negative inside) of points (N, 2) to K ellipses, each a triple (centre
+    (2,), semi-axes (a, b), angle of a to the image x axis in radians), frame pixels: ``(q - 1) / |grad q|`` with
+    ``q = (x / a)^2 + (y / b)^2`` in the ellipse's own axes. Many ellipses in one pass (a fit's shifted copies)."""
+    points = np.asarray(points_px, float).reshape(-1, 2)
+    # Per ellipse in Python's scalar arithmetic (its cos, sin and squares), each point in numpy's.
+    terms = np.array([[centre[0], centre[1], math.cos(angle), math.sin(angle), a, b, a**2, b**2]
+                      for centre, (a, b), angle in ellipses], float).reshape(-1, 8, 1)
+    cx, cy, c, s, a, b, a2, b2 = terms.transpose(1, 0, 2)  # each (K, 1)
+    dx, dy = points[:, 0] - cx, points[:, 1] - cy
+    x, y = dx * c + dy * s, -dx * s + dy * c
+    return ((x / a) ** 2 + (y / b) ** 2 - 1.0) / np.maximum(2.0 * np.hypot(x / a2, y / b2), 1e-12)
 
 
 def marking_ellipses(marking_mask: np.ndarray, frame_width_px: int,

@@ -135,3 +135,21 @@ def test_an_arc_meeting_its_line_is_found_once_the_pieces_are_cut_along_the_line
     assert found
     np.testing.assert_allclose(found[0].centre_px, centre, atol=4.0)
     np.testing.assert_allclose(found[0].semi_axes_px, axes, atol=6.0)
+
+
+def test_many_ellipses_distances_in_one_pass_are_each_ellipses_own():
+    """A circle of radius R = 50 px: a point rho from its centre is (rho^2 - R^2) / (2 rho) from it to first order
+    (negative inside); an ellipse's distances among several at once are, bit for bit, those it gives alone."""
+    from broadtrack_graph.detect.marking_structures import ImageEllipse, signed_distances_to_ellipses
+
+    points = np.array([[160.0, 100.0], [100.0, 130.0], [100.0, 100.0 - 60.0]])
+    circle = ((100.0, 100.0), (50.0, 50.0), 0.3)
+    rho = np.array([60.0, 30.0, 60.0])
+    assert np.allclose(signed_distances_to_ellipses([circle], points)[0], (rho**2 - 50.0**2) / (2 * rho), atol=1e-9)
+    rng = np.random.default_rng(4)
+    ellipses = [(rng.uniform(0, 900, 2), tuple(sorted(rng.uniform(5, 400, 2), reverse=True)), rng.uniform(0, 3.1))
+                for _ in range(6)]
+    many = rng.uniform(-200, 1100, (300, 2))
+    together = signed_distances_to_ellipses(ellipses, many)
+    for row, (centre, axes, angle) in zip(together, ellipses):
+        assert np.array_equal(row, ImageEllipse(np.asarray(centre), axes, angle, 0.0).signed_distances_px(many))
