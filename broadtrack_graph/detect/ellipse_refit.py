@@ -1,6 +1,6 @@
 """A marking ellipse fitted again on the markings' centre points by their distance to it. No I/O.
 
-The ellipses of :mod:`~broadtrack_graph.detect.marking_structures` and :mod:`~broadtrack_graph.detect.marking_arcs`
+The ellipses of :mod:`~broadtrack_graph.detect.marking_ellipses` and :mod:`~broadtrack_graph.detect.marking_arcs`
 are fitted to the map's pixels: a marking's whole painted width, by an algebraic fit. On a short arc (a penalty arc,
 half of it at a frame's edge) the arc fixes its ellipse's position and bend well and the rest of the outline poorly,
 and those fits can end a few per cent off in size and a few degrees in angle: enough for the circle-and-line
@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse, ImageLine, signed_distances_to_ellipses
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse, signed_distances_to_ellipses
+from broadtrack_graph.detect.marking_structures import ImageLine
 
 
 @dataclass(frozen=True)

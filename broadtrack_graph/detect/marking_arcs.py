@@ -1,6 +1,6 @@
 """Arcs of the marking map: a penalty arc, or the part of a circle a tight view shows, as an ellipse. No I/O.
 
-The images of the pitch's circles are ellipses. :func:`~broadtrack_graph.detect.marking_structures.marking_ellipses`
+The images of the pitch's circles are ellipses. :func:`~broadtrack_graph.detect.marking_ellipses.marking_ellipses`
 keeps an ellipse drawn along most of its outline in view; a penalty arc, the part of its circle outside the
 penalty area (106 deg of 360), never is, and a frame whose only curved marking is one cannot be placed from
 it. Here every piece of the map (cut along the long straight markings, so that an arc meeting its 16.5 m line
@@ -27,7 +27,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse, ImageLine, MarkingStructureConfig, map_pieces
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse, map_pieces
+from broadtrack_graph.detect.marking_structures import ImageLine, MarkingStructureConfig
 
 
 @dataclass(frozen=True)

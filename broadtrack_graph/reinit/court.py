@@ -37,7 +37,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import outline_in_image
+from broadtrack_graph.detect.marking_ellipses import outline_in_image
 from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate

@@ -30,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse, ImageLine
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse
+from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.reinit.court_circle import CircleChord
 
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse
 from broadtrack_graph.geometry.matrices import cross3, inverses
 from broadtrack_graph.reinit.court_lines import focal_and_mismatch
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import Arc, PitchTemplate
 from broadtrack_graph.geometry.state import BEHIND_CAMERA_Z

@@ -22,7 +22,8 @@ import numpy as np
 
 from broadtrack_graph.detect.ellipse_refit import refitted_ellipse, same_ellipse
 from broadtrack_graph.detect.marking_arcs import marking_arcs
-from broadtrack_graph.detect.marking_structures import marking_ellipses_both, marking_lines
+from broadtrack_graph.detect.marking_ellipses import marking_ellipses_both
+from broadtrack_graph.detect.marking_structures import marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves, to_segments

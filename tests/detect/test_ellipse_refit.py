@@ -11,12 +11,8 @@ import pytest
 
 from broadtrack_graph.detect.ellipse_refit import refitted_ellipse, same_ellipse
 from broadtrack_graph.detect.marking_arcs import marking_arcs
-from broadtrack_graph.detect.marking_structures import (
-    ImageEllipse,
-    MarkingStructureConfig,
-    marking_ellipses,
-    marking_lines,
-)
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse, marking_ellipses
+from broadtrack_graph.detect.marking_structures import MarkingStructureConfig, marking_lines
 from broadtrack_graph.detect.template_raster import template_mask
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate

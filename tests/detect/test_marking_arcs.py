@@ -8,7 +8,8 @@ import cv2
 import numpy as np
 
 from broadtrack_graph.detect.marking_arcs import marking_arcs
-from broadtrack_graph.detect.marking_structures import MarkingStructureConfig, marking_ellipses, marking_lines
+from broadtrack_graph.detect.marking_ellipses import marking_ellipses
+from broadtrack_graph.detect.marking_structures import MarkingStructureConfig, marking_lines
 from broadtrack_graph.detect.template_raster import template_mask
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate

@@ -8,7 +8,8 @@ import cv2
 import numpy as np
 import pytest
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse, ImageLine
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse
+from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_arcs import CourtArcConfig, arc_line_homographies, arc_points

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_structures import ImageEllipse
+from broadtrack_graph.detect.marking_ellipses import ImageEllipse
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.reinit.court_circle import circle_line_homographies, ellipse_conic_n, pitch_circle_chords
