@@ -4,8 +4,9 @@
 (:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two directions by
 vanishing point, and forms every camera that puts two lines of each direction on two pitch lines of that direction
 (:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
-plausibility; of the likeliest split first, of the others only when none of its cameras explains the map well; when
-none explains it well, also three lines of one direction with one across, :mod:`.court_pencil`,
+plausibility; of the likeliest split first, of every split, formed at once, when none of its cameras explains the
+map well or they leave the frame unsettled; when none explains it well, also three lines of one direction with one
+across, :mod:`.court_pencil`,
 and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the markings' centre points,
 :mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits are in, a circle's arc and
 its chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each direction beside it,
@@ -97,9 +98,10 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     structures = map_structures(marking_mask, points_px, (W, H), pitch, config.search)
     lines = structures.lines
     hidden = hidden_lengths_px(lines, player_mask, W)
-    hypotheses, costs = _line_hypotheses(structures, (W, H), pitch, config, hidden)
-    tiers = _later_tiers(structures, (W, H), pitch, config, hidden)
-    only_confirmed = []  # (start, end) of the hypotheses whose exact fits are not taken (the arcs': court_arcs)
+    hypotheses, costs, every_split = _line_hypotheses(structures, (W, H), pitch, config, hidden)
+    tiers: list = []
+    only_confirmed: list = []  # (start, end) of the hypotheses whose exact fits are not taken (the arcs': court_arcs)
+    fit_cache: dict = {}  # a hypothesis fitted in the likeliest split's pass is not fitted again in every split's
 
     def joined_tier(hypotheses, costs):
         confirm, tier = tiers.pop(0)
@@ -108,18 +110,6 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         if confirm:
             only_confirmed.append((start, len(costs)))
         return hypotheses, costs
-
-    # Each later tier joins while nothing explains the map well yet (explained_well_score), but the arcs' (joined only
-    # once the first fits are in: a tier of last resort) ...
-    while len(tiers) > 1 and not _explains_well(costs, config):
-        hypotheses, costs = joined_tier(hypotheses, costs)
-    hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
-                                structures, (W, H), config)
-    while tiers and not len(hypotheses):  # nothing else: the tier of last resort too
-        hypotheses, costs = joined_tier(hypotheses, costs)
-    if not len(hypotheses):
-        return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
-                                            "straight, no circle with them)")
 
     known: list[tuple[Camera, float]] = []  # the fits' confidences, asked again when a fit is judged
 
@@ -137,7 +127,8 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return None if other is None else main_side(other, config.twin_tie_m)
 
     def fitted(among: np.ndarray) -> list:
-        return fitted_hypotheses(hypotheses, costs, among, structures, points_px, (W, H), curves, confidence_of, config)
+        return fitted_hypotheses(hypotheses, costs, among, structures, points_px, (W, H), curves, confidence_of, config,
+                                 fit_cache)
 
     # A circle's arc and one line fix a camera exactly but poorly (its depth, and a penalty arc read for the centre
     # circle's): a camera from the arcs' hypotheses, and every camera moved from it, is taken only with a constraint
@@ -158,14 +149,34 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                 return kept_and_judged(others)
             spare_only_results.append(result)
             return result
-        return judged(camera, marking_mask, pitch, config, confidence_of, walked)
+        # (an exact fit is walked along its line of sight only in the last pass: the likeliest split's pass ends
+        # without a camera there, and every split's is searched)
+        return judged(camera, marking_mask, pitch, config, confidence_of, walked if every_split is None else None)
 
     def judged_as(result: ReinitResult) -> CourtConfig:  # the settings a camera moved from result is judged with
         return spare_only if any(result is r for r in spare_only_results) else config
 
-    fits = fitted(np.arange(len(costs)))
-    result = kept_and_judged(fits)
-    poor = result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score
+    while True:  # the likeliest split's pass, and every split's when that one leaves the frame unsettled
+        tiers[:], only_confirmed[:] = _later_tiers(structures, (W, H), pitch, config, hidden), []
+        # Each later tier joins while nothing explains the map well yet (explained_well_score), but the arcs' (joined
+        # only once the first fits are in: a tier of last resort) ...
+        while len(tiers) > 1 and not _explains_well(costs, config):
+            hypotheses, costs = joined_tier(hypotheses, costs)
+        hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
+                                    structures, (W, H), config)
+        while tiers and not len(hypotheses):  # nothing else: the tier of last resort too
+            hypotheses, costs = joined_tier(hypotheses, costs)
+        if not len(hypotheses):
+            return ReinitResult(None, None, "", f"no plausible camera puts the markings on the pitch ({len(lines)} "
+                                                "straight, no circle with them)")
+        fits = fitted(np.arange(len(costs)))
+        result = kept_and_judged(fits)
+        poor = result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score
+        if every_split is None or not (poor or result.score.jaccard < config.look_further_below):
+            break
+        # The likeliest split's cameras explain the map well but do not settle the frame: every split's hypotheses,
+        # scored together, and the search from them as if they had been formed at once (its fits not made again).
+        (hypotheses, costs), every_split = every_split(), None
     if poor or result.score.jaccard < config.look_further_below:
         # No camera, or none of the fits explains the map well: the tiers left join and their best are fitted. One
         # reading of the markings can score a little better on the map than the right reading of another (an arc's
@@ -301,10 +312,10 @@ def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig
 
 def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
                      hidden_px: np.ndarray | None = None):
-    """The straight markings' hypotheses and their map costs: of the likeliest split of the lines first, of every split
-    (likeliest first, until ``max_hypotheses``: a frame full of lines stays bounded) only when none of its hypotheses
-    explains the map well (``explained_well_score``), as a later tier joins. The splits are scored together: the
-    coarse passes rank the hypotheses of a set against one another."""
+    """The straight markings' hypotheses, their map costs and the call giving every split's (or None): of the likeliest
+    split of the lines when one of its cameras explains the map well (``explained_well_score``), else of every split
+    (likeliest first, until ``max_hypotheses``: a frame full of lines stays bounded), scored together (the coarse
+    passes rank the hypotheses of a set against one another)."""
     lines = structures.lines
     support = np.array([line.support_px for line in lines])
     splits = line_families(lines, frame_size, config.lines, hidden_px)
@@ -317,8 +328,8 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
     if len(splits) > 1:
         hypotheses, costs = scored(splits[:1])
         if _explains_well(costs, config):
-            return hypotheses, costs
-    return scored(splits)
+            return hypotheses, costs, lambda: scored(splits)
+    return (*scored(splits), None)
 
 
 def _explains_well(costs: np.ndarray, config: CourtConfig) -> bool:

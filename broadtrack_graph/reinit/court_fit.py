@@ -54,12 +54,12 @@ class Fit:
 
 
 def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_px, frame_size,
-                      curves: TemplateCurves, confidence_of, config: CourtConfig) -> list[Fit]:
+                      curves: TemplateCurves, confidence_of, config: CourtConfig, cache: dict | None = None) -> list[Fit]:
     """The best distinct few of the hypotheses ``among`` (indices) fitted on the map, best map cost first. After the
     first, only those scoring ``refine_cost_share`` of its map score; after a fit scoring ``accept_fit_score``, only
     those the map scores alike (within ``fit_tie_cost``): a good fit is not beaten by a hypothesis the map scores
     worse, but the members of a circle-and-line family, whose images of both are the same, score alike and fit
-    apart."""
+    apart. ``cache``: (camera, score) of the hypotheses fitted before (by homography and sign), filled in."""
     W, H = frame_size
     search = config.search
     H_px = pixel_homographies(hypotheses, (W, H))
@@ -80,12 +80,17 @@ def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_p
             break
         if good_cost is not None and costs[k] > good_cost + config.fit_tie_cost:
             break
-        decomposed = hypothesis_camera(hypotheses, k, W, H)
-        start = camera_through(H_px[k], hypotheses.sign[k], decomposed, curves)
-        camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
-        if not plausible_position(camera.position_m, curves.pitch, max_distance_m=math.inf):  # over the pitch
-            camera = _held_off_the_pitch(camera, (start, decomposed), points, curves, structures, search)
-        score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
+        key = (hypotheses.H_n[k].tobytes(), float(hypotheses.sign[k]))
+        if cache is None or key not in cache:
+            decomposed = hypothesis_camera(hypotheses, k, W, H)
+            start = camera_through(H_px[k], hypotheses.sign[k], decomposed, curves)
+            camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
+            if not plausible_position(camera.position_m, curves.pitch, max_distance_m=math.inf):  # over the pitch
+                camera = _held_off_the_pitch(camera, (start, decomposed), points, curves, structures, search)
+            score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
+            if cache is not None:
+                cache[key] = (camera, score)
+        camera, score = cache[key] if cache is not None else (camera, score)
         fits.append(Fit(k, score, confidence_of(camera), camera))
         if score >= search.accept_fit_score and good_cost is None:
             good_cost = costs[k]
