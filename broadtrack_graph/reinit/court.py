@@ -172,12 +172,13 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         fits = fitted(np.arange(len(costs)))
         result = kept_and_judged(fits)
         poor = result.camera is None or max((fit.score for fit in fits), default=0.0) < config.search.accept_fit_score
-        if every_split is None or not (poor or result.score.jaccard < config.look_further_below):
+        unsettled = poor or result.score.jaccard < config.look_further_below
+        if every_split is None or not unsettled:
             break
         # The likeliest split's cameras explain the map well but do not settle the frame: every split's hypotheses,
         # scored together, and the search from them as if they had been formed at once (its fits not made again).
         (hypotheses, costs), every_split = every_split(), None
-    if poor or result.score.jaccard < config.look_further_below:
+    if unsettled:
         # No camera, or none of the fits explains the map well: the tiers left join and their best are fitted. One
         # reading of the markings can score a little better on the map than the right reading of another (an arc's
         # ellipse taken as the centre circle beside a touchline, against the same arc with its 16.5 m line across it)

@@ -62,6 +62,7 @@ def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_p
     apart. ``cache``: (camera, score) of the hypotheses fitted before (by homography and sign), filled in."""
     W, H = frame_size
     search = config.search
+    cache = {} if cache is None else cache
     H_px = pixel_homographies(hypotheses, (W, H))
     # A hypothesis and its twin score the same: the twin rule orders them before the distinct choice.
     C = hypotheses.C_w[among]
@@ -81,16 +82,14 @@ def fitted_hypotheses(hypotheses, costs, among: np.ndarray, structures, points_p
         if good_cost is not None and costs[k] > good_cost + config.fit_tie_cost:
             break
         key = (hypotheses.H_n[k].tobytes(), float(hypotheses.sign[k]))
-        if cache is None or key not in cache:
+        if key not in cache:
             decomposed = hypothesis_camera(hypotheses, k, W, H)
             start = camera_through(H_px[k], hypotheses.sign[k], decomposed, curves)
             camera = refine_on_map(start, points, start.position_m, curves, search, search.schedule)
             if not plausible_position(camera.position_m, curves.pitch, max_distance_m=math.inf):  # over the pitch
                 camera = _held_off_the_pitch(camera, (start, decomposed), points, curves, structures, search)
-            score = -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
-            if cache is not None:
-                cache[key] = (camera, score)
-        camera, score = cache[key] if cache is not None else (camera, score)
+            cache[key] = camera, -structures.fine_scorer.camera_cost(camera, search.fit_hit_px, search.fit_point_px)
+        camera, score = cache[key]
         fits.append(Fit(k, score, confidence_of(camera), camera))
         if score >= search.accept_fit_score and good_cost is None:
             good_cost = costs[k]
