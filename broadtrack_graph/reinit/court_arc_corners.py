@@ -156,7 +156,8 @@ def arc_corner_homographies(arcs_px: list[np.ndarray], lines: list[ImageLine], f
             continue
         arc_n = (np.asarray(arc_px, float) - centre) / s
         ends_n = (np.array([[lines[a].ends_px(), lines[b].ends_px()] for a, b in pairs]) - centre) / s  # (P, 2, 2, 2)
-        errors = _errors(grid, arc_n, ends_n, table_kinds, config.min_sweep_deg)  # (G, P, C)
+        errors = _errors(grid, arc_n, ends_n, table_kinds, config.min_sweep_deg,
+                         config.coarse_max_error)  # (G, P, C); over coarse_max_error: never narrowed
         floor = errors.min(axis=0)
         order = np.argsort(floor, axis=None)[:config.max_pairings]
         pair_k, kind_k = np.unravel_index(order, floor.shape)
@@ -194,24 +195,37 @@ def _residual_parts(params, arc_n, ends_n, kinds, min_sweep_deg: float):
     (G, P, C)); kinds (C, 5), or (G, 1, C, 5) one each."""
     off, _, arc_ok, normal, distance, arc_side, below = _geometry(params, arc_n, ends_n, min_sweep_deg)
     cosine = np.einsum("gpi,gpi->gp", normal[:, :, 0], normal[:, :, 1])
+    off_share, kind_ok = _kind_parts(distance, arc_side, normal, kinds)
+    return off, cosine, off_share, arc_ok[:, None, None] & below[:, :, None] & kind_ok
+
+
+def _kind_parts(distance: np.ndarray, arc_side: np.ndarray, normal: np.ndarray, kinds: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """For line pairs' distances from the centre in radii (..., 2), the arc's side of each (..., 2) and their unit
+    normals (..., 2, 2), with kinds (C, 5) (or broadcasting to (..., C, 5)): the distances off the kinds' (..., C, 2)
+    and whether the pair lies about the centre as each kind asks (..., C)."""
     share, rule, hand = kinds[..., 0:2], kinds[..., 2:4], kinds[..., 4]
-    off_share = np.abs(distance)[:, :, None, :] - share  # (G, P, C, 2)
+    off_share = np.abs(distance)[..., None, :] - share
     # 1: the arc beyond the line from the centre (its side against the centre's)
-    beyond = np.sign(-np.sign(distance) * arc_side)[:, :, None, :]
+    beyond = np.sign(-np.sign(distance) * arc_side)[..., None, :]
     sided = ((rule == 0) | (beyond == rule)).all(axis=-1)
-    foot = -np.sign(distance)[..., None] * normal  # (G, P, 2, 2): from the centre towards each line
-    cross = np.sign(foot[:, :, 0, 0] * foot[:, :, 1, 1] - foot[:, :, 0, 1] * foot[:, :, 1, 0])[:, :, None]
+    foot = -np.sign(distance)[..., None] * normal  # (..., 2, 2): from the centre towards each line
+    cross = np.sign(foot[..., 0, 0] * foot[..., 1, 1] - foot[..., 0, 1] * foot[..., 1, 0])[..., None]
     handed = (hand == 0) | (cross == hand)
-    ok = arc_ok[:, None, None] & below[:, :, None] & sided & handed
-    return off, cosine, off_share, ok
+    return off_share, sided & handed
 
 
-def _errors(params, arc_n, ends_n, kinds, min_sweep_deg: float) -> np.ndarray:
+def _errors(params, arc_n, ends_n, kinds, min_sweep_deg: float, within: float = math.inf) -> np.ndarray:
     """(G, P, C) the root mean square error of each place, line pair and kind (module docstring), inf where it does
-    not count."""
-    off, cosine, off_share, ok = _residual_parts(params, arc_n, ends_n, kinds, min_sweep_deg)
-    error = np.sqrt(np.mean(off**2, axis=1)[:, None, None] + cosine[:, :, None] ** 2 + (off_share**2).sum(axis=-1))
-    return np.where(ok, error, np.inf)
+    not count or where the arc's points and the lines' angle alone err over ``within`` (the kinds not asked there)."""
+    off, _, arc_ok, normal, distance, arc_side, below = _geometry(params, arc_n, ends_n, min_sweep_deg)
+    cosine = np.einsum("gpi,gpi->gp", normal[:, :, 0], normal[:, :, 1])
+    base = np.mean(off**2, axis=1)[:, None] + cosine**2  # (G, P)
+    g, p = np.nonzero(arc_ok[:, None] & below & (np.sqrt(base) <= within))
+    off_share, kind_ok = _kind_parts(distance[g, p], arc_side[g, p], normal[g, p], kinds)
+    errors = np.full((len(params), ends_n.shape[-4], len(kinds)), np.inf)
+    errors[g, p] = np.where(kind_ok, np.sqrt(base[g, p][:, None] + (off_share**2).sum(axis=-1)), np.inf)
+    return errors
 
 
 def _narrowed(place: np.ndarray, arc_n: np.ndarray, ends_n: np.ndarray, kinds: np.ndarray,

@@ -182,15 +182,16 @@ def pieces_of(arc_px: np.ndarray, lines: list[ImageLine], band_px: float, sample
 
 def rectifiers(params: np.ndarray) -> np.ndarray:
     """(G, 3, 3) ``Rx(tilt) Rz(roll) K^-1`` of (G, 3) (f / s, tilt, roll): normalised image point -> the ground's
-    homogeneous point under a camera 1 m up at the origin, pan 0."""
+    homogeneous point under a camera 1 m up at the origin, pan 0. Written out: ``Rx Rz = [[cr, -sr, 0], [ct sr,
+    ct cr, -st], [st sr, st cr, ct]]``, its first two columns over f."""
     f, t, r = params[:, 0], params[:, 1], params[:, 2]
     ct, st, cr, sr = np.cos(t), np.sin(t), np.cos(r), np.sin(r)
-    zero, one = np.zeros_like(t), np.ones_like(t)
-    rx = np.stack([np.stack([one, zero, zero], -1), np.stack([zero, ct, -st], -1), np.stack([zero, st, ct], -1)], 1)
-    rz = np.stack([np.stack([cr, -sr, zero], -1), np.stack([sr, cr, zero], -1), np.stack([zero, zero, one], -1)], 1)
-    k_inv = np.stack([np.stack([1 / f, zero, zero], -1), np.stack([zero, 1 / f, zero], -1),
-                      np.stack([zero, zero, one], -1)], 1)
-    return rx @ rz @ k_inv
+    inv_f = 1 / f
+    out = np.empty((len(params), 3, 3))
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = cr * inv_f, -sr * inv_f, 0.0
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = (ct * sr) * inv_f, (ct * cr) * inv_f, -st
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = (st * sr) * inv_f, (st * cr) * inv_f, ct
+    return out
 
 
 def on_ground(rectifiers: np.ndarray, points_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -313,17 +314,25 @@ def narrowed(x: np.ndarray, residuals, free_axes: list[int], rounds: int, focal_
              ) -> tuple[np.ndarray, np.ndarray]:
     """Places x (P, 3) as (log f / s, tilt, roll) narrowed by ``rounds`` Levenberg-Marquardt steps in ``free_axes``
     (forward-difference Jacobians), every place at once, f kept in ``focal_range_n``; ``residuals(x)`` gives (P, R)
-    residuals and (P,) whether they count, and for k copies of the places stacked (k P, 3) theirs in that order (the
-    Jacobian's shifted places are asked in one call). Returns (P, 3) places as (f / s, tilt, roll) and (P,) root sum
-    square errors (inf where they do not count)."""
-    r, ok = residuals(x)
+    residuals and (P,) whether they count, and for k copies of the places stacked (k P, 3) theirs in that order (a
+    trial's residuals and its Jacobian's shifted places are asked in one call; a trial not taken leaves the Jacobian
+    where it was). Returns (P, 3) places as (f / s, tilt, roll) and (P,) root sum square errors (inf where they do
+    not count)."""
+    step = 1e-6
+    shifts = [step * np.eye(3)[k] for k in free_axes]
+
+    def with_jacobian(x: np.ndarray, jacobian: bool = True):  # (P, R) residuals, (P,) counted, (P, R, F) or None
+        r, ok = residuals(np.concatenate([x] + [x + shift for shift in shifts]) if jacobian else x)
+        if not jacobian:
+            return r, ok, None
+        r = r.reshape(1 + len(free_axes), len(x), -1)
+        J = ((r[1:] - r[0]) / step).transpose(1, 2, 0)
+        return r[0], ok[:len(x)], np.ascontiguousarray(J)  # J laid out as the einsums below have always read it
+
+    r, ok, J = with_jacobian(x)
     cost = np.where(ok, np.sum(r**2, axis=1), np.inf)
     damping = np.full(len(x), 1e-3)
-    step = 1e-6
-    for _ in range(rounds):
-        shifted = residuals(np.concatenate([x + step * np.eye(3)[k] for k in free_axes]))[0]  # (F P, R)
-        J = ((shifted.reshape(len(free_axes), *r.shape) - r) / step).transpose(1, 2, 0)
-        J = np.ascontiguousarray(J)  # (P, R, F), laid out as the einsums below have always read it
+    for round_index in range(rounds):
         JtJ = np.einsum("pnf,png->pfg", J, J)
         Jtr = np.einsum("pnf,pn->pf", J, r)
         scaled = JtJ + damping[:, None, None] * (np.eye(len(free_axes)) * (np.diagonal(JtJ, axis1=1, axis2=2)[
@@ -333,12 +342,13 @@ def narrowed(x: np.ndarray, residuals, free_axes: list[int], rounds: int, focal_
         trial = x.copy()
         trial[:, free_axes] += np.where(np.isfinite(delta), delta, 0.0)
         trial[:, 0] = np.clip(trial[:, 0], *np.log(focal_range_n))
-        r_trial, ok_trial = residuals(trial)
+        r_trial, ok_trial, J_trial = with_jacobian(trial, jacobian=round_index < rounds - 1)
         cost_trial = np.where(ok_trial, np.sum(r_trial**2, axis=1), np.inf)
         better = cost_trial < cost
         x = np.where(better[:, None], trial, x)
         r = np.where(better[:, None], r_trial, r)
         cost = np.where(better, cost_trial, cost)
+        J = J if J_trial is None else np.where(better[:, None, None], J_trial, J)
         damping = np.where(better, damping / 3.0, damping * 4.0)
     return np.column_stack([np.exp(x[:, 0]), x[:, 1:]]), np.sqrt(cost)
 

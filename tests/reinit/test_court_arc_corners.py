@@ -10,6 +10,7 @@ from reinit_helpers import image_lines
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.reinit import court_arc_corners
 from broadtrack_graph.reinit.court_arc_corners import arc_corner_homographies, circle_corners
 from broadtrack_graph.reinit.court_arcs import arc_line_homographies, pieces_of
 from broadtrack_graph.reinit.court_circle import pitch_circle_chords
@@ -117,3 +118,21 @@ def test_nothing_without_an_arc_or_two_lines():
     assert arc_corner_homographies([], [line, line], (W, H), CORNERS, FOCAL_RANGE_N, BAND_PX).shape == (0, 3, 3)
     assert arc_corner_homographies([_penalty_arc_px(truth)], [line], (W, H), CORNERS, FOCAL_RANGE_N,
                                    BAND_PX).shape == (0, 3, 3)
+
+
+def test_the_grid_asks_the_kinds_only_where_the_arc_and_the_lines_angle_leave_room():
+    truth = _low_beside_the_box()
+    arc_n = (_penalty_arc_px(truth) - (W / 2, H / 2)) / (W / 2)
+    lines = [_image_line(truth, (-10.0, -34.0), (30.0, -34.0)), _image_line(truth, (0.0, -30.0), (0.0, -10.0)),
+             _image_line(truth, (36.0, -34.0), (36.0, -20.0))]
+    pairs = [(a, b) for a in range(3) for b in range(3) if a != b]
+    ends_n = (np.array([[lines[a].ends_px(), lines[b].ends_px()] for a, b in pairs]) - (W / 2, H / 2)) / (W / 2)
+    kinds = np.array(sorted({corner.kind() for corner in CORNERS}), float)
+    grid = np.stack(np.meshgrid(np.geomspace(*FOCAL_RANGE_N, 14), np.radians(np.linspace(30.0, 89.5, 20)), [0.0],
+                                indexing="ij"), axis=-1).reshape(-1, 3)
+    every = court_arc_corners._errors(grid, arc_n, ends_n, kinds, 20.0)
+    within = court_arc_corners._errors(grid, arc_n, ends_n, kinds, 20.0, within=0.3)
+    kept = np.isfinite(within)
+    assert kept.any() and (~kept & np.isfinite(every)).any()  # the bound leaves some out, and keeps some
+    assert np.array_equal(within[kept], every[kept])  # what it keeps, to the bit
+    assert (every[~kept] > 0.3).all()  # what it leaves out errs over the bound anyway
