@@ -121,10 +121,15 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                                                 motion_blur=motion_blur)))
         return known[-1][1]
 
+    walks: dict = {}  # a camera judged again (one fit kept of several pools) is not walked again
+
     def walked(camera: Camera, factors=config.exact_fit_depth_factors) -> Camera | None:  # its depth (court_depth)
-        other = most_confident_along_line_of_sight(camera, fit_points(points_px, config.search), curves, config.search,
-                                                   factors, confidence_of)
-        return None if other is None else main_side(other, config.twin_tie_m)
+        key = (camera.to_vector().tobytes(), camera.extra_distortion, camera.principal_point_px, tuple(factors))
+        if key not in walks:
+            other = most_confident_along_line_of_sight(camera, fit_points(points_px, config.search), curves,
+                                                       config.search, factors, confidence_of)
+            walks[key] = None if other is None else main_side(other, config.twin_tie_m)
+        return walks[key]
 
     def fitted(among: np.ndarray) -> list:
         return fitted_hypotheses(hypotheses, costs, among, structures, points_px, (W, H), curves, confidence_of, config,

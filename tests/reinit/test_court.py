@@ -554,3 +554,24 @@ def test_a_frame_the_likeliest_split_leaves_unsettled_is_searched_from_every_spl
     result = reinit_from_court(marking_map, points, (960, 540), PITCH, fitting_curves(PITCH))
     error_px = float(np.median(evaluate_frame(lines, result.camera, 960, 540, (5.0,)).all_distances(5.0)))
     assert asked[0] == 1 and asked[1] > 1 and error_px < 1.5 and result.score.jaccard > 0.9
+
+
+def test_a_camera_judged_again_is_not_walked_along_its_line_of_sight_again(one_opencv_thread, monkeypatch):
+    """Frame 280 of ``bench placements --random --seed 3 --renderer plain``: its exact fit under
+    ``exact_fit_confidence`` is kept of each pool of fits judged (the first fits, them with the tiers left's, the
+    arcs' too) and each time asks for the fits from starts along its line of sight: walked once, remembered. (Its
+    camera comes from the markings' faint look, not asked here.)"""
+    from broadtrack_graph.reinit import court
+
+    walks = []
+
+    def recorded(camera, *args):
+        walks.append((camera.to_vector().tobytes(), tuple(args[-2])))
+        return most_confident(camera, *args)
+
+    most_confident = court.most_confident_along_line_of_sight
+    monkeypatch.setattr(court, "most_confident_along_line_of_sight", recorded)
+    _, det = _plain_placement(280)
+    reinit_from_court(det.marking_mask, det.marking_points_px, (1280, 720), PITCH, CURVES, det.field_mask,
+                      player_mask=det.player_mask, motion_blur=det.motion_blur)
+    assert walks and len(set(walks)) == len(walks)
