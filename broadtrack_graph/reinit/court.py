@@ -38,19 +38,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from broadtrack_graph.detect.marking_ellipses import outline_in_image
 from broadtrack_graph.detect.motion_blur import MotionBlur
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
 from broadtrack_graph.geometry.template import TemplateCurves
 from broadtrack_graph.reinit.confidence import camera_confidence
-from broadtrack_graph.reinit.court_arc_corners import arc_corner_homographies, circle_corners
-from broadtrack_graph.reinit.court_arcs import arc_line_homographies, arc_points
-from broadtrack_graph.reinit.court_circle import (
-    circle_line_homographies,
-    circle_pole_homographies,
-    pitch_circle_chords,
-)
 from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sight
 from broadtrack_graph.reinit.court_families import hidden_lengths_px, line_families, normalised_lines
@@ -62,8 +54,8 @@ from broadtrack_graph.reinit.court_lines import (
     pixel_homographies,
     split_hypotheses,
 )
-from broadtrack_graph.reinit.court_pencil import pencil_hypotheses
 from broadtrack_graph.reinit.court_refit import pitch_lines, refit_on_lines
+from broadtrack_graph.reinit.court_tiers import later_tiers
 from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import ReinitResult
@@ -162,7 +154,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         return spare_only if any(result is r for r in spare_only_results) else config
 
     while True:  # the likeliest split's pass, and every split's when that one leaves the frame unsettled
-        tiers[:], only_confirmed[:] = _later_tiers(structures, (W, H), pitch, config, hidden), []
+        tiers[:], only_confirmed[:] = later_tiers(structures, (W, H), pitch, config, hidden), []
         # Each later tier joins while nothing explains the map well yet (explained_well_score), but the arcs' (joined
         # only once the first fits are in: a tier of last resort) ...
         while len(tiers) > 1 and not _explains_well(costs, config):
@@ -262,51 +254,6 @@ def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, c
     return cameras_from_homographies(H_n[refitted], frame_size, pitch, config.lines)
 
 
-def _later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
-                 hidden_px: np.ndarray | None = None) -> list:
-    """The hypotheses tried after the straight markings', in order, each a pair (whether its camera is taken only
-    with a constraint to spare, the call giving its hypotheses: an empty set when its markings are missing): three
-    lines of one direction and one across (a zoomed goal mouth), a circle with the line across it, the centre circle
-    with a touchline (more hypotheses, and looser), a circle with the line across it again on the ellipses and arcs
-    fitted again on the centre points, then the arcs rectified under the camera model (only with one to spare)."""
-    lines = structures.lines
-
-    def pencil():
-        if len(lines) < 4:
-            return concatenate([])
-        return pencil_hypotheses(lines, frame_size, pitch, config.pencil, config.lines, hidden_px)
-
-    def circles(across: bool, refitted: bool = False):
-        if not lines:
-            return concatenate([])
-        # An arc's piece fitted alone and an ellipse fitted through it and another piece are two estimates of one
-        # circle's image, a few per cent apart on a short arc: both are tried. Each fitted again on the markings'
-        # centre points is a third, a source of their own (tried last: one of them scoring best on the map does not
-        # take the others' place).
-        ellipses = structures.refitted_ellipses() if refitted else (
-            structures.ellipses() + structures.border_ellipses() + structures.arcs())
-        return _circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)
-
-    def arcs():
-        # A circle's arc and its chord with the camera model asked first (a short arc's free ellipse is a poor
-        # estimate of its circle's image): :mod:`.court_arcs`.
-        if not lines:
-            return concatenate([])
-        ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
-        points = arc_points(ellipses, structures.points_px, lines, frame_size[0], config.arc)
-        focal_range_n = tuple(2.0 * v for v in config.lines.focal_range_per_width)
-        chords = pitch_circle_chords(pitch)
-        found = arc_line_homographies(points, lines, frame_size, chords, focal_range_n, config.arc)
-        # ... and with one line of each direction beside it, across it or not (:mod:`.court_arc_corners`)
-        corners = circle_corners(pitch, chords, config.arc_corner.max_line_share)
-        found = np.concatenate([found, arc_corner_homographies(points, lines, frame_size, corners, focal_range_n,
-                                                               config.arc.arc_band_px, config.arc_corner)])
-        return cameras_from_homographies(found, frame_size, pitch, config.lines)
-
-    return [(False, pencil), (False, lambda: circles(True)), (False, lambda: circles(False)),
-            (False, lambda: circles(True, refitted=True)), (True, arcs)]
-
-
 def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig):
     """The hypotheses and costs with ``part``'s (scored on the map) after them."""
     if not len(part):
@@ -341,26 +288,6 @@ def _line_hypotheses(structures, frame_size, pitch: PitchTemplate, config: Court
 def _explains_well(costs: np.ndarray, config: CourtConfig) -> bool:
     """Whether a hypothesis of these map costs explains the map well (``explained_well_score``)."""
     return bool(len(costs)) and -float(costs.min()) >= config.explained_well_score
-
-
-def _circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):
-    """The circles' hypotheses: each ellipse of the map as each pitch circle with each straight marking as the line
-    across it (the halfway line, a 16.5 m line; ``across``), or as the centre circle with each marking that misses it
-    as a touchline."""
-    if not ellipses:
-        return concatenate([])
-    lines_n, _, _ = normalised_lines(lines, frame_size)
-    d = pitch.dimensions
-    if across:
-        found = circle_line_homographies(ellipses, lines_n, frame_size, pitch_circle_chords(pitch), config.circle)
-    else:
-        # Only an ellipse drawn along most of its outline in view can be the centre circle here: a penalty arc
-        # (under a third of its circle) with a touchline would explain the view as well, 41.5 m along the pitch.
-        whole = [e for e in ellipses if e.support_px >= config.centre_circle_min_coverage * outline_in_image(
-            e.centre_px[0], e.centre_px[1], *e.semi_axes_px, e.angle_rad, *frame_size)[1]]
-        found = circle_pole_homographies(whole, lines_n, frame_size, d.centre_circle_radius_m, d.width_m / 2,
-                                         config.circle)
-    return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
 
 def _scores(hypotheses, scorer, frame_size, search: MaskSearchConfig, rescore_top: int, prescore_keep: int,

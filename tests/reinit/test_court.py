@@ -491,11 +491,11 @@ def test_the_arcs_tier_joins_only_when_the_other_tiers_leave_the_frame_unsettled
     """The arcs' tier is the slowest and the last resort. Plain frame 87 (a test above): the centre circle's tier,
     fitted once the first fit is under ``look_further_below``, settles the frame at 1.0, and the arcs are not asked
     (they were, before). Plain seed 5 frame 250 (a test above): no other tier gives a camera; the arcs give it."""
-    from broadtrack_graph.reinit import court
+    from broadtrack_graph.reinit import court_tiers
 
     asked = []
-    original = court.arc_line_homographies
-    monkeypatch.setattr(court, "arc_line_homographies", lambda *a, **k: asked.append(1) or original(*a, **k))
+    original = court_tiers.arc_line_homographies
+    monkeypatch.setattr(court_tiers, "arc_line_homographies", lambda *a, **k: asked.append(1) or original(*a, **k))
 
     def court_on(index: int, seed: int):
         truth, det = _plain_placement(index, seed)
