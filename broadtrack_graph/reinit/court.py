@@ -5,13 +5,13 @@
 vanishing point, and forms every camera that puts two lines of each direction on two pitch lines of that direction
 (:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
 plausibility; of the likeliest split first, of every split, formed at once, when none of its cameras explains the
-map well or they leave the frame unsettled; when none explains it well, also three lines of one direction with one
-across, :mod:`.court_pencil`,
-and the circles, :mod:`.court_circle`, last on the ellipses and arcs fitted again on the markings' centre points,
-:mod:`~broadtrack_graph.detect.ellipse_refit`; as a tier of last resort, once the first fits are in, a circle's arc and
-its chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each direction beside it,
-:mod:`.court_arc_corners`, fitted apart, taken only with a constraint to spare, and joined only when the tiers before it
-leave the frame without a camera ``look_further_below`` confident). All hypotheses are scored at once on the marking map
+map well or they leave the frame unsettled; when none explains it well, the later tiers of :mod:`.court_tiers`: three
+lines of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the
+ellipses and arcs fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`; as a
+tier of last resort, once the first fits are in, a circle's arc and its chord rectified under the camera model,
+:mod:`.court_arcs`, or with one line of each direction beside it, :mod:`.court_arc_corners`, fitted apart, taken only
+with a constraint to spare, and joined only when the tiers before it leave the frame without a camera
+``look_further_below`` confident). All hypotheses are scored at once on the marking map
 (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the map explained
 by the template; coarsely first, the precision read only of those whose recall could rank them among the best), the best
 ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of their own
