@@ -28,6 +28,7 @@ import numpy as np
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.state import STATE_SIZE, project_state
 from broadtrack_graph.geometry.template import TemplateCurves, to_segments
+from broadtrack_graph.reinit.linefit_pairs import FitLayout, NearestSegments, PointSegmentPairs
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,9 @@ class LineFitConfig:
     missing_class_penalty_px: float = 30.0  # residual of a point whose class is not in front of the camera
     min_focal_px_per_width: float = 0.3  # f / W lower bound (about 118 deg field of view)
     max_focal_px_per_width: float = 12.0  # f / W upper bound (about 5 deg)
+    # Each point is matched first among its class's segments within this share of the width (the same match, found
+    # quicker; with a point farther from every one, all are measured: linefit_pairs). Speed only: no fit changes.
+    association_reach_per_width: float = 0.025
 
 
 @dataclass
@@ -78,10 +82,11 @@ class _Problem:
         self.position_prior_w = None if position_prior_w is None else np.asarray(position_prior_w, float)
         self.all_samples = np.vstack([curves.samples_w[n] for n in self.names]) if self.names else np.zeros((0, 3))
         sizes = [len(curves.samples_w[n]) for n in self.names]
-        self._pairs = _PointSegmentPairs([len(self.points[n]) for n in self.names], sizes)
+        self.layout = FitLayout([len(self.points[n]) for n in self.names], sizes)
         self.all_points = np.vstack([self.points[n] for n in self.names]) if self.names else np.zeros((0, 2))
-        self._pair_x, self._pair_y = (self.all_points[:, k].take(self._pairs.point) for k in (0, 1))  # (pairs,) px
-        self._blocked = np.empty(max(len(self.all_samples) - 1, 0), bool)  # (segments,) scratch of associate
+        self._nearest = NearestSegments(self.all_points, self.layout,
+                                        max(config.association_reach_per_width * width_px, 2.0))
+        self._pairs = None  # every pair (PointSegmentPairs), made when a point is first out of reach
         c = config
         rows = [np.eye(STATE_SIZE)[4] / c.sigma_roll_rad, np.eye(STATE_SIZE)[1] / c.sigma_k1]
         if self.position_prior_w is not None:
@@ -93,12 +98,23 @@ class _Problem:
         """Each point's nearest segment of its class's projected polyline (the distances now; the residuals' geometry
         when asked, :meth:`_Association.geometry`)."""
         uv, _, front = project_state(state, self.all_samples, self.width_px, self.height_px, want_jacobian=False)
-        pairs = self._pairs
-        usable = front[:-1] & front[1:] & pairs.joins_next  # segments of a class with both ends in front
-        class_seen = np.logical_or.reduceat(usable, pairs.class_segment_start) if len(usable) else usable
+        layout = self.layout
+        usable = front[:-1] & front[1:] & layout.joins_next  # segments of a class with both ends in front
+        class_seen = np.logical_or.reduceat(usable, layout.class_segment_start) if len(usable) else usable
+        if class_seen.all():
+            with np.errstate(invalid="ignore", over="ignore"):
+                near = self._nearest.within_reach(uv, usable)
+            if near is not None:
+                segment, t, distances = near
+                return _Association(self, uv, segment, t, slice(None), distances, 0)
         # Every point against every segment of its class at once (one flat array of pairs, in segment then point
         # order): the projection of the point on the segment, clipped to it, and the squared distance. The
         # segments' numbers are repeated for the pairs in one call: rows start x, start y, dx, dy, squared length.
+        if self._pairs is None:
+            self._pairs = PointSegmentPairs(layout)
+            self._pair_x, self._pair_y = (self.all_points[:, k].take(self._pairs.point) for k in (0, 1))  # (pairs,)
+            self._blocked = np.empty(len(usable), bool)  # (segments,) scratch
+        pairs = self._pairs
         s = pairs.segment
         with np.errstate(invalid="ignore", over="ignore"):
             seg_d = uv[1:] - uv[:-1]
@@ -113,11 +129,11 @@ class _Problem:
         distances = np.sqrt(dist2.take(nearest))
         if class_seen.all():
             return _Association(self, uv, s.take(nearest), t.take(nearest), slice(None), distances, 0)
-        missing_points = np.repeat(~class_seen, pairs.class_points)
+        missing_points = np.repeat(~class_seen, layout.class_points)
         distances[missing_points] = np.nan
         keep = ~missing_points
         return _Association(self, uv, s[nearest][keep], t[nearest][keep], keep, distances,
-                            int(pairs.class_points[~class_seen].sum()))
+                            int(layout.class_points[~class_seen].sum()))
 
     def robust_cost(self, association: "_Association", state) -> float:
         s = self.config.cauchy_scale_px
@@ -157,7 +173,7 @@ class _Association:
     @property
     def dists(self) -> dict[str, np.ndarray]:
         """Class name -> (M,) distances in pixels (NaN for a class not in front)."""
-        return dict(zip(self._problem.names, np.split(self.distances, self._problem._pairs.point_offsets[1:-1])))
+        return dict(zip(self._problem.names, np.split(self.distances, self._problem.layout.point_offsets[1:-1])))
 
     def geometry(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(anchors (P, 3) metres, normals (P, 2), targets (P, 2) pixels) of the P points of the classes in front:
@@ -173,52 +189,6 @@ class _Association:
             normals[:, 0], normals[:, 1] = -direction[:, 1], direction[:, 0]
             self._geometry = (anchors, normals, self._problem.all_points[self._keep])
         return self._geometry
-
-
-class _PointSegmentPairs:
-    """Every (point, segment of its class's polyline) pair of a fit, in class, segment, point order (each class a
-    (segments, points) block): the nearest segment of each point is a minimum over its column of its class's block
-    (one pass for all classes, not one per class).
-
-    Args:
-        class_points: (C,) points per class; class_samples: (C,) polyline samples per class (at least 2 each).
-    """
-
-    def __init__(self, class_points, class_samples) -> None:
-        self.class_points = np.asarray(class_points, int)
-        samples = np.asarray(class_samples, int)
-        sample_start = np.concatenate([[0], np.cumsum(samples)])[:-1]
-        segments = samples - 1
-        self.point_offsets = np.concatenate([[0], np.cumsum(self.class_points)])
-        # segment s joins samples s and s + 1 of the stacked polylines: only within a class
-        self.joins_next = np.ones(max(int(samples.sum()) - 1, 0), bool)
-        self.joins_next[(sample_start + samples - 1)[:-1]] = False
-        self.class_segment_start = sample_start
-        # (segments,) pairs of each stacked segment: its class's points (none for the join of two classes)
-        self.segment_pairs = np.where(self.joins_next, np.repeat(self.class_points, samples)[:-1], 0)
-        self.segment = np.repeat(np.arange(len(self.segment_pairs)), self.segment_pairs)
-        block_start = np.concatenate([[0], np.cumsum(self.class_points * segments)])
-        # the pairs of a segment are its class's points in turn
-        segment_first_point = np.repeat(self.point_offsets[:-1], samples)[:-1]
-        segment_first_pair = np.cumsum(self.segment_pairs) - self.segment_pairs
-        self.point = np.arange(len(self.segment)) - np.repeat(segment_first_pair - segment_first_point,
-                                                              self.segment_pairs)
-        # the pair of each point with its class's first segment, and the pairs between two of its class's segments
-        self._first_pair = np.repeat(block_start[:-1] - self.point_offsets[:-1], self.class_points) + \
-            np.arange(int(self.class_points.sum()))
-        self._stride = np.repeat(self.class_points, self.class_points)
-        self._blocks = [(int(block_start[c]), int(block_start[c + 1]), int(k), int(m), int(self.point_offsets[c]),
-                         int(self.point_offsets[c + 1])) for c, (m, k) in enumerate(zip(self.class_points, segments))]
-
-    def first_minimum(self, values: np.ndarray) -> np.ndarray:
-        """(points,) the index into the pairs of each point's smallest value, the first segment on ties (a NaN counts
-        as the smallest, as in ``np.argmin``, which each class's block is given)."""
-        nearest = np.empty(len(self._first_pair), np.intp)
-        for start, stop, k, m, first, last in self._blocks:
-            nearest[first:last] = values[start:stop].reshape(k, m).argmin(axis=0)
-        nearest *= self._stride
-        nearest += self._first_pair
-        return nearest
 
 
 def _residuals_and_jacobian(problem: _Problem, state, anchors, normals, targets):

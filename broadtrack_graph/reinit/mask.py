@@ -26,6 +26,7 @@ from broadtrack_graph.detect.marking_ellipses import marking_ellipses_both
 from broadtrack_graph.detect.marking_structures import marking_lines
 from broadtrack_graph.geometry.camera import Camera
 from broadtrack_graph.geometry.pitch import PitchTemplate
+from broadtrack_graph.geometry.point_windows import PointWindows
 from broadtrack_graph.geometry.template import TemplateCurves, to_segments
 from broadtrack_graph.reinit.confidence import camera_confidence
 from broadtrack_graph.reinit.ellipses import circle_hypotheses
@@ -322,8 +323,8 @@ def _nearest_segments(points_px: np.ndarray, uv: np.ndarray, segments: np.ndarra
     """Each point's distance to the nearest of some polyline segments, measured only where it can be within reach.
 
     The distance to a segment is :func:`~broadtrack_graph.geometry.template.to_segments`; only
-    the pairs of a point and a segment whose bounding box grown by ``reach_px`` holds the point are measured (found
-    through the points sorted by x), so a point's distance is exact where it is under ``reach_px`` less the
+    the pairs of a point and a segment whose bounding box grown by ``reach_px`` holds the point are measured
+    (:class:`~broadtrack_graph.geometry.point_windows.PointWindows`), so a point's distance is exact where it is under ``reach_px`` less the
     rounding (far below a pixel), else at least that (inf when no segment is measured).
 
     Args:
@@ -342,17 +343,8 @@ def _nearest_segments(points_px: np.ndarray, uv: np.ndarray, segments: np.ndarra
     a, b = uv[segments], uv[segments + 1]
     d = b - a
     length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-12)
-    lo, hi = np.minimum(a, b) - reach_px, np.maximum(a, b) + reach_px
-    order = np.argsort(points_px[:, 0], kind="stable")
-    sorted_x = points_px[order, 0]
-    first, stop = np.searchsorted(sorted_x, lo[:, 0], "left"), np.searchsorted(sorted_x, hi[:, 0], "right")
-    count = np.maximum(stop - first, 0)
-    segment = np.repeat(np.arange(len(segments)), count)  # pairs (segment, point) with the point in the x range
-    point = order[np.arange(len(segment)) - np.repeat(np.cumsum(count) - count - first, count)]
-    py = points_px[point, 1]
-    within = (py >= lo[segment, 1]) & (py <= hi[segment, 1])
-    segment, point, py = segment[within], point[within], py[within]
-    px = points_px[point, 0]
+    segment, point = PointWindows(points_px).pairs_in_boxes(np.minimum(a, b) - reach_px, np.maximum(a, b) + reach_px)
+    px, py = points_px[point, 0], points_px[point, 1]
     _, dist2 = to_segments(px, py, a[segment, 0], a[segment, 1], d[segment, 0], d[segment, 1], length2[segment])
     pair_distance = np.sqrt(dist2)
     np.minimum.at(distance, point, pair_distance)

@@ -72,3 +72,17 @@ def test_association_of_all_classes_at_once_is_the_nearest_segment_of_each_class
         assert got[4] == want[4]
         missing.append(got[4])
     assert missing[0] == 0 and missing[2] > 0
+
+
+def test_association_within_reach_is_the_nearest_segment_of_each_class_to_the_bit_and_measures_no_other_pair():
+    camera = _camera()
+    problem = _Problem(_lines(camera, np.random.default_rng(4), noise_px=2.0), CURVES, W, H, LineFitConfig(), None)
+    for state, every_pair_made in ((camera.replace(pan_rad=camera.pan_rad + 0.002).to_vector(), False),
+                                   (camera.replace(pan_rad=camera.pan_rad + 0.05).to_vector(), True)):  # 40 px off
+        association = problem.associate(state)
+        got, want = association.geometry(), _association_class_by_class(problem, state)
+        for a, b in zip(got, want[:3]):
+            np.testing.assert_array_equal(a, b)
+        for name in want[3]:
+            np.testing.assert_array_equal(association.dists[name], want[3][name])
+        assert (problem._pairs is not None) == every_pair_made
