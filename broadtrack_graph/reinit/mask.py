@@ -322,10 +322,10 @@ def label_points_by_camera(camera: Camera, points_px: np.ndarray, curves: Templa
 def _nearest_segments(points_px: np.ndarray, uv: np.ndarray, segments: np.ndarray, reach_px: float):
     """Each point's distance to the nearest of some polyline segments, measured only where it can be within reach.
 
-    The distance to a segment is :func:`~broadtrack_graph.geometry.template.to_segments`; only
-    the pairs of a point and a segment whose bounding box grown by ``reach_px`` holds the point are measured
-    (:class:`~broadtrack_graph.geometry.point_windows.PointWindows`), so a point's distance is exact where it is under ``reach_px`` less the
-    rounding (far below a pixel), else at least that (inf when no segment is measured).
+    The distance to a segment is :func:`~broadtrack_graph.geometry.template.to_segments`; only the pairs of a point
+    and a segment whose bounding box grown by ``reach_px`` holds the point are measured
+    (:class:`~broadtrack_graph.geometry.point_windows.PointWindows`), so a point's distance is exact where it is under
+    ``reach_px`` less the rounding (far below a pixel), else at least that (inf when no segment is measured).
 
     Args:
         points_px: (M, 2) pixels; uv: (L, 2) polyline samples, pixels; segments: (S,) int, segment s joins samples
