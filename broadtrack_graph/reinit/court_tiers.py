@@ -50,8 +50,7 @@ def later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfi
         # circle's image, a few per cent apart on a short arc: both are tried. Each fitted again on the markings'
         # centre points is a third, a source of their own (tried last: one of them scoring best on the map does not
         # take the others' place).
-        ellipses = structures.refitted_ellipses() if refitted else (
-            structures.ellipses() + structures.border_ellipses() + structures.arcs())
+        ellipses = structures.refitted_ellipses() if refitted else structures.every_ellipse()
         return circle_hypotheses(ellipses, lines, frame_size, pitch, config, across)
 
     def arcs():
@@ -59,8 +58,7 @@ def later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfi
         # estimate of its circle's image): :mod:`.court_arcs`.
         if not lines:
             return concatenate([])
-        ellipses = structures.ellipses() + structures.border_ellipses() + structures.arcs()
-        points = arc_points(ellipses, structures.points_px, lines, frame_size[0], config.arc)
+        points = arc_points(structures.every_ellipse(), structures.points_px, lines, frame_size[0], config.arc)
         focal_range_n = tuple(2.0 * v for v in config.lines.focal_range_per_width)
         chords = pitch_circle_chords(pitch)
         found = arc_line_homographies(points, lines, frame_size, chords, focal_range_n, config.arc)

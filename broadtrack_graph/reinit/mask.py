@@ -225,12 +225,16 @@ class MapStructures:
         self.ellipses()
         return self._border
 
+    def every_ellipse(self) -> list:
+        """The ellipses, whole then at the border, then the arcs: every image of a circle the map's pieces give."""
+        return self.ellipses() + self.border_ellipses() + self.arcs()
+
     def refitted_ellipses(self) -> list:
         """The ellipses, whole and at the border, and the arcs fitted again on the markings' centre points near them,
         where that moves them (:func:`~broadtrack_graph.detect.ellipse_refit.refitted_ellipse`)."""
         if self._refitted is None:
             self._refitted = []
-            for ellipse in self.ellipses() + self.border_ellipses() + self.arcs():
+            for ellipse in self.every_ellipse():
                 refit = refitted_ellipse(ellipse, self.points_px, self._W, self.lines)
                 if refit is not None and not any(same_ellipse(refit, kept, self._W) for kept in self._refitted):
                     self._refitted.append(refit)  # fits from nearby ellipses end on the same one
