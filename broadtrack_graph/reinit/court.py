@@ -4,20 +4,21 @@
 (:func:`~broadtrack_graph.detect.marking_structures.marking_lines`), splits them into the pitch's two directions by
 vanishing point, and forms every camera that puts two lines of each direction on two pitch lines of that direction
 (:mod:`.court_lines`: one homography each, decomposed with the principal point at the image centre and gated on
-plausibility; of the likeliest split first, of every split, formed at once, when none of its cameras explains the
-map well or they leave the frame unsettled; when none explains it well, the later tiers of :mod:`.court_tiers`: three
-lines of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the
-ellipses and arcs fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`; as a
-tier of last resort, once the first fits are in, a circle's arc and its chord rectified under the camera model,
-:mod:`.court_arcs`, or with one line of each direction beside it, :mod:`.court_arc_corners`, fitted apart, taken only
-with a constraint to spare, and joined only when the tiers before it leave the frame without a camera
-``look_further_below`` confident). All hypotheses are scored at once on the marking map
-(:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the map explained
-by the template; coarsely first, the precision read only of those whose recall could rank them among the best), the best
-``refit_top`` are solved again on every straight marking each explains and join as hypotheses of their own
-(:mod:`.court_refit`: four lines place a narrow view's vanishing points poorly); the best distinct few are fitted with
-the label-and-fit rounds (with no camera kept of them, or no fit explaining the map well, the tiers left are fitted too;
-for a camera under ``look_further_below`` confident the tiers left, their fit replacing it when more confident by
+plausibility; of the likeliest split first, of every split, formed at once, when none of its cameras explains the map
+well or they leave the frame unsettled; when none explains it well, the later tiers of :mod:`.court_tiers`: three lines
+of one direction with one across, :mod:`.court_pencil`, and the circles, :mod:`.court_circle`, last on the ellipses and
+arcs fitted again on the markings' centre points, :mod:`~broadtrack_graph.detect.ellipse_refit`; as tiers of last
+resort, once the first fits are in, two lines of one direction with one across, the camera level, :mod:`.court_level`
+(taken only at ``exact_fit_confidence``: the roll assumed, three lines fix it exactly), then a circle's arc and its
+chord rectified under the camera model, :mod:`.court_arcs`, or with one line of each direction beside it,
+:mod:`.court_arc_corners`, fitted apart, taken only with a constraint to spare, and joined only when the tiers before
+them leave the frame without a camera ``look_further_below`` confident). All hypotheses are scored at once on the
+marking map (:meth:`~broadtrack_graph.reinit.map_score.MapScorer.plane_costs`: the template found in the map and the map
+explained by the template; coarsely first, the precision read only of those whose recall could rank them among the
+best), the best ``refit_top`` are solved again on every straight marking each explains and join as hypotheses of their
+own (:mod:`.court_refit`: four lines place a narrow view's vanishing points poorly); the best distinct few are fitted
+with the label-and-fit rounds (with no camera kept of them, or no fit explaining the map well, the tiers left are fitted
+too; for a camera under ``look_further_below`` confident the tiers left, their fit replacing it when more confident by
 ``confidence_margin``) and one fit is kept and judged (:mod:`.court_fit`): it is returned with its confidence when the
 markings it explains fix it with a constraint to spare, counted on the map, and a camera fixed exactly (a circle and a
 line) only at ``exact_fit_confidence``: laid on them, a wrong camera explains them as well. A narrow view's camera
@@ -48,14 +49,14 @@ from broadtrack_graph.reinit.court_depth import most_confident_along_line_of_sig
 from broadtrack_graph.reinit.court_families import hidden_lengths_px, line_families, normalised_lines
 from broadtrack_graph.reinit.court_fit import fitted_hypotheses, judged, kept_fit, main_side
 from broadtrack_graph.reinit.court_lines import (
-    cameras_from_homographies,
     concatenate,
     pitch_line_offsets,
     pixel_homographies,
+    plausible_cameras,
     split_hypotheses,
 )
 from broadtrack_graph.reinit.court_refit import pitch_lines, refit_on_lines
-from broadtrack_graph.reinit.court_tiers import later_tiers
+from broadtrack_graph.reinit.court_tiers import Tier, later_tiers
 from broadtrack_graph.reinit.mask import fit_points, map_structures, refine_on_map
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig
 from broadtrack_graph.reinit.scoring import ReinitResult
@@ -91,17 +92,19 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     lines = structures.lines
     hidden = hidden_lengths_px(lines, player_mask, W)
     hypotheses, costs, every_split = _line_hypotheses(structures, (W, H), pitch, config, hidden)
-    tiers: list = []
-    only_confirmed: list = []  # (start, end) of the hypotheses whose exact fits are not taken (the arcs': court_arcs)
+    tiers: list[Tier] = []
+    tier_at: list = [None] * len(costs)  # each hypothesis's later tier (None: the straight markings')
     fit_cache: dict = {}  # a hypothesis fitted in the likeliest split's pass is not fitted again in every split's
 
     def joined_tier(hypotheses, costs):
-        confirm, tier = tiers.pop(0)
+        tier = tiers.pop(0)
         start = len(costs)
-        hypotheses, costs = _joined(hypotheses, costs, tier(), structures, (W, H), config)
-        if confirm:
-            only_confirmed.append((start, len(costs)))
+        hypotheses, costs = _joined(hypotheses, costs, tier.hypotheses(), structures, (W, H), config)
+        tier_at.extend([tier] * (len(costs) - start))
         return hypotheses, costs
+
+    def tier_of(index: int) -> Tier | None:  # the later tier of a hypothesis (None: the straight markings')
+        return tier_at[index]
 
     known: list[tuple[Camera, float]] = []  # the fits' confidences, asked again when a fit is judged
 
@@ -128,39 +131,47 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                                  fit_cache)
 
     # A circle's arc and one line fix a camera exactly but poorly (its depth, and a penalty arc read for the centre
-    # circle's): a camera from the arcs' hypotheses, and every camera moved from it, is taken only with a constraint
-    # to spare.
+    # circle's), as do two lines and one with the roll assumed: a camera from a tier of last resort, and every camera
+    # moved from it, is taken only with a constraint to spare.
     spare_only = replace(config, exact_fit_confidence=math.inf)
     spare_only_results: list[ReinitResult] = []
 
-    def from_arcs(index: int) -> bool:  # a hypothesis of the arcs' tier
-        return any(a <= index < b for a, b in only_confirmed)
+    def from_arcs(index: int) -> bool:  # a hypothesis of a tier of last resort (the arcs', the level cameras')
+        tier = tier_of(index)
+        return tier is not None and tier.last_resort
 
     def kept_and_judged(fits: list) -> ReinitResult:
         kept = kept_fit(fits, pitch, config)
         camera = None if kept is None else main_side(kept.camera, config.twin_tie_m)
-        if kept is not None and from_arcs(kept.index):
+        tier = None if kept is None else tier_of(kept.index)
+        if tier is not None and tier.last_resort:
             result = judged(camera, marking_mask, pitch, spare_only, confidence_of)
+        else:
+            # (an exact fit is walked along its line of sight only in the last pass: the likeliest split's pass ends
+            # without a camera there, and every split's is searched)
+            result = judged(camera, marking_mask, pitch, config, confidence_of, walked if every_split is None else None)
+        if tier is not None and result.camera is not None and result.score.jaccard < tier.min_confidence:
+            result = ReinitResult(None, None, "", f"the best camera is under its hypotheses' bar "
+                                                  f"({result.score.jaccard:.2f} < {tier.min_confidence:.2f})")
+        if tier is not None and tier.last_resort:
             others = [fit for fit in fits if not from_arcs(fit.index)]
-            if result.camera is None and others:  # an exact fit of an arc does not take the others' place
+            if result.camera is None and others:  # a fit of the last resort does not take the others' place
                 return kept_and_judged(others)
             spare_only_results.append(result)
-            return result
-        # (an exact fit is walked along its line of sight only in the last pass: the likeliest split's pass ends
-        # without a camera there, and every split's is searched)
-        return judged(camera, marking_mask, pitch, config, confidence_of, walked if every_split is None else None)
+        return result
 
     def judged_as(result: ReinitResult) -> CourtConfig:  # the settings a camera moved from result is judged with
         return spare_only if any(result is r for r in spare_only_results) else config
 
     while True:  # the likeliest split's pass, and every split's when that one leaves the frame unsettled
-        tiers[:], only_confirmed[:] = later_tiers(structures, (W, H), pitch, config, hidden), []
-        # Each later tier joins while nothing explains the map well yet (explained_well_score), but the arcs' (joined
-        # only once the first fits are in: a tier of last resort) ...
-        while len(tiers) > 1 and not _explains_well(costs, config):
+        tiers[:], tier_at[:] = later_tiers(structures, (W, H), pitch, config, hidden), [None] * len(costs)
+        # Each later tier joins while nothing explains the map well yet (explained_well_score), but the tiers of last
+        # resort (the level cameras', the arcs': joined only once the first fits are in) ...
+        while tiers and not tiers[0].last_resort and not _explains_well(costs, config):
             hypotheses, costs = joined_tier(hypotheses, costs)
-        hypotheses, costs = _joined(hypotheses, costs, _refitted(hypotheses, costs, structures, (W, H), pitch, config),
-                                    structures, (W, H), config)
+        refits, sources = _refitted(hypotheses, costs, structures, (W, H), pitch, config)
+        hypotheses, costs = _joined(hypotheses, costs, refits, structures, (W, H), config)
+        tier_at.extend(tier_at[k] for k in sources)  # a hypothesis solved again keeps its tier's bar
         while tiers and not len(hypotheses):  # nothing else: the tier of last resort too
             hypotheses, costs = joined_tier(hypotheses, costs)
         if not len(hypotheses):
@@ -204,15 +215,14 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                     return later if later.camera is not None else result
             return result
 
-        def fitted_tiers(last_resort: bool) -> list:  # the tiers left joined (the arcs' alone, or all but theirs)
+        def fitted_tiers(last_resort: bool) -> list:  # the tiers left joined (those of last resort, or all others)
             nonlocal hypotheses, costs
             first = len(costs)
-            while tiers and tiers[0][0] == last_resort:  # that flag (taken only with a constraint to spare) marks
-                #                                             the arcs' tier alone, always the last
+            while tiers and tiers[0].last_resort == last_resort:  # the tiers of last resort are the last ones
                 hypotheses, costs = joined_tier(hypotheses, costs)
             return fitted(np.arange(first, len(costs))) if len(costs) > first else []
 
-        # The arcs' tier (the slowest, and the last resort) is joined only when the others leave the frame unsettled.
+        # The tiers of last resort (the arcs' the slowest) join only when the others leave the frame unsettled.
         more = fitted_tiers(last_resort=False)
         later = replacing(more)
         if tiers and (later.camera is None or later.score.jaccard < config.look_further_below):
@@ -240,18 +250,20 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
 
 def _refitted(hypotheses, costs, structures, frame_size, pitch: PitchTemplate, config: CourtConfig):
     """The ``refit_top`` best hypotheses solved again on every straight marking each explains
-    (:func:`~broadtrack_graph.reinit.court_refit.refit_on_lines`), as hypotheses of their own."""
+    (:func:`~broadtrack_graph.reinit.court_refit.refit_on_lines`), as hypotheses of their own, with the index of
+    each one's source."""
     top = np.argsort(costs)[:config.refit_top]
     top = top[np.isfinite(costs[top])]
     lines = structures.lines
     if not len(top) or len(lines) < config.refit_min_lines:
-        return concatenate([])
+        return concatenate([]), np.zeros(0, int)
     _, s, centre = normalised_lines(lines, frame_size)  # the hypotheses' image coordinates: (u - centre) / s
     ends = np.array([line.ends_px() for line in lines])
     gate_n = config.refit_gate_per_width * frame_size[0] / s
     H_n, refitted = refit_on_lines(hypotheses.H_n[top], (ends - centre) / s, pitch_lines(*pitch_line_offsets(pitch)),
                                    gate_n, config.refit_min_lines)
-    return cameras_from_homographies(H_n[refitted], frame_size, pitch, config.lines)
+    refits, kept = plausible_cameras(H_n[refitted], frame_size, pitch, config.lines)
+    return refits, top[refitted][kept]
 
 
 def _joined(hypotheses, costs, part, structures, frame_size, config: CourtConfig):

@@ -10,6 +10,7 @@ from broadtrack_graph.reinit.court_arc_corners import ArcCornerConfig
 from broadtrack_graph.reinit.court_arcs import CourtArcConfig
 from broadtrack_graph.reinit.court_circle import CourtCircleConfig
 from broadtrack_graph.reinit.court_families import CourtLineConfig
+from broadtrack_graph.reinit.court_level import CourtLevelConfig
 from broadtrack_graph.reinit.court_pencil import CourtPencilConfig
 from broadtrack_graph.reinit.mask_config import MaskSearchConfig, RefineSchedule
 
@@ -29,6 +30,8 @@ class CourtConfig:
     arc_corner: ArcCornerConfig = ArcCornerConfig()
     # three lines of one direction and one across (tried with the circles)
     pencil: CourtPencilConfig = CourtPencilConfig()
+    # two lines of one direction and one across, the camera level (a tier of last resort, before the arcs')
+    level: CourtLevelConfig = CourtLevelConfig()
     # The map's structures, scores and the label-and-fit rounds: more straight markings than the position searches
     # take (a goal net's strands or a board's edges can outnumber the pitch lines in view).
     # The hypothesis's focal point is not a tripod guess: at a tight zoom it can sit 10-20 m off along the line of

@@ -77,7 +77,7 @@ def _pairs(count: int) -> tuple[np.ndarray, np.ndarray]:
     return pairs
 
 
-def _pair_maps(tau: np.ndarray, offsets_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def pair_maps(tau: np.ndarray, offsets_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Every ``c = a tau + b`` putting two image lines on two pitch lines, for many line pairs at once.
 
     Args:
@@ -179,8 +179,8 @@ def split_hypotheses(splits: list[LineFamilies], support_px: np.ndarray, pitch: 
     with np.errstate(divide="ignore", invalid="ignore"):
         tau_a = (quads[:, :2] @ q) / np.einsum("bki,bi->bk", quads[:, :2], v_y)  # (B, 2) pencil coordinates
         tau_b = (quads[:, 2:] @ q) / np.einsum("bki,bi->bk", quads[:, 2:], v_x)
-    a_x, b_x = _pair_maps(tau_a, along_x)  # (B, Ma)
-    a_y, b_y = _pair_maps(tau_b, along_y)  # (B, Mb)
+    a_x, b_x = pair_maps(tau_a, along_x)  # (B, Ma)
+    a_y, b_y = pair_maps(tau_b, along_y)  # (B, Mb)
     k, m, n = np.nonzero(equal_norms_in_range(v_x, v_y, a_x, a_y, f_lo, f_hi, config.max_axis_mismatch))
     H = homographies_from_maps(v_x[k], v_y[k], a_x[k, m], b_x[k, m], a_y[k, n], b_y[k, n])
     finite = np.all(np.isfinite(H), axis=(1, 2))

@@ -4,13 +4,17 @@ Each tier is a source of ground homographies (pitch metres -> normalised image p
 gated as the lines' are (:func:`~.court_lines.cameras_from_homographies`): three lines of one direction and one across
 (:mod:`.court_pencil`), a circle's ellipse with a line across it or with a touchline (:mod:`.court_circle`), the same
 on the ellipses fitted again on the markings' centre points (:mod:`~broadtrack_graph.detect.ellipse_refit`), and last
-a circle's arc rectified under the camera model with its chord or with a line of each direction beside it
-(:mod:`.court_arcs`, :mod:`.court_arc_corners`). :func:`~.court.reinit_from_court` decides when each joins.
+two lines of one direction and one across with the camera level (:mod:`.court_level`) and a circle's arc rectified
+under the camera model with its chord or with a line of each direction beside it (:mod:`.court_arcs`,
+:mod:`.court_arc_corners`). :func:`~.court.reinit_from_court` decides when each joins.
 
 Conventions: pitch frame in metres, origin at the centre spot, z down.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -25,23 +29,47 @@ from broadtrack_graph.reinit.court_circle import (
 )
 from broadtrack_graph.reinit.court_config import CourtConfig
 from broadtrack_graph.reinit.court_families import normalised_lines
-from broadtrack_graph.reinit.court_lines import cameras_from_homographies, concatenate
+from broadtrack_graph.reinit.court_level import level_hypotheses
+from broadtrack_graph.reinit.court_lines import PlaneHypotheses, cameras_from_homographies, concatenate
 from broadtrack_graph.reinit.court_pencil import pencil_hypotheses
 
 
+@dataclass(frozen=True)
+class Tier:
+    """A source of hypotheses tried after the straight markings'.
+
+    hypotheses: the call giving them (an empty set when its markings are missing).
+    last_resort: joined only once the first fits are in, fitted apart, and its camera taken only with a constraint to
+        spare (the level cameras' and the arcs': two lines and one, or a short arc, fix a camera exactly but poorly).
+    min_confidence: its camera is taken only this confident at least (formed from fewer markings than fix a camera
+        with nothing assumed, it lays itself on them whether right or not).
+    """
+
+    hypotheses: Callable[[], PlaneHypotheses]
+    last_resort: bool = False
+    min_confidence: float = 0.0
+
+
 def later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfig,
-                hidden_px: np.ndarray | None = None) -> list:
-    """The hypotheses tried after the straight markings', in order, each a pair (whether its camera is taken only
-    with a constraint to spare, the call giving its hypotheses: an empty set when its markings are missing): three
+                hidden_px: np.ndarray | None = None) -> list[Tier]:
+    """The hypotheses tried after the straight markings', in order (:class:`Tier`): three
     lines of one direction and one across (a zoomed goal mouth), a circle with the line across it, the centre circle
     with a touchline (more hypotheses, and looser), a circle with the line across it again on the ellipses and arcs
-    fitted again on the centre points, then the arcs rectified under the camera model (only with one to spare)."""
+    fitted again on the centre points; then, as tiers of last resort, two lines of one direction and one across with
+    the camera level (a smeared frame's lines along its smear, a narrow view's corner of the penalty area; its camera
+    taken only at ``exact_fit_confidence``: two lines and one, with the roll assumed, fix it exactly) and the arcs
+    rectified under the camera model."""
     lines = structures.lines
 
     def pencil():
         if len(lines) < 4:
             return concatenate([])
         return pencil_hypotheses(lines, frame_size, pitch, config.pencil, config.lines, hidden_px)
+
+    def level():
+        if len(lines) < 3:
+            return concatenate([])
+        return level_hypotheses(lines, frame_size, pitch, config.level, config.lines, hidden_px)
 
     def circles(across: bool, refitted: bool = False):
         if not lines:
@@ -68,8 +96,9 @@ def later_tiers(structures, frame_size, pitch: PitchTemplate, config: CourtConfi
                                                                config.arc.arc_band_px, config.arc_corner)])
         return cameras_from_homographies(found, frame_size, pitch, config.lines)
 
-    return [(False, pencil), (False, lambda: circles(True)), (False, lambda: circles(False)),
-            (False, lambda: circles(True, refitted=True)), (True, arcs)]
+    return [Tier(pencil), Tier(lambda: circles(True)), Tier(lambda: circles(False)),
+            Tier(lambda: circles(True, refitted=True)),
+            Tier(level, last_resort=True, min_confidence=config.exact_fit_confidence), Tier(arcs, last_resort=True)]
 
 
 def circle_hypotheses(ellipses, lines, frame_size, pitch: PitchTemplate, config: CourtConfig, across: bool):

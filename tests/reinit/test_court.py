@@ -15,6 +15,7 @@ from broadtrack_graph.geometry.template import TemplateCurves, fitting_curves
 from broadtrack_graph.reinit.court import reinit_from_court
 from broadtrack_graph.reinit.court_arc_corners import ArcCornerConfig
 from broadtrack_graph.reinit.court_config import CourtConfig
+from broadtrack_graph.reinit.court_level import CourtLevelConfig
 from broadtrack_graph.reinit.court_fit import twin_camera
 
 PITCH = PitchTemplate()
@@ -278,14 +279,15 @@ def test_a_blurred_frame_gets_its_camera_from_the_markings_found_on_the_reduced_
     assert median_template_error_px(result.camera, truth) < 1.0 and result.score.jaccard >= 0.9
 
 
-NO_ARC_CORNERS = CourtConfig(arc_corner=ArcCornerConfig(max_pairings=0))
-"""The court model without the arc-and-corner hypotheses (:mod:`broadtrack_graph.reinit.court_arc_corners`)."""
+NO_ARC_CORNERS = CourtConfig(arc_corner=ArcCornerConfig(max_pairings=0), level=CourtLevelConfig(max_across_lines=0))
+"""The court model without the arc-and-corner hypotheses (:mod:`broadtrack_graph.reinit.court_arc_corners`) and the
+level cameras' (:mod:`broadtrack_graph.reinit.court_level`): either finds frame 137's camera."""
 
 
 @pytest.mark.parametrize("index, grid, config, right", [
     (386, True, CourtConfig(), True),  # `graphics`, behind a goal: two lines of each direction, the truth at 0.66
-    # `shadows`, 8 m up beyond a corner, an 8 deg view: without the arc and corner tier a wrong camera laid on the
-    # markings, no grid of lines
+    # `shadows`, 8 m up beyond a corner, an 8 deg view: without the arc and corner tier and the level cameras' a wrong
+    # camera laid on the markings, no grid of lines
     (137, False, NO_ARC_CORNERS, False),
 ])
 def test_the_court_camera_says_which_markings_it_explains_and_so_the_bar_it_is_taken_at(index, grid, config, right):
