@@ -317,9 +317,11 @@ def plausible_cameras(H_n: np.ndarray, frame_size, pitch: PitchTemplate, config:
     a = H_n * scale_k  # columns a1, a2, a3
     n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
     # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det).
+    # A homography of determinant 0 (the horizon through the image centre) is no camera's: sign 0, not kept.
     h12 = cross3(H_n[:, :, 0], H_n[:, :, 1])
-    w0 = h12[:, 2] / np.einsum("ki,ki->k", h12, H_n[:, :, 2])  # the triple product h1 x h2 . h3 is det H
-    sign = np.sign(w0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w0 = h12[:, 2] / np.einsum("ki,ki->k", h12, H_n[:, :, 2])  # the triple product h1 x h2 . h3 is det H
+    sign = np.where(np.isfinite(w0), np.sign(w0), 0.0)
     scale = np.sqrt(n1 * n2)
     r1 = sign[:, None] * a[:, :, 0] / n1[:, None]
     r2 = sign[:, None] * a[:, :, 1] / n2[:, None]
