@@ -27,7 +27,7 @@ as a tier of last resort and takes their camera only with more of the markings e
 
 from __future__ import annotations
 
-import itertools
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,14 +35,12 @@ import numpy as np
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.reinit.court_families import CourtLineConfig, distinct_sets, vanishing_votes
+from broadtrack_graph.reinit.court_across import family_and_across_hypotheses
+from broadtrack_graph.reinit.court_families import CourtLineConfig
 from broadtrack_graph.reinit.court_lines import (
     PlaneHypotheses,
-    cameras_from_homographies,
-    concatenate,
     homographies_from_maps,
     pair_maps,
-    pitch_line_offsets,
 )
 
 
@@ -71,26 +69,9 @@ def level_hypotheses(lines: list[ImageLine], frame_size: tuple[int, int], pitch:
         frame_size: (W, H) pixels.
         hidden_px: (L,) each line's length the players hide (:func:`~.court_families.vanishing_votes`).
     """
-    votes = vanishing_votes(lines, frame_size, line_config, hidden_px)
-    if votes is None or len(votes.lines_n) < 3:
-        return concatenate([])
-    support = votes.support_px
-    offsets = pitch_line_offsets(pitch)  # (y = c offsets, x = c offsets)
-    homographies = []
-    for family in distinct_sets(votes.meets, votes.meets @ support, config.families):
-        members = np.nonzero(family)[0]
-        members = members[np.argsort(-support[members])][:config.max_family_lines]
-        others = np.nonzero(votes.solid & ~family)[0]
-        others = others[np.argsort(-support[others])][:config.max_across_lines]
-        if len(members) < 2 or not len(others):
-            continue
-        for pair in itertools.combinations(members, 2):
-            for a_is_x in (True, False):  # the pair along x (the y = c lines) or along y
-                homographies.append(level_homographies(votes.lines_n[list(pair)], votes.lines_n[others],
-                                                       offsets[0 if a_is_x else 1], offsets[1 if a_is_x else 0],
-                                                       a_is_x, config.min_horizon_lever))
-    stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
-    return cameras_from_homographies(stacked, frame_size, pitch, line_config)
+    return family_and_across_hypotheses(
+        lines, frame_size, pitch, 2, config.families, config.max_family_lines, config.max_across_lines,
+        functools.partial(level_homographies, min_horizon_lever=config.min_horizon_lever), line_config, hidden_px)
 
 
 def level_homographies(pair_n: np.ndarray, across_n: np.ndarray, pair_offsets_m: np.ndarray,

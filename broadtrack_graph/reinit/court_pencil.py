@@ -30,14 +30,9 @@ import numpy as np
 from broadtrack_graph.detect.marking_structures import ImageLine
 from broadtrack_graph.geometry.matrices import cross3
 from broadtrack_graph.geometry.pitch import PitchTemplate
-from broadtrack_graph.reinit.court_families import CourtLineConfig, distinct_sets, vanishing_votes
-from broadtrack_graph.reinit.court_lines import (
-    PlaneHypotheses,
-    cameras_from_homographies,
-    concatenate,
-    homographies_from_maps,
-    pitch_line_offsets,
-)
+from broadtrack_graph.reinit.court_across import family_and_across_hypotheses
+from broadtrack_graph.reinit.court_families import CourtLineConfig
+from broadtrack_graph.reinit.court_lines import PlaneHypotheses, homographies_from_maps
 
 
 @dataclass(frozen=True)
@@ -63,29 +58,10 @@ def pencil_hypotheses(lines: list[ImageLine], frame_size: tuple[int, int], pitch
         frame_size: (W, H) pixels.
         hidden_px: (L,) each line's length the players hide (:func:`~.court_families.vanishing_votes`).
     """
-    votes = vanishing_votes(lines, frame_size, line_config, hidden_px)
-    if votes is None or len(votes.lines_n) < 4:
-        return concatenate([])
-    support = votes.support_px
-    offsets = pitch_line_offsets(pitch)  # (y = c offsets, x = c offsets)
-    homographies = []
     # Only a meeting point of three lines or more can be the family's: a pair's (the commonest, a long line's with
     # any other) would take a place of the few tried.
-    three = votes.meets.sum(axis=1) >= 3
-    for family in distinct_sets(votes.meets[three], votes.meets[three] @ support, config.families):
-        members = np.nonzero(family)[0]
-        members = members[np.argsort(-support[members])][:config.max_family_lines]
-        others = np.nonzero(votes.solid & ~family)[0]
-        others = others[np.argsort(-support[others])][:config.max_across_lines]
-        if len(members) < 3 or not len(others):
-            continue
-        for triple in itertools.combinations(members, 3):
-            family_n = votes.lines_n[list(triple)]
-            for a_is_x in (True, False):  # the family along x (the y = c lines) or along y
-                homographies.append(_homographies(family_n, votes.lines_n[others], offsets[0 if a_is_x else 1],
-                                                  offsets[1 if a_is_x else 0], a_is_x))
-    stacked = np.concatenate(homographies) if homographies else np.zeros((0, 3, 3))
-    return cameras_from_homographies(stacked, frame_size, pitch, line_config)
+    return family_and_across_hypotheses(lines, frame_size, pitch, 3, config.families, config.max_family_lines,
+                                        config.max_across_lines, _homographies, line_config, hidden_px)
 
 
 def _homographies(family_n: np.ndarray, across_n: np.ndarray, family_offsets_m: np.ndarray,
