@@ -313,15 +313,16 @@ def plausible_cameras(H_n: np.ndarray, frame_size, pitch: PitchTemplate, config:
     f_lo, f_hi = (2.0 * v for v in config.focal_range_per_width)  # f / s = 2 f / W
     keep = np.isfinite(focal_n) & (focal_n >= f_lo) & (focal_n <= f_hi) & (mismatch <= config.max_axis_mismatch)
     H_n, focal_n, index = H_n[keep], focal_n[keep], index[keep]
+    # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det H),
+    # det H the triple product h1 x h2 . h3. A homography of determinant 0 (its horizon through the image centre) is
+    # no camera's: not kept.
+    h12 = cross3(H_n[:, :, 0], H_n[:, :, 1])
+    sign = np.sign(h12[:, 2]) * np.sign(np.einsum("ki,ki->k", h12, H_n[:, :, 2]))
+    proper = np.isfinite(sign) & (sign != 0)
+    H_n, focal_n, index, sign = H_n[proper], focal_n[proper], index[proper], sign[proper]
     scale_k = np.stack([1.0 / focal_n, 1.0 / focal_n, np.ones_like(focal_n)], axis=1)[:, :, None]
     a = H_n * scale_k  # columns a1, a2, a3
     n1, n2 = np.linalg.norm(a[:, :, 0], axis=1), np.linalg.norm(a[:, :, 1], axis=1)
-    # The sign making the ground point seen at the image centre lie in front: H^-1 e3 ~ (.., .., (h1 x h2)_z / det).
-    # A homography of determinant 0 (the horizon through the image centre) is no camera's: sign 0, not kept.
-    h12 = cross3(H_n[:, :, 0], H_n[:, :, 1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        w0 = h12[:, 2] / np.einsum("ki,ki->k", h12, H_n[:, :, 2])  # the triple product h1 x h2 . h3 is det H
-    sign = np.where(np.isfinite(w0), np.sign(w0), 0.0)
     scale = np.sqrt(n1 * n2)
     r1 = sign[:, None] * a[:, :, 0] / n1[:, None]
     r2 = sign[:, None] * a[:, :, 1] / n2[:, None]

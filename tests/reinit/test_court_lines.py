@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -163,6 +164,18 @@ def test_implausible_cameras_are_gated():
                         _normalised_homography(rolled), mirrored, _normalised_homography(upside_down)])
     kept = cameras_from_homographies(stacked, (W, H), PITCH)
     assert len(kept) == 1 and np.allclose(kept.C_w[0], main.position_m, atol=1e-6)
+
+
+def test_a_homography_of_determinant_zero_is_no_camera_and_raises_no_warning():
+    # Its third column in the plane of the first two (the horizon through the image centre): the focal length and the
+    # axes' mismatch are a camera's, but no camera draws it.
+    H_n = _normalised_homography(box_view())
+    flat = H_n.copy()
+    flat[:, 2] = 0.3 * H_n[:, 0] - 0.2 * H_n[:, 1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        kept = cameras_from_homographies(np.stack([flat, H_n]), (W, H), PITCH)
+    assert len(kept) == 1 and np.allclose(kept.C_w[0], box_view().position_m, atol=1e-6)
 
 
 def test_a_hypothesis_a_few_metres_inside_the_touchline_is_kept_for_the_fit():
