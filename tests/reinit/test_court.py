@@ -15,8 +15,8 @@ from broadtrack_graph.geometry.template import TemplateCurves, fitting_curves
 from broadtrack_graph.reinit.court import reinit_from_court
 from broadtrack_graph.reinit.court_arc_corners import ArcCornerConfig
 from broadtrack_graph.reinit.court_config import CourtConfig
-from broadtrack_graph.reinit.court_level import CourtLevelConfig
 from broadtrack_graph.reinit.court_fit import twin_camera
+from broadtrack_graph.reinit.court_level import CourtLevelConfig
 
 PITCH = PitchTemplate()
 CURVES = TemplateCurves(PITCH)
