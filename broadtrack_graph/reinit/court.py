@@ -103,9 +103,6 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
         tier_at.extend([tier] * (len(costs) - start))
         return hypotheses, costs
 
-    def tier_of(index: int) -> Tier | None:  # the later tier of a hypothesis (None: the straight markings')
-        return tier_at[index]
-
     known: list[tuple[Camera, float]] = []  # the fits' confidences, asked again when a fit is judged
 
     def confidence_of(camera: Camera) -> float:
@@ -136,14 +133,13 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
     spare_only = replace(config, exact_fit_confidence=math.inf)
     spare_only_results: list[ReinitResult] = []
 
-    def from_arcs(index: int) -> bool:  # a hypothesis of a tier of last resort (the arcs', the level cameras')
-        tier = tier_of(index)
-        return tier is not None and tier.last_resort
+    def from_last_resort(index: int) -> bool:  # a hypothesis of a tier of last resort (the level cameras', the arcs')
+        return tier_at[index] is not None and tier_at[index].last_resort
 
     def kept_and_judged(fits: list) -> ReinitResult:
         kept = kept_fit(fits, pitch, config)
         camera = None if kept is None else main_side(kept.camera, config.twin_tie_m)
-        tier = None if kept is None else tier_of(kept.index)
+        tier = None if kept is None else tier_at[kept.index]
         if tier is not None and tier.last_resort:
             result = judged(camera, marking_mask, pitch, spare_only, confidence_of)
         else:
@@ -154,7 +150,7 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
             result = ReinitResult(None, None, "", f"the best camera is under its hypotheses' bar "
                                                   f"({result.score.jaccard:.2f} < {tier.min_confidence:.2f})")
         if tier is not None and tier.last_resort:
-            others = [fit for fit in fits if not from_arcs(fit.index)]
+            others = [fit for fit in fits if not from_last_resort(fit.index)]
             if result.camera is None and others:  # a fit of the last resort does not take the others' place
                 return kept_and_judged(others)
             spare_only_results.append(result)
@@ -206,12 +202,12 @@ def reinit_from_court(marking_mask: np.ndarray, marking_points_px: np.ndarray, f
                 return result
             # a camera kept but not settled: only a fit more confident by confidence_margin replaces it (the most
             # confident of the others when an arc's is not taken)
-            for pool in (more, [fit for fit in more if not from_arcs(fit.index)]):
+            for pool in (more, [fit for fit in more if not from_last_resort(fit.index)]):
                 confident = max(pool, key=lambda fit: fit.confidence, default=None)
                 if confident is None or confident.confidence < result.score.jaccard + config.confidence_margin:
                     break
                 later = kept_and_judged([confident])
-                if later.camera is not None or not from_arcs(confident.index):
+                if later.camera is not None or not from_last_resort(confident.index):
                     return later if later.camera is not None else result
             return result
 
